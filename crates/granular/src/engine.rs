@@ -1,0 +1,81 @@
+//! The interface every engine (event-driven MD, DSMC, Gillespie intruder) offers to the
+//! runner. Engines know nothing of files, terminals, threads or plots: the runner asks
+//! them to advance to the next output time and to report what they observe there.
+
+use serde::{Deserialize, Serialize};
+
+/// Why an engine could not continue.
+#[derive(Debug, thiserror::Error)]
+pub enum EngineError {
+    /// Inelastic collapse: events pile up in a vanishing time interval.
+    #[error("{0}")]
+    Collapse(String),
+    /// The state became inconsistent (a bug or a numerical breakdown); the message says which.
+    #[error("{0}")]
+    Numerical(String),
+}
+
+/// How far a call to [`Engine::advance`] got.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Progress {
+    /// The engine reached the requested time.
+    Reached,
+    /// The event budget ran out first; the engine stopped at an event before the requested time.
+    BudgetExhausted,
+}
+
+/// A named scalar observable at one output time, e.g. `("kinetic_energy", 12.5)`.
+pub type Scalar = (String, f64);
+
+/// Position/velocity snapshot of all particles (row-major `n x dimension` arrays).
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+pub struct Snapshot {
+    /// Simulation time of the snapshot.
+    pub time: f64,
+    /// Spatial dimension (columns of `positions` and `velocities`).
+    pub dimension: usize,
+    /// Positions, `n * dimension` values.
+    pub positions: Vec<f64>,
+    /// Velocities, `n * dimension` values.
+    pub velocities: Vec<f64>,
+    /// Radius of each particle.
+    pub radii: Vec<f64>,
+    /// Species index of each particle.
+    pub species: Vec<u32>,
+}
+
+/// The common interface of all engines.
+pub trait Engine {
+    /// Short engine name as written in `summary.json` (`"edmd"`, `"dsmc"`, `"intruder"`).
+    fn name(&self) -> &'static str;
+
+    /// Current simulation time, in the scenario's time unit.
+    fn time(&self) -> f64;
+
+    /// Number of events processed so far (collisions and bookkeeping events).
+    fn events(&self) -> u64;
+
+    /// Number of collisions so far (pair collisions for many-particle engines; for the
+    /// intruder, intruder-bath collisions).
+    fn collisions(&self) -> u64;
+
+    /// Number of particles (1 for a single intruder).
+    fn particle_count(&self) -> usize;
+
+    /// Advances the state to exactly `until` (an output time), processing at most
+    /// `max_events` events; returns [`Progress::BudgetExhausted`] if it stopped early so the
+    /// caller can check wall-clock limits and report progress, then call again.
+    fn advance(&mut self, until: f64, max_events: u64) -> Result<Progress, EngineError>;
+
+    /// Scalar observables at the current time (energies, temperatures, counts, ...).
+    /// Keys are stable names documented in `docs/observables.md`.
+    fn scalars(&mut self) -> Vec<Scalar>;
+
+    /// Total kinetic energy at the current time (used by the energy stopping rule).
+    fn kinetic_energy(&mut self) -> f64;
+
+    /// Positions and velocities at the current time, when the engine has particles.
+    fn snapshot(&mut self) -> Option<Snapshot> {
+        None
+    }
+}

@@ -1,0 +1,20 @@
+//! # granular
+//!
+//! Simulation of granular gases — many hard grains that collide and lose energy — with
+//! three engines that share one set of physics modules:
+//!
+//! * [`edmd`]: event-driven molecular dynamics of hard disks (2D) and spheres (3D),
+//!   after the hard-disk seed (`event-driven-hard-disk-gas.txt`);
+//!
+//! Conventions, written once: lengths in units of the box (or of the scenario's length
+//! unit), masses in units of the scenario's mass unit, Boltzmann's constant `k_B = 1`, so
+//! a temperature is an energy, `T = m <|v|^2> / D` in `D` dimensions.
+
+pub mod boundary;
+pub mod engine;
+pub mod random;
+pub mod stats;
+pub mod vector;
+
+pub use boundary::{AxisKind, SimulationBox};
+pub use vector::Vector;
