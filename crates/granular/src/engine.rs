@@ -40,8 +40,12 @@ pub struct Snapshot {
     pub velocities: Vec<f64>,
     /// Radius of each particle.
     pub radii: Vec<f64>,
+    /// Mass of each particle.
+    pub masses: Vec<f64>,
     /// Species index of each particle.
     pub species: Vec<u32>,
+    /// Species names, indexed by the values of `species`.
+    pub species_names: Vec<String>,
 }
 
 /// The common interface of all engines.
