@@ -11,9 +11,12 @@
 //! a temperature is an energy, `T = m <|v|^2> / D` in `D` dimensions.
 
 pub mod boundary;
+pub mod collision_law;
+pub mod edmd;
 pub mod engine;
 pub mod random;
 pub mod stats;
+pub mod theory;
 pub mod vector;
 
 pub use boundary::{AxisKind, SimulationBox};

@@ -1,0 +1,16 @@
+//! Event-driven molecular dynamics (EDMD) of hard disks (`D = 2`) and spheres (`D = 3`),
+//! after the hard-disk seed (`event-driven-hard-disk-gas.txt`).
+//!
+//! * [`engine`]: the event loop ([`Edmd`]);
+//! * [`prediction`]: collision and crossing times (Eqs. 1, 2, 7-10);
+//! * [`queue`]: the event priority queue;
+//! * [`cells`]: the cell grid for neighbour search;
+//! * [`init`]: placements, compression and initial velocities.
+
+pub mod cells;
+pub mod engine;
+pub mod init;
+pub mod prediction;
+pub mod queue;
+
+pub use engine::{Edmd, EdmdOptions, EventKind, ParticleSet, Totals};

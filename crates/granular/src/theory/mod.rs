@@ -1,0 +1,3 @@
+//! Exact and kinetic-theory results the engines are checked against.
+
+pub mod equilibrium;
