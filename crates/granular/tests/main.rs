@@ -1,1 +1,3 @@
+//! The library's integration tests, one binary (fast to link on two cores).
 
+mod edmd;

@@ -1,0 +1,382 @@
+//! Event-driven engine: the test cases of appendix B of the hard-disk seed, exactness
+//! under long runs and dense packings, and equilibrium physics against exact results.
+
+use granular::boundary::{AxisKind, SimulationBox};
+use granular::collision_law::CollisionLaw;
+use granular::edmd::init::{self, Region};
+use granular::edmd::{Edmd, EdmdOptions, ParticleSet};
+use granular::engine::{Engine, EngineError, Progress};
+use granular::random::stream;
+use granular::stats::{Histogram, RunningStats, batch_means, chi_square_test};
+use granular::theory::equilibrium;
+use granular::vector::Vector;
+
+fn set<const D: usize>(pos: Vec<Vector<D>>, vel: Vec<Vector<D>>, radius: Vec<f64>, mass: Vec<f64>) -> ParticleSet<D> {
+    let n = pos.len();
+    ParticleSet { positions: pos, velocities: vel, radii: radius, masses: mass, species: vec![0; n], species_names: vec!["grain".into()] }
+}
+
+fn run_to<const D: usize>(e: &mut Edmd<D>, t: f64) {
+    while e.advance(t, u64::MAX).expect("engine error") != Progress::Reached {}
+}
+
+fn run_collisions<const D: usize>(e: &mut Edmd<D>, collisions: u64) {
+    let target = e.collisions() + collisions;
+    let mut t = e.time();
+    while e.collisions() < target {
+        t += 1.0;
+        e.advance(t, collisions).expect("engine error");
+    }
+}
+
+fn one_particle(x: [f64; 2], v: [f64; 2], xi: f64) -> Edmd<2> {
+    Edmd::new(
+        SimulationBox::unit_walled(),
+        set(vec![Vector(x)], vec![Vector(v)], vec![0.05], vec![1.0]),
+        CollisionLaw::uniform(xi),
+        EdmdOptions::default(),
+    )
+}
+
+// ---------------------------------------------------------------- B.1 one particle
+
+#[test]
+fn b1_head_on_wall_bounce_reverses_velocity() {
+    let mut e = one_particle([0.5, 0.5], [1.0, 0.0], 1.0);
+    run_to(&mut e, 0.6); // hits x = 0.95 at t = 0.45
+    assert_eq!(e.totals().wall_collisions, 1);
+    assert_eq!(e.velocity(0).0, [-1.0, 0.0]);
+}
+
+#[test]
+fn b1_oblique_wall_bounce_obeys_the_law_of_reflection() {
+    let (vx, vy) = (0.8, 0.3);
+    let mut e = one_particle([0.5, 0.5], [vx, vy], 1.0);
+    run_to(&mut e, 0.7); // right wall at t = 0.5625, top wall not before 1.5
+    assert_eq!(e.totals().wall_collisions, 1);
+    let v = e.velocity(0);
+    let incidence = (vy / vx).atan();
+    let reflection = (v[1] / -v[0]).atan();
+    assert!((incidence - reflection).abs() < 1e-15 && (v.norm() - (vx * vx + vy * vy).sqrt()).abs() < 1e-15);
+}
+
+#[test]
+fn b1_diagonal_particle_hits_each_wall_once_and_returns() {
+    let (x0, y0, v0, r) = (0.3, 0.6, 0.7, 0.05);
+    let mut e = one_particle([x0, y0], [v0, v0], 1.0);
+    let period = 2.0 * (1.0 - 2.0 * r) / v0;
+    run_to(&mut e, period * (1.0 - 1e-9));
+    assert_eq!(e.totals().wall_collisions, 4);
+    run_to(&mut e, period);
+    let x = e.position(0);
+    assert!((x[0] - x0).abs() < 1e-12 && (x[1] - y0).abs() < 1e-12, "{x:?}");
+    assert_eq!(e.velocity(0).0, [v0, v0]);
+}
+
+#[test]
+fn b1_inelastic_wall_stops_the_particle() {
+    let mut e = one_particle([0.5, 0.5], [1.0, 0.4], 0.0);
+    run_to(&mut e, 1.0);
+    assert_eq!(e.totals().wall_collisions, 1);
+    assert_eq!(e.velocity(0).0, [0.0, 0.0]);
+    // And it stays there without scheduling anything.
+    run_to(&mut e, 100.0);
+    assert_eq!(e.totals().wall_collisions, 1);
+}
+
+// ---------------------------------------------------------------- B.2 two particles
+
+fn two_particles(b: f64, xi: f64) -> Edmd<2> {
+    let r = 0.05;
+    Edmd::new(
+        SimulationBox::unit_walled(),
+        set(
+            vec![Vector([0.3, 0.5 - b / 2.0]), Vector([0.7, 0.5 + b / 2.0])],
+            vec![Vector([1.0, 0.0]), Vector([-1.0, 0.0])],
+            vec![r, r],
+            vec![1.0, 1.0],
+        ),
+        CollisionLaw::uniform(xi),
+        EdmdOptions::default(),
+    )
+}
+
+#[test]
+fn b2_head_on_equal_masses_bounce_back() {
+    let mut e = two_particles(0.0, 1.0);
+    run_to(&mut e, 0.2);
+    assert_eq!(e.collisions(), 1);
+    assert_eq!(e.velocity(0).0, [-1.0, 0.0]);
+    assert_eq!(e.velocity(1).0, [1.0, 0.0]);
+}
+
+#[test]
+fn b2_impact_parameter_over_sqrt2_deflects_by_right_angles() {
+    let b = 0.1 / 2f64.sqrt();
+    let mut e = two_particles(b, 1.0);
+    run_to(&mut e, 0.2);
+    assert_eq!(e.collisions(), 1);
+    for (i, sign) in [(0, 1.0), (1, -1.0)] {
+        let v = e.velocity(i);
+        assert!((v.norm() - 1.0).abs() < 1e-14, "speed kept");
+        assert!(v[0].abs() < 1e-14, "moves at right angles to its initial direction: {v:?}");
+        assert!(v[1] * sign < 0.0);
+    }
+}
+
+#[test]
+fn b2_perfectly_inelastic_head_on_stops_both() {
+    let mut e = two_particles(0.0, 0.0);
+    run_to(&mut e, 1.0);
+    assert_eq!(e.collisions(), 1);
+    assert_eq!(e.velocity(0).0, [0.0, 0.0]);
+    assert_eq!(e.velocity(1).0, [0.0, 0.0]);
+}
+
+// ---------------------------------------------------------------- B.3 and exactness
+
+fn gas<const D: usize>(n: usize, phi: f64, kind: AxisKind, seed: u64, lattice: bool) -> (SimulationBox<D>, ParticleSet<D>) {
+    let bx = SimulationBox::<D>::uniform(Vector([1.0; D]), kind);
+    let r = (phi / (n as f64 * init::ball_volume::<D>(1.0))).powf(1.0 / D as f64);
+    let radii = vec![r; n];
+    let mut rng = stream(seed, &[0]);
+    let pos = if lattice {
+        init::lattice_placement(&bx, &Region::whole(&bx), &radii).expect("lattice")
+    } else {
+        init::random_placement(&bx, &Region::whole(&bx), &radii, &[], &mut rng, 10_000).expect("placement")
+    };
+    let masses = vec![1.0; n];
+    let mut vel = init::maxwell_boltzmann::<D>(&masses, 1.0, &mut rng);
+    init::remove_drift(&mut vel, &masses);
+    (bx, set(pos, vel, radii, masses))
+}
+
+#[test]
+fn b3_energy_is_constant_to_round_off_over_a_million_collisions() {
+    let (bx, p) = gas::<2>(1000, 0.4, AxisKind::Wall, 11, false);
+    let mut e = Edmd::new(bx, p, CollisionLaw::default(), EdmdOptions::default());
+    let k0 = e.kinetic_energy_now();
+    run_collisions(&mut e, 1_000_000);
+    let k1 = e.kinetic_energy_now();
+    assert!(((k1 - k0) / k0).abs() < 1e-11, "relative energy change {}", (k1 - k0) / k0);
+}
+
+#[test]
+fn momentum_is_conserved_in_a_periodic_box() {
+    let (bx, p) = gas::<3>(500, 0.3, AxisKind::Periodic, 12, false);
+    let mut e = Edmd::new(bx, p, CollisionLaw::uniform(0.7), EdmdOptions::default());
+    let p0 = e.momentum();
+    let k0 = e.kinetic_energy_now();
+    run_collisions(&mut e, 100_000);
+    assert!((e.momentum() - p0).norm() < 1e-11 * (2.0 * k0 * 500.0).sqrt());
+}
+
+#[test]
+fn no_overlap_after_a_million_collisions_dense_2d() {
+    let (bx, p) = gas::<2>(2500, 0.7, AxisKind::Periodic, 13, true);
+    let mut e = Edmd::new(bx, p, CollisionLaw::default(), EdmdOptions::default());
+    run_collisions(&mut e, 1_000_000);
+    let r = e.radii()[0];
+    assert!(e.max_overlap() < 1e-10 * r, "overlap {}", e.max_overlap());
+}
+
+#[test]
+fn no_overlap_after_a_million_collisions_dense_3d() {
+    let (bx, p) = gas::<3>(1728, 0.5, AxisKind::Periodic, 14, true);
+    let mut e = Edmd::new(bx, p, CollisionLaw::default(), EdmdOptions::default());
+    run_collisions(&mut e, 1_000_000);
+    let r = e.radii()[0];
+    assert!(e.max_overlap() < 1e-10 * r, "overlap {}", e.max_overlap());
+}
+
+// ---------------------------------------------------------------- B.4 scattering angle
+
+#[test]
+fn b4_scattering_angle_matches_hard_sphere_law() {
+    let (r1, r2) = (0.1, 0.001);
+    let big = 1e6;
+    for &ratio in &[0.05, 0.2, 0.4, 0.6, 0.8, 0.95] {
+        let r12 = r1 + r2;
+        let b = ratio * r12;
+        let mut e = Edmd::new(
+            SimulationBox::unit_walled(),
+            set(vec![Vector([0.5, 0.5]), Vector([0.2, 0.5 + b])], vec![Vector([0.0, 0.0]), Vector([1.0, 0.0])], vec![r1, r2], vec![big, 1.0]),
+            CollisionLaw::default(),
+            EdmdOptions::default(),
+        );
+        while e.collisions() == 0 {
+            e.advance(e.time() + 0.01, 10).expect("engine");
+        }
+        let v = e.velocity(1);
+        let angle = v[1].atan2(v[0]).abs();
+        // Exact for an infinitely heavy target: θ = π - 2 arcsin(b / R12); the recoil of
+        // a target 10^6 times heavier changes θ by O(10^-6).
+        let exact = std::f64::consts::PI - 2.0 * ratio.asin();
+        assert!((angle - exact).abs() < 5e-6, "b/R12 = {ratio}: {angle} vs {exact}");
+    }
+}
+
+// ---------------------------------------------------------------- equilibrium physics
+
+#[test]
+fn speed_distribution_is_maxwell_boltzmann() {
+    // Problem 1 in small: fixed initial speed, walls, elastic.
+    let n = 1000;
+    let bx = SimulationBox::<2>::unit_walled();
+    let r = (0.2 / (n as f64 * std::f64::consts::PI)).sqrt();
+    let mut rng = stream(21, &[0]);
+    let radii = vec![r; n];
+    let pos = init::random_placement(&bx, &Region::whole(&bx), &radii, &[], &mut rng, 10_000).expect("placement");
+    let vel = init::fixed_speed::<2>(n, 1.0, &mut rng);
+    let mut e = Edmd::new(bx, set(pos, vel, radii, vec![1.0; n]), CollisionLaw::default(), EdmdOptions::default());
+    run_collisions(&mut e, 10 * n as u64);
+    let temperature = e.kinetic_energy_now() / n as f64; // 2K / (D N), D = 2
+    let mut hist = Histogram::new(0.0, 4.0, 40);
+    for _ in 0..40 {
+        run_collisions(&mut e, 2 * n as u64); // 4 collisions per grain between samples
+        for i in 0..n {
+            hist.push(e.velocity(i).norm());
+        }
+    }
+    let fit = chi_square_test(&hist, |v| equilibrium::speed_cdf(2, v, 1.0, temperature));
+    assert!(fit.p_value > 1e-3, "{fit:?}");
+    // And the test has power: a 5% wrong temperature is rejected.
+    let wrong = chi_square_test(&hist, |v| equilibrium::speed_cdf(2, v, 1.0, 1.05 * temperature));
+    assert!(wrong.p_value < 1e-3, "{wrong:?}");
+}
+
+/// Measures Z = P / (n T) and the collision frequency in a periodic box.
+fn measure_pressure<const D: usize>(n: usize, phi: f64, seed: u64) -> (RunningStats, f64, f64, f64) {
+    let (bx, p) = gas::<D>(n, phi, AxisKind::Periodic, seed, phi > 0.4);
+    let r = p.radii[0];
+    let mut e = Edmd::new(bx, p, CollisionLaw::default(), EdmdOptions::default());
+    run_collisions(&mut e, 20 * n as u64);
+    let temperature = 2.0 * e.kinetic_energy_now() / (D as f64 * n as f64);
+    let density = n as f64; // unit box
+    let mean_free_time = 1.0 / e.scalars().iter().find(|s| s.0 == "collision_frequency").map_or(1.0, |s| s.1).max(1e-300);
+    let dt = 2.0 * mean_free_time; // two collisions per grain per interval
+    let mut z = Vec::new();
+    let mut freq = Vec::new();
+    let mut t = e.time();
+    e.scalars();
+    for _ in 0..400 {
+        t += dt;
+        run_to(&mut e, t);
+        let s = e.scalars();
+        let get = |k: &str| s.iter().find(|x| x.0 == k).map(|x| x.1).unwrap_or(f64::NAN);
+        z.push(get("pressure") / (density * temperature));
+        freq.push(get("collision_frequency"));
+    }
+    let (zm, ze) = batch_means(&z, 20);
+    let (fm, fe) = batch_means(&freq, 20);
+    let mut stats = RunningStats::new();
+    z.iter().for_each(|&x| stats.push(x));
+    let nu_from_z = equilibrium::collision_frequency_from_pressure(D, zm, 2.0 * r, 1.0, temperature);
+    assert!((fm - nu_from_z).abs() < 4.0 * (fe + nu_from_z * ze / (zm - 1.0)), "collision frequency {fm} ± {fe} vs {nu_from_z} from Z");
+    (stats, zm, ze, temperature)
+}
+
+#[test]
+fn hard_disk_pressure_matches_the_equation_of_state() {
+    for (phi, seed) in [(0.2, 31), (0.4, 32), (0.6, 33)] {
+        let (_, z, err, _) = measure_pressure::<2>(1000, phi, seed);
+        let exact = equilibrium::hard_disk_compressibility(phi);
+        // Statistical error (4 σ, batch means) plus the stated accuracy of the equation of
+        // state and the O(1/N) finite-size effect: 0.5 %.
+        assert!((z - exact).abs() < 4.0 * err + 5e-3 * exact, "phi = {phi}: Z = {z} ± {err}, EOS {exact}");
+    }
+}
+
+#[test]
+fn hard_sphere_pressure_matches_carnahan_starling() {
+    let phi = 0.3;
+    let (_, z, err, _) = measure_pressure::<3>(1000, phi, 41);
+    let exact = equilibrium::hard_sphere_compressibility(phi);
+    assert!((z - exact).abs() < 4.0 * err + 5e-3 * exact, "Z = {z} ± {err}, CS {exact}");
+}
+
+// ---------------------------------------------------------------- TC model and collapse
+
+#[test]
+fn tc_model_makes_rapid_recollisions_elastic() {
+    // A grain bouncing between two walls 0.1 apart every 0.1 time units: with t_c = 1 every
+    // collision after the first is elastic, so the energy after the first bounce stays.
+    let bx = SimulationBox::<2> { lengths: Vector([0.2, 1.0]), axes: [AxisKind::Wall, AxisKind::Wall] };
+    let mut law = CollisionLaw::uniform(0.5);
+    law.wall_tangential_restitution = 1.0;
+    law.contact_duration = 1.0;
+    let mut e = Edmd::new(bx, set(vec![Vector([0.1, 0.5])], vec![Vector([1.0, 0.0])], vec![0.05], vec![1.0]), law, EdmdOptions::default());
+    run_to(&mut e, 3.0);
+    assert!(e.totals().wall_collisions > 5);
+    assert_eq!(e.velocity(0)[0].abs(), 0.5);
+    assert_eq!(e.totals().tc_elastic_collisions, e.totals().wall_collisions - 1);
+}
+
+fn collapsing_gas(contact_duration: f64) -> Result<u64, EngineError> {
+    let (bx, p) = gas::<2>(400, 0.5, AxisKind::Periodic, 51, true);
+    let mut law = CollisionLaw::uniform(0.1);
+    law.contact_duration = contact_duration;
+    let mut e = Edmd::new(bx, p, law, EdmdOptions::default());
+    let mut t = 0.0;
+    for _ in 0..200 {
+        t += 0.05;
+        e.advance(t, 5_000_000)?;
+    }
+    Ok(e.collisions())
+}
+
+#[test]
+fn collapse_detector_fires_and_names_the_tc_model() {
+    match collapsing_gas(0.0) {
+        Err(EngineError::Collapse(msg)) => assert!(msg.contains("contact_duration"), "{msg}"),
+        other => panic!("expected a collapse, got {other:?}"),
+    }
+    // With the TC model the same gas runs on.
+    collapsing_gas(1e-5).expect("TC model prevents the collapse");
+}
+
+// ---------------------------------------------------------------- initial states
+
+#[test]
+fn compression_reaches_dense_states() {
+    for (phi, n) in [(0.75, 1000usize)] {
+        let bx = SimulationBox::<2>::uniform(Vector([1.0, 1.0]), AxisKind::Periodic);
+        let r = (phi / (n as f64 * std::f64::consts::PI)).sqrt();
+        let start = 0.35;
+        let scale = (phi / start).sqrt();
+        let small = vec![r / scale; n];
+        let mut rng = stream(61, &[0]);
+        let pos = init::random_placement(&bx, &Region::whole(&bx), &small, &[], &mut rng, 10_000).expect("placement");
+        let masses = vec![1.0; n];
+        let vel = init::maxwell_boltzmann::<2>(&masses, 1.0, &mut rng);
+        let pos = init::compress(&bx, set(pos, vel.clone(), small, masses.clone()), &vec![r; n], &mut rng).expect("compression");
+        let e = Edmd::new(bx, set(pos, vel, vec![r; n], masses), CollisionLaw::default(), EdmdOptions::default());
+        assert!(e.max_overlap() < 1e-9 * r);
+    }
+    let n = 1000;
+    let phi = 0.55;
+    let bx = SimulationBox::<3>::uniform(Vector([1.0; 3]), AxisKind::Periodic);
+    let r = (phi / (n as f64 * init::ball_volume::<3>(1.0))).cbrt();
+    let scale = (phi / 0.25f64).cbrt();
+    let small = vec![r / scale; n];
+    let mut rng = stream(62, &[0]);
+    let pos = init::random_placement(&bx, &Region::whole(&bx), &small, &[], &mut rng, 10_000).expect("placement");
+    let masses = vec![1.0; n];
+    let vel = init::maxwell_boltzmann::<3>(&masses, 1.0, &mut rng);
+    let pos = init::compress(&bx, set(pos, vel.clone(), small, masses.clone()), &vec![r; n], &mut rng).expect("compression");
+    let e = Edmd::new(bx, set(pos, vel, vec![r; n], masses), CollisionLaw::default(), EdmdOptions::default());
+    assert!(e.max_overlap() < 1e-9 * r);
+}
+
+#[test]
+fn same_input_gives_bit_identical_trajectories() {
+    let run = || {
+        let (bx, p) = gas::<2>(500, 0.5, AxisKind::Periodic, 71, true);
+        let mut e = Edmd::new(bx, p, CollisionLaw::uniform(0.9), EdmdOptions::default());
+        run_collisions(&mut e, 50_000);
+        e.snapshot().expect("snapshot")
+    };
+    let (a, b) = (run(), run());
+    assert_eq!(a.positions, b.positions);
+    assert_eq!(a.velocities, b.velocities);
+}
