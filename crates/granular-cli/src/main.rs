@@ -1,1 +1,183 @@
-fn main() {}
+//! `granular`: the command line over the granular library.
+//!
+//! A thin layer: it parses arguments, turns scenario files into runs, shows progress on a
+//! terminal, and reports errors. All physics and file formats live in the library.
+
+mod bench;
+
+use clap::{Parser, Subcommand};
+use granular::run::{ProgressReport, Run, RunError};
+use granular::scenario::Scenario;
+use indicatif::{ProgressBar, ProgressStyle};
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+/// Simulate granular gases: event-driven molecular dynamics of hard disks and spheres.
+#[derive(Parser)]
+#[command(name = "granular", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run a scenario and write its run directory.
+    Run {
+        /// Scenario file (TOML; see docs/scenario.md).
+        scenario: PathBuf,
+        /// Run directory (default: runs/<scenario name>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Seed of all random streams (overrides the scenario's `seed`).
+        #[arg(long)]
+        seed: Option<u64>,
+        /// Override a scenario key, e.g. --set collisions.restitution=0.9 (repeatable).
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
+        /// No progress bar.
+        #[arg(long, short)]
+        quiet: bool,
+    },
+    /// Validate a scenario and print it fully resolved.
+    Check {
+        /// Scenario file.
+        scenario: PathBuf,
+        /// Override a scenario key (repeatable).
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
+    },
+    /// Continue an interrupted run from its last checkpoint.
+    Resume {
+        /// Run directory.
+        dir: PathBuf,
+        /// No progress bar.
+        #[arg(long, short)]
+        quiet: bool,
+    },
+    /// Measure the speed of an engine on standard cases.
+    Bench {
+        #[command(subcommand)]
+        engine: bench::BenchCommand,
+    },
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match dispatch(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("error: {message}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn load(path: &Path, seed: Option<u64>, set: &[String]) -> Result<Scenario, String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let mut overrides = set.to_vec();
+    if let Some(s) = seed {
+        overrides.push(format!("seed={s}"));
+    }
+    Scenario::from_toml(&text, &overrides).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+fn dispatch(cli: Cli) -> Result<(), String> {
+    match cli.command {
+        Command::Run {
+            scenario,
+            out,
+            seed,
+            set,
+            quiet,
+        } => {
+            let sc = load(&scenario, seed, &set)?;
+            let dir = out.unwrap_or_else(|| {
+                PathBuf::from("runs").join(
+                    scenario
+                        .file_stem()
+                        .map_or("run".into(), |s| s.to_string_lossy().to_string()),
+                )
+            });
+            let run = Run::create(&dir, sc).map_err(|e| e.to_string())?;
+            finish(run, &dir, quiet)
+        }
+        Command::Check { scenario, set } => {
+            let sc = load(&scenario, None, &set)?;
+            print!("{}", sc.to_toml());
+            eprintln!(
+                "{}: valid ({} grains, {} species)",
+                scenario.display(),
+                sc.particle_count(),
+                sc.species.len()
+            );
+            Ok(())
+        }
+        Command::Resume { dir, quiet } => {
+            let run = Run::resume(&dir).map_err(|e| e.to_string())?;
+            finish(run, &dir, quiet)
+        }
+        Command::Bench { engine } => bench::run(engine),
+    }
+}
+
+fn finish(run: Run, dir: &Path, quiet: bool) -> Result<(), String> {
+    let bar = if !quiet && std::io::stderr().is_terminal() {
+        let bar = ProgressBar::new(1000);
+        bar.set_style(
+            ProgressStyle::with_template(
+                "{bar:40} {percent:>3}% t = {msg} [{elapsed_precise} < {eta_precise}]",
+            )
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        );
+        Some(bar)
+    } else {
+        None
+    };
+    let mut on_progress = |p: &ProgressReport| {
+        if let Some(bar) = &bar {
+            bar.set_position((p.fraction * 1000.0) as u64);
+            bar.set_message(format!(
+                "{:.4}, {:.2e} events/s",
+                p.time, p.events_per_second
+            ));
+        }
+    };
+    let result = run.run_to_end(&mut on_progress, None);
+    if let Some(bar) = &bar {
+        bar.finish_and_clear();
+    }
+    match result {
+        Ok(summary) => {
+            eprintln!(
+                "{}: {} grains, t = {}, {} collisions in {:.2} s ({:.3e} collisions/s), stopped by {}",
+                dir.display(),
+                summary.n,
+                summary
+                    .final_observables
+                    .get("time")
+                    .map_or(String::from("?"), |v| v.to_string()),
+                summary.collisions,
+                summary.wall_seconds,
+                summary.collisions_per_second,
+                summary.stop_reason
+            );
+            for (species, fit) in &summary.maxwell_boltzmann_fit {
+                eprintln!(
+                    "  Maxwell-Boltzmann fit of `{species}`: chi2 = {:.1} for {} degrees of freedom, p = {:.3} ({} speeds pooled)",
+                    fit["chi_square"].as_f64().unwrap_or(f64::NAN),
+                    fit["degrees_of_freedom"],
+                    fit["p_value"].as_f64().unwrap_or(f64::NAN),
+                    fit["samples"]
+                );
+            }
+            Ok(())
+        }
+        Err(RunError::Engine(e)) => Err(format!(
+            "{e}\n(state saved in {}; fix the scenario and rerun)",
+            dir.display()
+        )),
+        Err(e) => Err(e.to_string()),
+    }
+}

@@ -15,6 +15,8 @@ pub mod collision_law;
 pub mod edmd;
 pub mod engine;
 pub mod random;
+pub mod run;
+pub mod scenario;
 pub mod stats;
 pub mod theory;
 pub mod vector;

@@ -11,9 +11,21 @@ use granular::stats::{Histogram, RunningStats, batch_means, chi_square_test};
 use granular::theory::equilibrium;
 use granular::vector::Vector;
 
-fn set<const D: usize>(pos: Vec<Vector<D>>, vel: Vec<Vector<D>>, radius: Vec<f64>, mass: Vec<f64>) -> ParticleSet<D> {
+fn set<const D: usize>(
+    pos: Vec<Vector<D>>,
+    vel: Vec<Vector<D>>,
+    radius: Vec<f64>,
+    mass: Vec<f64>,
+) -> ParticleSet<D> {
     let n = pos.len();
-    ParticleSet { positions: pos, velocities: vel, radii: radius, masses: mass, species: vec![0; n], species_names: vec!["grain".into()] }
+    ParticleSet {
+        positions: pos,
+        velocities: vel,
+        radii: radius,
+        masses: mass,
+        species: vec![0; n],
+        species_names: vec!["grain".into()],
+    }
 }
 
 fn run_to<const D: usize>(e: &mut Edmd<D>, t: f64) {
@@ -57,7 +69,10 @@ fn b1_oblique_wall_bounce_obeys_the_law_of_reflection() {
     let v = e.velocity(0);
     let incidence = (vy / vx).atan();
     let reflection = (v[1] / -v[0]).atan();
-    assert!((incidence - reflection).abs() < 1e-15 && (v.norm() - (vx * vx + vy * vy).sqrt()).abs() < 1e-15);
+    assert!(
+        (incidence - reflection).abs() < 1e-15
+            && (v.norm() - (vx * vx + vy * vy).sqrt()).abs() < 1e-15
+    );
 }
 
 #[test]
@@ -69,7 +84,10 @@ fn b1_diagonal_particle_hits_each_wall_once_and_returns() {
     assert_eq!(e.totals().wall_collisions, 4);
     run_to(&mut e, period);
     let x = e.position(0);
-    assert!((x[0] - x0).abs() < 1e-12 && (x[1] - y0).abs() < 1e-12, "{x:?}");
+    assert!(
+        (x[0] - x0).abs() < 1e-12 && (x[1] - y0).abs() < 1e-12,
+        "{x:?}"
+    );
     assert_eq!(e.velocity(0).0, [v0, v0]);
 }
 
@@ -119,7 +137,10 @@ fn b2_impact_parameter_over_sqrt2_deflects_by_right_angles() {
     for (i, sign) in [(0, 1.0), (1, -1.0)] {
         let v = e.velocity(i);
         assert!((v.norm() - 1.0).abs() < 1e-14, "speed kept");
-        assert!(v[0].abs() < 1e-14, "moves at right angles to its initial direction: {v:?}");
+        assert!(
+            v[0].abs() < 1e-14,
+            "moves at right angles to its initial direction: {v:?}"
+        );
         assert!(v[1] * sign < 0.0);
     }
 }
@@ -135,7 +156,13 @@ fn b2_perfectly_inelastic_head_on_stops_both() {
 
 // ---------------------------------------------------------------- B.3 and exactness
 
-fn gas<const D: usize>(n: usize, phi: f64, kind: AxisKind, seed: u64, lattice: bool) -> (SimulationBox<D>, ParticleSet<D>) {
+fn gas<const D: usize>(
+    n: usize,
+    phi: f64,
+    kind: AxisKind,
+    seed: u64,
+    lattice: bool,
+) -> (SimulationBox<D>, ParticleSet<D>) {
     let bx = SimulationBox::<D>::uniform(Vector([1.0; D]), kind);
     let r = (phi / (n as f64 * init::ball_volume::<D>(1.0))).powf(1.0 / D as f64);
     let radii = vec![r; n];
@@ -143,7 +170,8 @@ fn gas<const D: usize>(n: usize, phi: f64, kind: AxisKind, seed: u64, lattice: b
     let pos = if lattice {
         init::lattice_placement(&bx, &Region::whole(&bx), &radii).expect("lattice")
     } else {
-        init::random_placement(&bx, &Region::whole(&bx), &radii, &[], &mut rng, 10_000).expect("placement")
+        init::random_placement(&bx, &Region::whole(&bx), &radii, &[], &mut rng, 10_000)
+            .expect("placement")
     };
     let masses = vec![1.0; n];
     let mut vel = init::maxwell_boltzmann::<D>(&masses, 1.0, &mut rng);
@@ -158,7 +186,11 @@ fn b3_energy_is_constant_to_round_off_over_a_million_collisions() {
     let k0 = e.kinetic_energy_now();
     run_collisions(&mut e, 1_000_000);
     let k1 = e.kinetic_energy_now();
-    assert!(((k1 - k0) / k0).abs() < 1e-11, "relative energy change {}", (k1 - k0) / k0);
+    assert!(
+        ((k1 - k0) / k0).abs() < 1e-11,
+        "relative energy change {}",
+        (k1 - k0) / k0
+    );
 }
 
 #[test]
@@ -200,7 +232,12 @@ fn b4_scattering_angle_matches_hard_sphere_law() {
         let b = ratio * r12;
         let mut e = Edmd::new(
             SimulationBox::unit_walled(),
-            set(vec![Vector([0.5, 0.5]), Vector([0.2, 0.5 + b])], vec![Vector([0.0, 0.0]), Vector([1.0, 0.0])], vec![r1, r2], vec![big, 1.0]),
+            set(
+                vec![Vector([0.5, 0.5]), Vector([0.2, 0.5 + b])],
+                vec![Vector([0.0, 0.0]), Vector([1.0, 0.0])],
+                vec![r1, r2],
+                vec![big, 1.0],
+            ),
             CollisionLaw::default(),
             EdmdOptions::default(),
         );
@@ -212,7 +249,10 @@ fn b4_scattering_angle_matches_hard_sphere_law() {
         // Exact for an infinitely heavy target: θ = π - 2 arcsin(b / R12); the recoil of
         // a target 10^6 times heavier changes θ by O(10^-6).
         let exact = std::f64::consts::PI - 2.0 * ratio.asin();
-        assert!((angle - exact).abs() < 5e-6, "b/R12 = {ratio}: {angle} vs {exact}");
+        assert!(
+            (angle - exact).abs() < 5e-6,
+            "b/R12 = {ratio}: {angle} vs {exact}"
+        );
     }
 }
 
@@ -226,9 +266,15 @@ fn speed_distribution_is_maxwell_boltzmann() {
     let r = (0.2 / (n as f64 * std::f64::consts::PI)).sqrt();
     let mut rng = stream(21, &[0]);
     let radii = vec![r; n];
-    let pos = init::random_placement(&bx, &Region::whole(&bx), &radii, &[], &mut rng, 10_000).expect("placement");
+    let pos = init::random_placement(&bx, &Region::whole(&bx), &radii, &[], &mut rng, 10_000)
+        .expect("placement");
     let vel = init::fixed_speed::<2>(n, 1.0, &mut rng);
-    let mut e = Edmd::new(bx, set(pos, vel, radii, vec![1.0; n]), CollisionLaw::default(), EdmdOptions::default());
+    let mut e = Edmd::new(
+        bx,
+        set(pos, vel, radii, vec![1.0; n]),
+        CollisionLaw::default(),
+        EdmdOptions::default(),
+    );
     run_collisions(&mut e, 10 * n as u64);
     let temperature = e.kinetic_energy_now() / n as f64; // 2K / (D N), D = 2
     let mut hist = Histogram::new(0.0, 4.0, 40);
@@ -241,19 +287,30 @@ fn speed_distribution_is_maxwell_boltzmann() {
     let fit = chi_square_test(&hist, |v| equilibrium::speed_cdf(2, v, 1.0, temperature));
     assert!(fit.p_value > 1e-3, "{fit:?}");
     // And the test has power: a 5% wrong temperature is rejected.
-    let wrong = chi_square_test(&hist, |v| equilibrium::speed_cdf(2, v, 1.0, 1.05 * temperature));
+    let wrong = chi_square_test(&hist, |v| {
+        equilibrium::speed_cdf(2, v, 1.0, 1.05 * temperature)
+    });
     assert!(wrong.p_value < 1e-3, "{wrong:?}");
 }
 
 /// Measures Z = P / (n T) and the collision frequency in a periodic box.
-fn measure_pressure<const D: usize>(n: usize, phi: f64, seed: u64) -> (RunningStats, f64, f64, f64) {
+fn measure_pressure<const D: usize>(
+    n: usize,
+    phi: f64,
+    seed: u64,
+) -> (RunningStats, f64, f64, f64) {
     let (bx, p) = gas::<D>(n, phi, AxisKind::Periodic, seed, phi > 0.4);
     let r = p.radii[0];
     let mut e = Edmd::new(bx, p, CollisionLaw::default(), EdmdOptions::default());
     run_collisions(&mut e, 20 * n as u64);
     let temperature = 2.0 * e.kinetic_energy_now() / (D as f64 * n as f64);
     let density = n as f64; // unit box
-    let mean_free_time = 1.0 / e.scalars().iter().find(|s| s.0 == "collision_frequency").map_or(1.0, |s| s.1).max(1e-300);
+    let mean_free_time = 1.0
+        / e.scalars()
+            .iter()
+            .find(|s| s.0 == "collision_frequency")
+            .map_or(1.0, |s| s.1)
+            .max(1e-300);
     let dt = 2.0 * mean_free_time; // two collisions per grain per interval
     let mut z = Vec::new();
     let mut freq = Vec::new();
@@ -271,8 +328,12 @@ fn measure_pressure<const D: usize>(n: usize, phi: f64, seed: u64) -> (RunningSt
     let (fm, fe) = batch_means(&freq, 20);
     let mut stats = RunningStats::new();
     z.iter().for_each(|&x| stats.push(x));
-    let nu_from_z = equilibrium::collision_frequency_from_pressure(D, zm, 2.0 * r, 1.0, temperature);
-    assert!((fm - nu_from_z).abs() < 4.0 * (fe + nu_from_z * ze / (zm - 1.0)), "collision frequency {fm} ± {fe} vs {nu_from_z} from Z");
+    let nu_from_z =
+        equilibrium::collision_frequency_from_pressure(D, zm, 2.0 * r, 1.0, temperature);
+    assert!(
+        (fm - nu_from_z).abs() < 4.0 * (fe + nu_from_z * ze / (zm - 1.0)),
+        "collision frequency {fm} ± {fe} vs {nu_from_z} from Z"
+    );
     (stats, zm, ze, temperature)
 }
 
@@ -283,7 +344,10 @@ fn hard_disk_pressure_matches_the_equation_of_state() {
         let exact = equilibrium::hard_disk_compressibility(phi);
         // Statistical error (4 σ, batch means) plus the stated accuracy of the equation of
         // state and the O(1/N) finite-size effect: 0.5 %.
-        assert!((z - exact).abs() < 4.0 * err + 5e-3 * exact, "phi = {phi}: Z = {z} ± {err}, EOS {exact}");
+        assert!(
+            (z - exact).abs() < 4.0 * err + 5e-3 * exact,
+            "phi = {phi}: Z = {z} ± {err}, EOS {exact}"
+        );
     }
 }
 
@@ -292,7 +356,10 @@ fn hard_sphere_pressure_matches_carnahan_starling() {
     let phi = 0.3;
     let (_, z, err, _) = measure_pressure::<3>(1000, phi, 41);
     let exact = equilibrium::hard_sphere_compressibility(phi);
-    assert!((z - exact).abs() < 4.0 * err + 5e-3 * exact, "Z = {z} ± {err}, CS {exact}");
+    assert!(
+        (z - exact).abs() < 4.0 * err + 5e-3 * exact,
+        "Z = {z} ± {err}, CS {exact}"
+    );
 }
 
 // ---------------------------------------------------------------- TC model and collapse
@@ -301,15 +368,31 @@ fn hard_sphere_pressure_matches_carnahan_starling() {
 fn tc_model_makes_rapid_recollisions_elastic() {
     // A grain bouncing between two walls 0.1 apart every 0.1 time units: with t_c = 1 every
     // collision after the first is elastic, so the energy after the first bounce stays.
-    let bx = SimulationBox::<2> { lengths: Vector([0.2, 1.0]), axes: [AxisKind::Wall, AxisKind::Wall] };
+    let bx = SimulationBox::<2> {
+        lengths: Vector([0.2, 1.0]),
+        axes: [AxisKind::Wall, AxisKind::Wall],
+    };
     let mut law = CollisionLaw::uniform(0.5);
     law.wall_tangential_restitution = 1.0;
     law.contact_duration = 1.0;
-    let mut e = Edmd::new(bx, set(vec![Vector([0.1, 0.5])], vec![Vector([1.0, 0.0])], vec![0.05], vec![1.0]), law, EdmdOptions::default());
+    let mut e = Edmd::new(
+        bx,
+        set(
+            vec![Vector([0.1, 0.5])],
+            vec![Vector([1.0, 0.0])],
+            vec![0.05],
+            vec![1.0],
+        ),
+        law,
+        EdmdOptions::default(),
+    );
     run_to(&mut e, 3.0);
     assert!(e.totals().wall_collisions > 5);
     assert_eq!(e.velocity(0)[0].abs(), 0.5);
-    assert_eq!(e.totals().tc_elastic_collisions, e.totals().wall_collisions - 1);
+    assert_eq!(
+        e.totals().tc_elastic_collisions,
+        e.totals().wall_collisions - 1
+    );
 }
 
 fn collapsing_gas(contact_duration: f64) -> Result<u64, EngineError> {
@@ -346,11 +429,23 @@ fn compression_reaches_dense_states() {
         let scale = (phi / start).sqrt();
         let small = vec![r / scale; n];
         let mut rng = stream(61, &[0]);
-        let pos = init::random_placement(&bx, &Region::whole(&bx), &small, &[], &mut rng, 10_000).expect("placement");
+        let pos = init::random_placement(&bx, &Region::whole(&bx), &small, &[], &mut rng, 10_000)
+            .expect("placement");
         let masses = vec![1.0; n];
         let vel = init::maxwell_boltzmann::<2>(&masses, 1.0, &mut rng);
-        let pos = init::compress(&bx, set(pos, vel.clone(), small, masses.clone()), &vec![r; n], &mut rng).expect("compression");
-        let e = Edmd::new(bx, set(pos, vel, vec![r; n], masses), CollisionLaw::default(), EdmdOptions::default());
+        let pos = init::compress(
+            &bx,
+            set(pos, vel.clone(), small, masses.clone()),
+            &vec![r; n],
+            &mut rng,
+        )
+        .expect("compression");
+        let e = Edmd::new(
+            bx,
+            set(pos, vel, vec![r; n], masses),
+            CollisionLaw::default(),
+            EdmdOptions::default(),
+        );
         assert!(e.max_overlap() < 1e-9 * r);
     }
     let n = 1000;
@@ -360,11 +455,23 @@ fn compression_reaches_dense_states() {
     let scale = (phi / 0.25f64).cbrt();
     let small = vec![r / scale; n];
     let mut rng = stream(62, &[0]);
-    let pos = init::random_placement(&bx, &Region::whole(&bx), &small, &[], &mut rng, 10_000).expect("placement");
+    let pos = init::random_placement(&bx, &Region::whole(&bx), &small, &[], &mut rng, 10_000)
+        .expect("placement");
     let masses = vec![1.0; n];
     let vel = init::maxwell_boltzmann::<3>(&masses, 1.0, &mut rng);
-    let pos = init::compress(&bx, set(pos, vel.clone(), small, masses.clone()), &vec![r; n], &mut rng).expect("compression");
-    let e = Edmd::new(bx, set(pos, vel, vec![r; n], masses), CollisionLaw::default(), EdmdOptions::default());
+    let pos = init::compress(
+        &bx,
+        set(pos, vel.clone(), small, masses.clone()),
+        &vec![r; n],
+        &mut rng,
+    )
+    .expect("compression");
+    let e = Edmd::new(
+        bx,
+        set(pos, vel, vec![r; n], masses),
+        CollisionLaw::default(),
+        EdmdOptions::default(),
+    );
     assert!(e.max_overlap() < 1e-9 * r);
 }
 

@@ -1,0 +1,283 @@
+//! Turns a validated [`Scenario`] into an engine with its initial state.
+
+use crate::boundary::SimulationBox;
+use crate::edmd::init::{self, InitError, Region};
+use crate::edmd::{Edmd, EdmdOptions, ParticleSet};
+use crate::engine::{Engine, EngineError, Progress, Scalar, Snapshot};
+use crate::random::{self, stream};
+use crate::scenario::{Placement, Scenario, ScenarioError, VelocitySpec};
+use crate::vector::Vector;
+use serde::{Deserialize, Serialize};
+
+/// An engine of any kind and dimension, as stored in checkpoints.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[allow(clippy::large_enum_variant)]
+pub enum AnyEngine {
+    /// Event-driven, 2D.
+    Edmd2(Edmd<2>),
+    /// Event-driven, 3D.
+    Edmd3(Edmd<3>),
+}
+
+impl AnyEngine {
+    /// The engine behind the common interface.
+    pub fn as_engine(&mut self) -> &mut dyn Engine {
+        match self {
+            AnyEngine::Edmd2(e) => e,
+            AnyEngine::Edmd3(e) => e,
+        }
+    }
+
+    /// Impact-parameter histogram counts (event-driven engines).
+    pub fn impact_histogram(&self) -> Option<&crate::stats::Histogram> {
+        match self {
+            AnyEngine::Edmd2(e) => Some(e.impact_histogram()),
+            AnyEngine::Edmd3(e) => Some(e.impact_histogram()),
+        }
+    }
+}
+
+impl Engine for AnyEngine {
+    fn name(&self) -> &'static str {
+        match self {
+            AnyEngine::Edmd2(e) => e.name(),
+            AnyEngine::Edmd3(e) => e.name(),
+        }
+    }
+    fn time(&self) -> f64 {
+        match self {
+            AnyEngine::Edmd2(e) => e.time(),
+            AnyEngine::Edmd3(e) => e.time(),
+        }
+    }
+    fn events(&self) -> u64 {
+        match self {
+            AnyEngine::Edmd2(e) => e.events(),
+            AnyEngine::Edmd3(e) => e.events(),
+        }
+    }
+    fn collisions(&self) -> u64 {
+        match self {
+            AnyEngine::Edmd2(e) => e.collisions(),
+            AnyEngine::Edmd3(e) => e.collisions(),
+        }
+    }
+    fn particle_count(&self) -> usize {
+        match self {
+            AnyEngine::Edmd2(e) => e.particle_count(),
+            AnyEngine::Edmd3(e) => e.particle_count(),
+        }
+    }
+    fn advance(&mut self, until: f64, max_events: u64) -> Result<Progress, EngineError> {
+        self.as_engine().advance(until, max_events)
+    }
+    fn scalars(&mut self) -> Vec<Scalar> {
+        self.as_engine().scalars()
+    }
+    fn kinetic_energy(&mut self) -> f64 {
+        self.as_engine().kinetic_energy()
+    }
+    fn snapshot(&mut self) -> Option<Snapshot> {
+        self.as_engine().snapshot()
+    }
+}
+
+/// Why a scenario could not be turned into an engine.
+#[derive(Debug, thiserror::Error)]
+pub enum BuildError {
+    /// A value in the scenario is wrong.
+    #[error("{0}")]
+    Scenario(#[from] ScenarioError),
+    /// The initial state could not be built.
+    #[error("initial state of species `{species}`: {source}")]
+    Init {
+        /// Species being placed.
+        species: String,
+        /// What went wrong.
+        source: InitError,
+    },
+    /// Given positions overlap.
+    #[error(
+        "grains {a} and {b} overlap at the start (distance {distance:.6} < sum of radii {sigma:.6}); move them apart or make them smaller"
+    )]
+    Overlap {
+        /// First grain (global index).
+        a: usize,
+        /// Second grain.
+        b: usize,
+        /// Centre distance.
+        distance: f64,
+        /// Sum of radii.
+        sigma: f64,
+    },
+}
+
+/// Builds the engine named by the scenario.
+pub fn build(scenario: &Scenario) -> Result<AnyEngine, BuildError> {
+    scenario.validate()?;
+    Ok(match scenario.dimension {
+        2 => AnyEngine::Edmd2(build_edmd::<2>(scenario)?),
+        _ => AnyEngine::Edmd3(build_edmd::<3>(scenario)?),
+    })
+}
+
+fn vector<const D: usize>(v: &[f64]) -> Vector<D> {
+    let mut out = Vector::zero();
+    for (k, x) in v.iter().enumerate().take(D) {
+        out[k] = *x;
+    }
+    out
+}
+
+/// The initial grains of a scenario in `D` dimensions (positions, velocities, radii...).
+pub fn initial_particles<const D: usize>(
+    scenario: &Scenario,
+) -> Result<(SimulationBox<D>, ParticleSet<D>), BuildError> {
+    let axes = scenario.axes();
+    let mut ax = [crate::boundary::AxisKind::Wall; D];
+    ax.copy_from_slice(&axes[..D]);
+    let bx = SimulationBox {
+        lengths: vector::<D>(&scenario.lengths()),
+        axes: ax,
+    };
+    let mut rng = stream(scenario.seed, &[random::INITIAL_STATE]);
+    let mut set = ParticleSet {
+        positions: Vec::new(),
+        velocities: Vec::new(),
+        radii: Vec::new(),
+        masses: Vec::new(),
+        species: Vec::new(),
+        species_names: scenario.species.iter().map(|s| s.name.clone()).collect(),
+    };
+    // Grains with given positions first, so random placement avoids them.
+    let mut fixed: Vec<(Vector<D>, f64)> = Vec::new();
+    for (s, sp) in scenario.species.iter().enumerate() {
+        if !sp.positions.is_empty() {
+            let r = scenario.radius(s);
+            fixed.extend(sp.positions.iter().map(|p| (vector::<D>(p), r)));
+        }
+    }
+    let compress = scenario.initial.compress_from;
+    for (s, sp) in scenario.species.iter().enumerate() {
+        let r = scenario.radius(s);
+        let region = match &sp.region {
+            Some(reg) => Region {
+                lo: vector::<D>(&reg.lo),
+                hi: vector::<D>(&reg.hi),
+            },
+            None => Region::whole(&bx),
+        };
+        let positions = if !sp.positions.is_empty() {
+            sp.positions.iter().map(|p| vector::<D>(p)).collect()
+        } else {
+            let place_r = match compress {
+                Some(start) => {
+                    let target = init::packing_fraction::<D>(&vec![r; sp.count], region.volume());
+                    r * (start / target).powf(1.0 / D as f64).min(1.0)
+                }
+                None => r,
+            };
+            let radii = vec![place_r; sp.count];
+            let placed = match scenario.initial.placement {
+                Placement::Random => init::random_placement(
+                    &bx,
+                    &region,
+                    &radii,
+                    &fixed,
+                    &mut rng,
+                    scenario.initial.max_attempts,
+                ),
+                Placement::Lattice => init::lattice_placement(&bx, &region, &radii),
+            }
+            .map_err(|source| BuildError::Init {
+                species: sp.name.clone(),
+                source,
+            })?;
+            fixed.extend(placed.iter().map(|x| (*x, place_r)));
+            placed
+        };
+        let masses = vec![sp.mass; sp.count];
+        let velocities: Vec<Vector<D>> = match &sp.velocity {
+            VelocitySpec::Zero => vec![Vector::zero(); sp.count],
+            VelocitySpec::FixedSpeed { speed } => {
+                init::fixed_speed::<D>(sp.count, *speed, &mut rng)
+            }
+            VelocitySpec::MaxwellBoltzmann { temperature } => {
+                init::maxwell_boltzmann::<D>(&masses, *temperature, &mut rng)
+            }
+            VelocitySpec::Given { velocity } => vec![vector::<D>(velocity); sp.count],
+            VelocitySpec::PerGrain { velocities } => {
+                velocities.iter().map(|v| vector::<D>(v)).collect()
+            }
+        };
+        set.positions.extend(positions);
+        set.velocities.extend(velocities);
+        set.radii.extend(std::iter::repeat_n(r, sp.count));
+        set.masses.extend(masses);
+        set.species.extend(std::iter::repeat_n(s as u32, sp.count));
+    }
+    if scenario.initial.zero_momentum {
+        init::remove_drift(&mut set.velocities, &set.masses);
+    }
+    if compress.is_some() {
+        let mut small = set.clone();
+        let target = init::packing_fraction::<D>(&set.radii, bx.volume());
+        let start = compress.unwrap_or(target);
+        let scale = (target / start).powf(1.0 / D as f64).max(1.0);
+        small.radii.iter_mut().for_each(|r| *r /= scale);
+        set.positions = init::compress(&bx, small, &set.radii, &mut rng).map_err(|source| {
+            BuildError::Init {
+                species: scenario.species[0].name.clone(),
+                source,
+            }
+        })?;
+    }
+    check_overlaps(&bx, &set)?;
+    Ok((bx, set))
+}
+
+/// Rejects initial states in which grains overlap (given positions, mostly).
+fn check_overlaps<const D: usize>(
+    bx: &SimulationBox<D>,
+    set: &ParticleSet<D>,
+) -> Result<(), BuildError> {
+    let n = set.len();
+    let r_max = set.radii.iter().cloned().fold(0.0, f64::max);
+    let grid = crate::edmd::cells::CellGrid::<D>::new(bx, 2.0 * r_max, n);
+    let mut grid = grid;
+    for i in 0..n {
+        let c = grid.coords_of(&set.positions[i].0);
+        grid.insert(i, c);
+    }
+    for i in 0..n {
+        let mut bad = None;
+        grid.for_each_neighbour(&grid.coords[i], |j| {
+            if j > i && bad.is_none() {
+                let d = bx.separation(&set.positions[i], &set.positions[j]).norm();
+                let sigma = set.radii[i] + set.radii[j];
+                if d < sigma * (1.0 - 1e-9) {
+                    bad = Some((j, d, sigma));
+                }
+            }
+        });
+        if let Some((j, distance, sigma)) = bad {
+            return Err(BuildError::Overlap {
+                a: i,
+                b: j,
+                distance,
+                sigma,
+            });
+        }
+    }
+    Ok(())
+}
+
+fn build_edmd<const D: usize>(scenario: &Scenario) -> Result<Edmd<D>, BuildError> {
+    let (bx, set) = initial_particles::<D>(scenario)?;
+    let options = EdmdOptions {
+        gravity: scenario.gravity.clone(),
+        collapse_ratio: scenario.edmd.collapse_ratio,
+        impact_bins: scenario.edmd.impact_bins,
+    };
+    Ok(Edmd::new(bx, set, scenario.collisions.law(), options))
+}
