@@ -1,3 +1,4 @@
 //! The library's integration tests, one binary (fast to link on two cores).
 
 mod edmd;
+mod spine;

@@ -242,7 +242,8 @@ impl Run {
         // Drop rows written after the checkpoint, so the series continues seamlessly.
         let csv_path = dir.join("timeseries.csv");
         let text = std::fs::read_to_string(&csv_path).map_err(io_err(&csv_path))?;
-        let keep: Vec<&str> = text.lines().take(cp.state.outputs as usize + 1).collect();
+        // Header, the row at t = 0, and one row per output.
+        let keep: Vec<&str> = text.lines().take(cp.state.outputs as usize + 2).collect();
         std::fs::write(&csv_path, keep.join("\n") + "\n").map_err(io_err(&csv_path))?;
         let log_path = dir.join("log.txt");
         let log = std::fs::OpenOptions::new()

@@ -1,0 +1,177 @@
+//! The scenario format, run directory, determinism and resume.
+
+use granular::run::Run;
+use granular::scenario::Scenario;
+use std::path::PathBuf;
+
+const GOOD: &str = r#"
+engine = "edmd"
+dimension = 2
+seed = 5
+
+[box]
+lengths = [1.0, 1.0]
+boundary = "periodic"
+
+[[species]]
+name = "light"
+count = 300
+packing_fraction = 0.15
+mass = 1.0
+velocity = { distribution = "fixed_speed", speed = 1.0 }
+
+[[species]]
+name = "heavy"
+count = 300
+packing_fraction = 0.15
+mass = 4.0
+velocity = { distribution = "fixed_speed", speed = 0.5 }
+
+[collisions]
+restitution = 0.9
+
+[stop]
+collisions_per_particle = 30.0
+
+[output]
+interval = 0.01
+snapshot_every = 10
+checkpoint_seconds = 0.0
+"#;
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("granular-test-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+fn error_of(text: &str, overrides: &[&str]) -> granular::scenario::ScenarioError {
+    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+    Scenario::from_toml(text, &o).expect_err("expected an error")
+}
+
+#[test]
+fn good_scenario_resolves_and_round_trips() {
+    let s = Scenario::from_toml(GOOD, &[]).expect("valid");
+    assert_eq!(s.particle_count(), 600);
+    let again = Scenario::from_toml(&s.to_toml(), &[]).expect("resolved scenario is valid");
+    assert_eq!(s, again);
+}
+
+#[test]
+fn bad_values_are_reported_with_key_value_line_and_fix() {
+    let e = error_of(GOOD, &["collisions.restitution=1.5"]);
+    assert_eq!(e.key, "collisions.restitution");
+    assert!(
+        e.message.contains("1.5") && e.message.contains("[0, 1]"),
+        "{e}"
+    );
+    assert_eq!(e.line, Some(25), "{e}");
+
+    let typo = GOOD.replace("restitution = 0.9", "restitutoin = 0.9");
+    let e = error_of(&typo, &[]);
+    assert!(
+        e.message.contains("unknown field") && e.message.contains("restitutoin"),
+        "{e}"
+    );
+    assert_eq!(e.line, Some(25));
+
+    let wrong_type = GOOD.replace(
+        "count = 300\npacking_fraction = 0.15\nmass = 4.0",
+        "count = \"many\"\npacking_fraction = 0.15\nmass = 4.0",
+    );
+    let e = error_of(&wrong_type, &[]);
+    assert_eq!(e.line, Some(19), "{e}");
+
+    let e = error_of(
+        GOOD,
+        &["species[1].radius=-0.1", "species[1].packing_fraction=0.0"],
+    );
+    assert!(
+        e.to_string().contains("packing_fraction") || e.to_string().contains("radius"),
+        "{e}"
+    );
+
+    let e = error_of(GOOD, &["species.0.mass=-1"]);
+    assert_eq!(e.key, "species[0].mass");
+    assert!(e.message.contains("positive"));
+
+    let big = GOOD.replace(
+        "packing_fraction = 0.15\nmass = 1.0",
+        "radius = 0.7\nmass = 1.0",
+    );
+    let e = error_of(&big, &[]);
+    assert!(e.message.contains("does not fit"), "{e}");
+}
+
+#[test]
+fn overlapping_given_positions_are_rejected() {
+    let text = GOOD.replace(
+        "count = 300\npacking_fraction = 0.15\nmass = 1.0",
+        "count = 2\nradius = 0.1\npositions = [[0.5, 0.5], [0.55, 0.5]]\nmass = 1.0",
+    );
+    let s = Scenario::from_toml(&text, &[]).expect("valid values");
+    let err = granular::run::build(&s).expect_err("overlap");
+    assert!(err.to_string().contains("overlap"), "{err}");
+}
+
+fn final_state(dir: &std::path::Path) -> (String, String) {
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    let csv = std::fs::read_to_string(dir.join("timeseries.csv")).unwrap();
+    (summary["final"].to_string(), csv)
+}
+
+#[test]
+fn same_scenario_and_seed_give_identical_results() {
+    let s = Scenario::from_toml(GOOD, &[]).unwrap();
+    let (a, b) = (tmp("det-a"), tmp("det-b"));
+    Run::create(&a, s.clone())
+        .unwrap()
+        .run_to_end(&mut |_| {}, None)
+        .unwrap();
+    Run::create(&b, s)
+        .unwrap()
+        .run_to_end(&mut |_| {}, None)
+        .unwrap();
+    assert_eq!(final_state(&a), final_state(&b));
+    let other = Scenario::from_toml(GOOD, &["seed=6".into()]).unwrap();
+    let c = tmp("det-c");
+    Run::create(&c, other)
+        .unwrap()
+        .run_to_end(&mut |_| {}, None)
+        .unwrap();
+    assert_ne!(final_state(&a).0, final_state(&c).0);
+}
+
+#[test]
+fn resume_equals_the_uninterrupted_run() {
+    let s = Scenario::from_toml(GOOD, &[]).unwrap();
+    let (full, cut) = (tmp("full"), tmp("cut"));
+    Run::create(&full, s.clone())
+        .unwrap()
+        .run_to_end(&mut |_| {}, None)
+        .unwrap();
+    let interrupted = Run::create(&cut, s)
+        .unwrap()
+        .run_to_end(&mut |_| {}, Some(7));
+    assert!(interrupted.is_err(), "the run should stop after 7 outputs");
+    // Simulate rows written after the checkpoint by a killed process: resume drops them.
+    Run::resume(&cut)
+        .unwrap()
+        .run_to_end(&mut |_| {}, None)
+        .unwrap();
+    let (a, b) = (final_state(&full), final_state(&cut));
+    assert_eq!(a.0, b.0);
+    for (k, (x, y)) in a.1.lines().zip(b.1.lines()).enumerate() {
+        assert_eq!(x, y, "timeseries row {k}");
+    }
+    assert_eq!(a.1.lines().count(), b.1.lines().count());
+    let snap_a = granular::run::read_snapshot(&full.join("snapshots/snapshot_000020.npz")).unwrap();
+    let snap_b = granular::run::read_snapshot(&cut.join("snapshots/snapshot_000020.npz")).unwrap();
+    assert_eq!(snap_a.positions, snap_b.positions);
+    assert_eq!(
+        snap_a.species_names,
+        vec!["light".to_string(), "heavy".to_string()]
+    );
+}
