@@ -24,7 +24,7 @@ pub enum BenchCommand {
         #[arg(long)]
         packing_fraction: Option<f64>,
         /// Collisions per grain to measure over (after equilibration).
-        #[arg(long, default_value_t = 20.0)]
+        #[arg(long, default_value_t = 50.0)]
         collisions_per_particle: f64,
         /// One JSON object per case on standard output.
         #[arg(long)]
@@ -78,7 +78,7 @@ pub fn run(cmd: BenchCommand) -> Result<(), String> {
                     println!("{}", serde_json::to_string(&r).unwrap_or_default());
                 } else {
                     println!(
-                        "edmd {}D N = {:>8} phi = {:.2}: {:.3e} collisions/s, {:.3e} events/s, {} bytes/particle (setup {:.1} s)",
+                        "edmd {}D N = {:>8} phi = {:.2}: {:.3e} collisions/s, {:.3e} events/s, {:.0} bytes/particle (setup {:.1} s)",
                         r["dimension"],
                         r["n"],
                         r["packing_fraction"].as_f64().unwrap_or(0.0),
@@ -139,7 +139,7 @@ fn case<const D: usize>(n: usize, phi: f64, cpp: f64) -> Result<serde_json::Valu
         "seconds": secs,
         "collisions_per_second": collisions as f64 / secs,
         "events_per_second": events as f64 / secs,
-        "bytes_per_particle": Edmd::<D>::BYTES_PER_PARTICLE,
+        "bytes_per_particle": e.memory_bytes() as f64 / n as f64,
         "setup_seconds": setup_seconds,
         "threads": 1,
     }))

@@ -80,8 +80,10 @@ impl<const D: usize> CellGrid<D> {
         }
     }
 
-    /// Bytes per particle held by the grid (lists and coordinates).
-    pub const BYTES_PER_PARTICLE: usize = 8 + 4 * D;
+    /// Heap memory in bytes (cell heads, lists and coordinates).
+    pub fn memory_bytes(&self) -> usize {
+        (self.head.capacity() + self.next.capacity() + self.prev.capacity()) * 4 + self.coords.capacity() * 4 * D
+    }
 
     /// The cell coordinates containing `x` (clamped into the grid).
     pub fn coords_of(&self, x: &[f64; D]) -> [u32; D] {

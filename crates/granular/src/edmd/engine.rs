@@ -767,19 +767,27 @@ impl<const D: usize> Edmd<D> {
         }
     }
 
-    /// Bytes of per-particle state held by the engine (positions, velocities, clocks,
-    /// counters, radii, masses, species, TC times, partners, events, queue and cells).
-    pub const BYTES_PER_PARTICLE: usize = 2 * 8 * D
-        + 8
-        + 8
-        + 8
-        + 8
-        + 4
-        + 8
-        + 4
-        + std::mem::size_of::<EventKind>()
-        + EventQueue::BYTES_PER_PARTICLE
-        + CellGrid::<D>::BYTES_PER_PARTICLE;
+    /// Heap memory held by the engine's per-particle and per-cell arrays, in bytes
+    /// (positions, velocities, clocks, counters, radii, masses, species, TC times,
+    /// partners, events, queue and cell lists): what `granular bench edmd` reports per
+    /// particle.
+    pub fn memory_bytes(&self) -> usize {
+        fn bytes<T>(v: &Vec<T>) -> usize {
+            v.capacity() * std::mem::size_of::<T>()
+        }
+        bytes(&self.pos)
+            + bytes(&self.vel)
+            + bytes(&self.time)
+            + bytes(&self.counter)
+            + bytes(&self.radius)
+            + bytes(&self.mass)
+            + bytes(&self.species)
+            + bytes(&self.last_collision)
+            + bytes(&self.last_partner)
+            + bytes(&self.event)
+            + self.queue.memory_bytes()
+            + self.cells.memory_bytes()
+    }
 
     /// Kinetic energy and grain count per species.
     pub fn species_kinetic_energy(&self) -> Vec<(f64, usize)> {

@@ -117,8 +117,10 @@ impl EventQueue {
         self.slot[item as usize] = pos as u32;
     }
 
-    /// Heap bytes per particle (for the memory report of `granular bench edmd`).
-    pub const BYTES_PER_PARTICLE: usize = 4 + 4 + 8;
+    /// Heap memory in bytes.
+    pub fn memory_bytes(&self) -> usize {
+        self.heap.capacity() * 4 + self.slot.capacity() * 4 + self.keys.capacity() * 8
+    }
 }
 
 #[cfg(test)]
