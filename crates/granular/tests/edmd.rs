@@ -487,3 +487,119 @@ fn same_input_gives_bit_identical_trajectories() {
     assert_eq!(a.positions, b.positions);
     assert_eq!(a.velocities, b.velocities);
 }
+
+// ---------------------------------------------------------------- 3D, gravity, polydispersity
+
+#[test]
+fn speed_distribution_is_maxwell_boltzmann_in_3d() {
+    let n = 1000;
+    let (bx, mut p) = gas::<3>(n, 0.2, AxisKind::Wall, 22, false);
+    let mut rng = stream(22, &[5]);
+    p.velocities = init::fixed_speed::<3>(n, 1.0, &mut rng);
+    let mut e = Edmd::new(bx, p, CollisionLaw::default(), EdmdOptions::default());
+    run_collisions(&mut e, 10 * n as u64);
+    let temperature = 2.0 * e.kinetic_energy_now() / (3.0 * n as f64);
+    let mut hist = Histogram::new(0.0, 3.0, 40);
+    for _ in 0..40 {
+        run_collisions(&mut e, 2 * n as u64);
+        for i in 0..n {
+            hist.push(e.velocity(i).norm());
+        }
+    }
+    let fit = chi_square_test(&hist, |v| equilibrium::speed_cdf(3, v, 1.0, temperature));
+    assert!(fit.p_value > 1e-3, "{fit:?}");
+}
+
+#[test]
+fn free_fall_under_gravity_is_exact_and_bounces_elastically() {
+    let bx = SimulationBox::<2>::unit_walled();
+    let options = EdmdOptions {
+        gravity: vec![0.0, -1.0],
+        ..EdmdOptions::default()
+    };
+    let (y0, r) = (0.8, 0.05);
+    let mut e = Edmd::new(
+        bx,
+        set(
+            vec![Vector([0.5, y0])],
+            vec![Vector([0.0, 0.0])],
+            vec![r],
+            vec![1.0],
+        ),
+        CollisionLaw::default(),
+        options,
+    );
+    // Falls (y0 - r) to the floor in sqrt(2 (y0 - r) / g), bounces back to y0 after twice that.
+    let t_floor = (2.0 * (y0 - r)).sqrt();
+    run_to(&mut e, 0.5 * t_floor);
+    assert!((e.position(0)[1] - (y0 - 0.125 * t_floor * t_floor)).abs() < 1e-14);
+    run_to(&mut e, 2.0 * t_floor);
+    assert_eq!(e.totals().wall_collisions, 1);
+    assert!((e.position(0)[1] - y0).abs() < 1e-12, "{:?}", e.position(0));
+    assert!(e.velocity(0)[1].abs() < 1e-12);
+    // Many bouncing grains under gravity conserve total (kinetic + potential) energy.
+    let (bx, p) = gas::<2>(500, 0.3, AxisKind::Wall, 23, false);
+    let options = EdmdOptions {
+        gravity: vec![0.0, -2.0],
+        ..EdmdOptions::default()
+    };
+    let mut e = Edmd::new(bx, p, CollisionLaw::default(), options);
+    let energy = |e: &Edmd<2>| {
+        e.kinetic_energy_now() + (0..e.len()).map(|i| 2.0 * e.position(i)[1]).sum::<f64>()
+    };
+    let e0 = energy(&e);
+    run_collisions(&mut e, 200_000);
+    assert!(((energy(&e) - e0) / e0).abs() < 1e-10);
+    assert!(e.max_overlap() < 1e-12);
+}
+
+#[test]
+fn large_projectile_in_a_bed_of_small_grains() {
+    // The crater setup of Problem 4: a 5x larger, 25x heavier projectile at (0.5, 0.75)
+    // falling at speed 5 into 2000 grains at rest in the lower half, ξ = 0.5.
+    let n = 2000;
+    let bx = SimulationBox::<2>::unit_walled();
+    let r = (0.5 * 0.5 / (n as f64 * std::f64::consts::PI)).sqrt();
+    let mut rng = stream(81, &[0]);
+    let region = Region {
+        lo: Vector([0.0, 0.0]),
+        hi: Vector([1.0, 0.5]),
+    };
+    let projectile = (Vector([0.5, 0.75]), 5.0 * r);
+    let bed = init::lattice_placement(&bx, &region, &vec![r; n]).expect("bed");
+    let _ = &mut rng;
+    let mut pos = vec![projectile.0];
+    pos.extend(bed);
+    let mut vel = vec![Vector([0.0, -5.0])];
+    vel.extend(std::iter::repeat_n(Vector([0.0, 0.0]), n));
+    let mut radii = vec![5.0 * r];
+    radii.extend(std::iter::repeat_n(r, n));
+    let mut masses = vec![25.0];
+    masses.extend(std::iter::repeat_n(1.0, n));
+    let p = ParticleSet {
+        positions: pos,
+        velocities: vel,
+        radii,
+        masses,
+        species: std::iter::once(0)
+            .chain(std::iter::repeat_n(1, n))
+            .collect(),
+        species_names: vec!["projectile".into(), "bed".into()],
+    };
+    let mut law = CollisionLaw::uniform(0.5);
+    law.contact_duration = 1e-6;
+    let mut e = Edmd::new(bx, p, law, EdmdOptions::default());
+    let k0 = e.kinetic_energy_now();
+    let mut t = 0.0;
+    while e.kinetic_energy_now() > 0.1 * k0 {
+        t += 0.01;
+        run_to(&mut e, t);
+        assert!(t < 20.0, "energy should fall to 10% well before t = 20");
+    }
+    assert!(e.max_overlap() < 1e-10 * r, "overlap {}", e.max_overlap());
+    let lost = e.totals().dissipated_energy;
+    assert!(
+        (k0 - e.kinetic_energy_now() - lost).abs() < 1e-9 * k0,
+        "energy bookkeeping"
+    );
+}

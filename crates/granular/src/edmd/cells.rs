@@ -82,7 +82,8 @@ impl<const D: usize> CellGrid<D> {
 
     /// Heap memory in bytes (cell heads, lists and coordinates).
     pub fn memory_bytes(&self) -> usize {
-        (self.head.capacity() + self.next.capacity() + self.prev.capacity()) * 4 + self.coords.capacity() * 4 * D
+        (self.head.capacity() + self.next.capacity() + self.prev.capacity()) * 4
+            + self.coords.capacity() * 4 * D
     }
 
     /// The cell coordinates containing `x` (clamped into the grid).
