@@ -7,6 +7,7 @@
 //! | `timeseries.csv` | one row of scalar observables per output time |
 //! | `snapshots/snapshot_NNNNNN.npz` | positions, velocities, radii, masses, species (NumPy) |
 //! | `speed_histograms.csv` | initial and pooled equilibrium speed histograms per species |
+//! | `velocity_histograms.csv` | pooled equilibrium velocity-component histograms per species |
 //! | `impact_parameter.csv` | histogram of `b / σ` of all pair collisions |
 //! | `summary.json` | engine, version, seed, timings, final observables, goodness of fit |
 //! | `checkpoint.msgpack` | full state at the last checkpoint (removed when the run ends) |
@@ -75,6 +76,8 @@ pub struct SpeedHistograms {
     pub initial: Vec<Histogram>,
     /// Pooled equilibrium histograms.
     pub equilibrium: Vec<Histogram>,
+    /// Pooled equilibrium histograms of the velocity components (all axes together).
+    pub velocity: Vec<Histogram>,
     /// Σ m v² / D per species over the pooled samples (temperature estimate).
     pub energy_sum: Vec<f64>,
     /// Number of pooled snapshots.
@@ -332,11 +335,16 @@ impl Run {
                 .sqrt();
             initial[snap.species[i] as usize].push(v);
         }
+        let velocity = histograms
+            .iter()
+            .map(|h| Histogram::new(-h.max, h.max, 2 * h.counts.len()))
+            .collect();
         self.state.histograms = Some(SpeedHistograms {
             species,
             masses,
             initial,
             equilibrium: histograms,
+            velocity,
             energy_sum: vec![0.0; ns],
             samples: 0,
             last_sample_cpp: f64::NEG_INFINITY,
@@ -397,6 +405,9 @@ impl Run {
                     .sum();
                 let s = snap.species[i] as usize;
                 h.equilibrium[s].push(v2.sqrt());
+                for &c in &snap.velocities[i * d..(i + 1) * d] {
+                    h.velocity[s].push(c);
+                }
                 h.energy_sum[s] += snap.masses[i] * v2 / d as f64;
             }
             h.samples += 1;
@@ -667,6 +678,43 @@ impl Run {
                         "p_value": fit.p_value,
                     }),
                 );
+            }
+        }
+        std::fs::write(&path, out).map_err(io_err(&path))?;
+        // Velocity components against the Gaussian of variance T / m.
+        let path = self.dir.join("velocity_histograms.csv");
+        let mut out = String::from(
+            "species,velocity_low,velocity_high,equilibrium_density,equilibrium_count,gaussian_density\n",
+        );
+        for s in 0..h.species.len() {
+            let vh = &h.velocity[s];
+            let count = h.equilibrium[s].total();
+            let temperature = if count > 0 {
+                h.energy_sum[s] / count as f64
+            } else {
+                f64::NAN
+            };
+            let sd = (temperature / h.masses[s]).sqrt();
+            let cdf = |v: f64| 0.5 * libm::erfc(-v / (sd * std::f64::consts::SQRT_2));
+            let dens = vh.density();
+            let w = vh.bin_width();
+            for b in 0..vh.counts.len() {
+                let lo = vh.min + b as f64 * w;
+                let theory = if sd > 0.0 {
+                    (cdf(lo + w) - cdf(lo)) / w
+                } else {
+                    f64::NAN
+                };
+                let observed = if vh.total() > 0 { dens[b] } else { f64::NAN };
+                out.push_str(&format!(
+                    "{},{:e},{:e},{:e},{},{:e}\n",
+                    h.species[s],
+                    lo,
+                    lo + w,
+                    observed,
+                    vh.counts[b],
+                    theory
+                ));
             }
         }
         std::fs::write(&path, out).map_err(io_err(&path))?;
