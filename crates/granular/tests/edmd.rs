@@ -420,45 +420,17 @@ fn collapse_detector_fires_and_names_the_tc_model() {
 
 // ---------------------------------------------------------------- initial states
 
-#[test]
-fn compression_reaches_dense_states() {
-    for (phi, n) in [(0.75, 1000usize)] {
-        let bx = SimulationBox::<2>::uniform(Vector([1.0, 1.0]), AxisKind::Periodic);
-        let r = (phi / (n as f64 * std::f64::consts::PI)).sqrt();
-        let start = 0.35;
-        let scale = (phi / start).sqrt();
-        let small = vec![r / scale; n];
-        let mut rng = stream(61, &[0]);
-        let pos = init::random_placement(&bx, &Region::whole(&bx), &small, &[], &mut rng, 10_000)
-            .expect("placement");
-        let masses = vec![1.0; n];
-        let vel = init::maxwell_boltzmann::<2>(&masses, 1.0, &mut rng);
-        let pos = init::compress(
-            &bx,
-            set(pos, vel.clone(), small, masses.clone()),
-            &vec![r; n],
-            &mut rng,
-        )
-        .expect("compression");
-        let e = Edmd::new(
-            bx,
-            set(pos, vel, vec![r; n], masses),
-            CollisionLaw::default(),
-            EdmdOptions::default(),
-        );
-        assert!(e.max_overlap() < 1e-9 * r);
-    }
-    let n = 1000;
-    let phi = 0.55;
-    let bx = SimulationBox::<3>::uniform(Vector([1.0; 3]), AxisKind::Periodic);
-    let r = (phi / (n as f64 * init::ball_volume::<3>(1.0))).cbrt();
-    let scale = (phi / 0.25f64).cbrt();
+/// Places `n` grains at packing fraction `start`, compresses to `phi`, and checks overlaps.
+fn compress_to<const D: usize>(n: usize, phi: f64, start: f64, seed: u64) {
+    let bx = SimulationBox::<D>::uniform(Vector([1.0; D]), AxisKind::Periodic);
+    let r = (phi / (n as f64 * init::ball_volume::<D>(1.0))).powf(1.0 / D as f64);
+    let scale = (phi / start).powf(1.0 / D as f64);
     let small = vec![r / scale; n];
-    let mut rng = stream(62, &[0]);
+    let mut rng = stream(seed, &[0]);
     let pos = init::random_placement(&bx, &Region::whole(&bx), &small, &[], &mut rng, 10_000)
         .expect("placement");
     let masses = vec![1.0; n];
-    let vel = init::maxwell_boltzmann::<3>(&masses, 1.0, &mut rng);
+    let vel = init::maxwell_boltzmann::<D>(&masses, 1.0, &mut rng);
     let pos = init::compress(
         &bx,
         set(pos, vel.clone(), small, masses.clone()),
@@ -472,7 +444,15 @@ fn compression_reaches_dense_states() {
         CollisionLaw::default(),
         EdmdOptions::default(),
     );
-    assert!(e.max_overlap() < 1e-9 * r);
+    assert!(e.max_overlap() < 1e-9 * r, "overlap {}", e.max_overlap());
+    let reached = init::packing_fraction::<D>(&e.radii(), 1.0);
+    assert!((reached - phi).abs() < 1e-9, "reached {reached}");
+}
+
+#[test]
+fn compression_reaches_dense_states() {
+    compress_to::<2>(1000, 0.75, 0.35, 61);
+    compress_to::<3>(1000, 0.55, 0.25, 62);
 }
 
 #[test]

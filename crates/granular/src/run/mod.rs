@@ -698,7 +698,7 @@ impl Run {
             let cdf = |v: f64| 0.5 * libm::erfc(-v / (sd * std::f64::consts::SQRT_2));
             let dens = vh.density();
             let w = vh.bin_width();
-            for b in 0..vh.counts.len() {
+            for (b, &count_b) in vh.counts.iter().enumerate() {
                 let lo = vh.min + b as f64 * w;
                 let theory = if sd > 0.0 {
                     (cdf(lo + w) - cdf(lo)) / w
@@ -712,7 +712,7 @@ impl Run {
                     lo,
                     lo + w,
                     observed,
-                    vh.counts[b],
+                    count_b,
                     theory
                 ));
             }

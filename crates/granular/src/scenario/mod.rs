@@ -565,7 +565,7 @@ impl Scenario {
         for (k, &l) in lengths.iter().enumerate() {
             if !(l > 0.0 && l.is_finite()) {
                 return Err(ScenarioError::new(
-                    format!("box.lengths"),
+                    "box.lengths".to_string(),
                     format!("entry {k} is {l}; lengths must be positive"),
                 ));
             }
@@ -604,7 +604,7 @@ impl Scenario {
         if let Some(w) = self.collisions.wall_tangential_restitution {
             unit_interval("collisions.wall_tangential_restitution", w)?;
         }
-        if !(self.collisions.contact_duration >= 0.0) {
+        if self.collisions.contact_duration.is_nan() || self.collisions.contact_duration < 0.0 {
             return Err(ScenarioError::new(
                 "collisions.contact_duration",
                 format!(
@@ -692,6 +692,7 @@ impl Scenario {
                         format!("needs lo and hi with {d} entries each"),
                     ));
                 }
+                #[allow(clippy::needless_range_loop)]
                 for k in 0..d {
                     if !(region.lo[k] >= 0.0
                         && region.hi[k] <= lengths[k]
@@ -741,13 +742,15 @@ impl Scenario {
                 }
             }
             match &sp.velocity {
-                VelocitySpec::FixedSpeed { speed } if !(*speed >= 0.0) => {
+                VelocitySpec::FixedSpeed { speed } if speed.is_nan() || *speed < 0.0 => {
                     return Err(ScenarioError::new(
                         key("velocity.speed"),
                         format!("is {speed}; a speed must be >= 0"),
                     ));
                 }
-                VelocitySpec::MaxwellBoltzmann { temperature } if !(*temperature >= 0.0) => {
+                VelocitySpec::MaxwellBoltzmann { temperature }
+                    if temperature.is_nan() || *temperature < 0.0 =>
+                {
                     return Err(ScenarioError::new(
                         key("velocity.temperature"),
                         format!("is {temperature}; a temperature must be >= 0"),
@@ -802,7 +805,7 @@ impl Scenario {
                 ));
             }
         }
-        if !(self.output.interval > 0.0) {
+        if self.output.interval.is_nan() || self.output.interval <= 0.0 {
             return Err(ScenarioError::new(
                 "output.interval",
                 format!("is {}; it must be positive", self.output.interval),
