@@ -48,6 +48,20 @@ enum Command {
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
     },
+    /// Run a scenario's [sweep]: every value of a key, several seeds each, in parallel.
+    Sweep {
+        /// Scenario file with a [sweep] table.
+        scenario: PathBuf,
+        /// Sweep directory (default: runs/<scenario name>); finished members are kept.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Worker threads (default: all cores).
+        #[arg(long, default_value_t = 0)]
+        threads: usize,
+        /// Override a scenario key for every member (repeatable).
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
+    },
     /// Continue an interrupted run from its last checkpoint.
     Resume {
         /// Run directory.
@@ -72,6 +86,15 @@ fn main() -> ExitCode {
             ExitCode::from(2)
         }
     }
+}
+
+/// `runs/<scenario file stem>`.
+fn default_dir(scenario: &Path) -> PathBuf {
+    PathBuf::from("runs").join(
+        scenario
+            .file_stem()
+            .map_or("run".into(), |s| s.to_string_lossy().to_string()),
+    )
 }
 
 fn load(path: &Path, seed: Option<u64>, set: &[String]) -> Result<Scenario, String> {
@@ -119,10 +142,47 @@ fn dispatch(cli: Cli) -> Result<(), String> {
             finish(run, &dir, quiet)
         }
         Command::Bench { engine } => bench::run(engine),
+        Command::Sweep {
+            scenario,
+            out,
+            threads,
+            set,
+        } => {
+            let text = std::fs::read_to_string(&scenario)
+                .map_err(|e| format!("{}: {e}", scenario.display()))?;
+            let dir = out.unwrap_or_else(|| default_dir(&scenario));
+            let start = std::time::Instant::now();
+            let rows = granular::run::sweep::run_sweep(&dir, &text, &set, threads, &|name, s| {
+                eprintln!(
+                    "{name}: {} collisions in {:.2} s, stopped by {}",
+                    s.collisions, s.wall_seconds, s.stop_reason
+                );
+            })
+            .map_err(|e| format!("{}: {e}", scenario.display()))?;
+            let observable = load(&scenario, None, &set)?
+                .sweep
+                .map(|s| s.observable)
+                .unwrap_or_default();
+            println!("value,{observable}_mean,{observable}_stderr");
+            for r in &rows {
+                if let Some((_, m, e, _)) = r.observables.iter().find(|o| o.0 == observable) {
+                    println!("{},{m},{e}", r.value);
+                }
+            }
+            eprintln!(
+                "{}: {} points in {:.1} s; table in {}",
+                dir.display(),
+                rows.len(),
+                start.elapsed().as_secs_f64(),
+                dir.join("sweep.csv").display()
+            );
+            Ok(())
+        }
     }
 }
 
 fn finish(run: Run, dir: &Path, quiet: bool) -> Result<(), String> {
+    let elastic = run.scenario().collisions.law().is_elastic();
     let bar = if !quiet && std::io::stderr().is_terminal() {
         let bar = ProgressBar::new(1000);
         bar.set_style(
@@ -151,7 +211,7 @@ fn finish(run: Run, dir: &Path, quiet: bool) -> Result<(), String> {
     match result {
         Ok(summary) => {
             eprintln!(
-                "{}: {} grains, t = {}, {} collisions in {:.2} s ({:.3e} collisions/s), stopped by {}",
+                "{}: {} grains, t = {:.6}, {} collisions in {:.2} s ({:.3e} collisions/s), stopped by {}",
                 dir.display(),
                 summary.n,
                 summary
@@ -163,7 +223,21 @@ fn finish(run: Run, dir: &Path, quiet: bool) -> Result<(), String> {
                 summary.collisions_per_second,
                 summary.stop_reason
             );
-            for (species, fit) in &summary.maxwell_boltzmann_fit {
+            if let Some(c) = &summary.crater {
+                eprintln!(
+                    "  crater: {} of {} `{}` grains moved more than {}",
+                    c["displaced"],
+                    c["grains"],
+                    c["species"].as_str().unwrap_or(""),
+                    c["displacement"]
+                );
+            }
+            let fits = if elastic {
+                summary.maxwell_boltzmann_fit.clone()
+            } else {
+                Default::default()
+            };
+            for (species, fit) in &fits {
                 eprintln!(
                     "  Maxwell-Boltzmann fit of `{species}`: chi2 = {:.1} for {} degrees of freedom, p = {:.3} ({} speeds pooled)",
                     fit["chi_square"].as_f64().unwrap_or(f64::NAN),

@@ -17,7 +17,7 @@ pub enum InitError {
     #[error(
         "could not place grain {placed_plus_one} of {total} without overlap after {attempts} random attempts \
          (packing fraction {packing_fraction:.3} of the region is too high for random placement); \
-         use placement = \"lattice\", or compress_to = {packing_fraction:.3} with a lower initial density"
+         use placement = \"lattice\", or initial.compress_from (random placement at a lower density, then compression)"
     )]
     Placement {
         /// One-based index of the grain that did not fit.

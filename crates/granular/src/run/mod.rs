@@ -15,13 +15,14 @@
 
 mod build;
 mod snapshot;
+pub mod sweep;
 
 pub use build::{AnyEngine, BuildError, build, initial_particles};
 pub use snapshot::{read_snapshot, write_snapshot};
 
 use crate::engine::{Engine, EngineError, Progress, Scalar};
 use crate::scenario::Scenario;
-use crate::stats::{ChiSquare, Histogram, chi_square_test};
+use crate::stats::{ChiSquare, Histogram, RunningStats, chi_square_test};
 use crate::theory::equilibrium;
 use serde::{Deserialize, Serialize};
 use std::io::Write;
@@ -80,6 +81,10 @@ pub struct SpeedHistograms {
     pub velocity: Vec<Histogram>,
     /// Σ m v² / D per species over the pooled samples (temperature estimate).
     pub energy_sum: Vec<f64>,
+    /// Speeds of the pooled samples, per species.
+    pub speed_stats: Vec<RunningStats>,
+    /// Kinetic energies `m v² / 2` of the pooled samples, per species.
+    pub energy_stats: Vec<RunningStats>,
     /// Number of pooled snapshots.
     pub samples: u64,
     /// Collisions per grain at the last pooled snapshot.
@@ -151,6 +156,13 @@ pub struct Summary {
     /// Pearson chi-square of the pooled equilibrium speeds per species against the
     /// Maxwell-Boltzmann law at the measured temperature.
     pub maxwell_boltzmann_fit: serde_json::Map<String, serde_json::Value>,
+    /// Per species, over the pooled equilibrium samples: mean speed and mean kinetic
+    /// energy per grain with standard errors, and the Maxwell-Boltzmann mean speed at the
+    /// species' measured temperature.
+    pub species: serde_json::Map<String, serde_json::Value>,
+    /// Crater measure, when the scenario has a `[crater]` table.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub crater: Option<serde_json::Value>,
     /// Outputs and snapshots written.
     pub outputs: u64,
     /// Snapshots written.
@@ -346,6 +358,8 @@ impl Run {
             equilibrium: histograms,
             velocity,
             energy_sum: vec![0.0; ns],
+            speed_stats: vec![RunningStats::new(); ns],
+            energy_stats: vec![RunningStats::new(); ns],
             samples: 0,
             last_sample_cpp: f64::NEG_INFINITY,
         });
@@ -409,6 +423,8 @@ impl Run {
                     h.velocity[s].push(c);
                 }
                 h.energy_sum[s] += snap.masses[i] * v2 / d as f64;
+                h.speed_stats[s].push(v2.sqrt());
+                h.energy_stats[s].push(0.5 * snap.masses[i] * v2);
             }
             h.samples += 1;
             h.last_sample_cpp = cpp;
@@ -587,6 +603,8 @@ impl Run {
         }
         let fits = self.write_histograms()?;
         self.write_impact()?;
+        let species = self.species_statistics();
+        let crater = self.crater()?;
         let wall = self.wall_seconds();
         let events = self.engine.events();
         let collisions = self.engine.collisions();
@@ -609,6 +627,8 @@ impl Run {
             initial_kinetic_energy: self.state.initial_energy,
             final_observables,
             maxwell_boltzmann_fit: fits,
+            species,
+            crater,
             outputs: self.state.outputs,
             snapshots: self.state.snapshots,
         };
@@ -719,6 +739,71 @@ impl Run {
         }
         std::fs::write(&path, out).map_err(io_err(&path))?;
         Ok(fits)
+    }
+
+    fn species_statistics(&self) -> serde_json::Map<String, serde_json::Value> {
+        let mut out = serde_json::Map::new();
+        let Some(h) = &self.state.histograms else {
+            return out;
+        };
+        let d = self.scenario.dimension;
+        for s in 0..h.species.len() {
+            let (sp, en) = (&h.speed_stats[s], &h.energy_stats[s]);
+            if sp.count == 0 {
+                continue;
+            }
+            let temperature = 2.0 * en.mean() / d as f64;
+            out.insert(
+                h.species[s].clone(),
+                serde_json::json!({
+                    "mass": h.masses[s],
+                    "samples": sp.count,
+                    "mean_speed": json_number(sp.mean()),
+                    "mean_speed_error": json_number(sp.standard_error()),
+                    "mean_kinetic_energy": json_number(en.mean()),
+                    "mean_kinetic_energy_error": json_number(en.standard_error()),
+                    "temperature": json_number(temperature),
+                    "maxwell_boltzmann_mean_speed": json_number(equilibrium::mean_speed(d, h.masses[s], temperature)),
+                }),
+            );
+        }
+        out
+    }
+
+    /// Number of bed grains displaced by more than the threshold since `t = 0`.
+    fn crater(&mut self) -> Result<Option<serde_json::Value>, RunError> {
+        let Some(spec) = self.scenario.crater.clone() else {
+            return Ok(None);
+        };
+        let path = self.dir.join("snapshots").join("snapshot_000000.npz");
+        let initial = read_snapshot(&path).map_err(io_err(&path))?;
+        let Some(now) = self.engine.snapshot() else {
+            return Ok(None);
+        };
+        let Some(index) = now.species_names.iter().position(|n| *n == spec.species) else {
+            return Ok(None);
+        };
+        let d = now.dimension;
+        let (mut total, mut displaced) = (0usize, 0usize);
+        for i in 0..now.radii.len() {
+            if now.species[i] as usize != index {
+                continue;
+            }
+            total += 1;
+            let r2: f64 = (0..d)
+                .map(|k| (now.positions[i * d + k] - initial.positions[i * d + k]).powi(2))
+                .sum();
+            if r2 > spec.displacement * spec.displacement {
+                displaced += 1;
+            }
+        }
+        Ok(Some(serde_json::json!({
+            "species": spec.species,
+            "displacement": spec.displacement,
+            "grains": total,
+            "displaced": displaced,
+            "fraction": displaced as f64 / total.max(1) as f64,
+        })))
     }
 
     fn write_impact(&mut self) -> Result<(), RunError> {

@@ -60,6 +60,48 @@ pub struct Scenario {
     /// Options of the event-driven engine.
     #[serde(default)]
     pub edmd: EdmdSpec,
+    /// Crater measure (Problem 4 of the hard-disk seed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub crater: Option<CraterSpec>,
+    /// Parameter scan run by `granular sweep`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sweep: Option<SweepSpec>,
+}
+
+/// `[crater]`: the crater size is the number of grains of `species` whose final position
+/// lies farther than `displacement` from their initial position.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CraterSpec {
+    /// Species forming the bed.
+    pub species: String,
+    /// Displacement threshold (length units), e.g. one bed-grain diameter.
+    pub displacement: f64,
+}
+
+/// `[sweep]`: run the scenario for each value of `key`, each with `seeds` seeds.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SweepSpec {
+    /// Dotted scenario key to vary, e.g. `species[0].velocity.velocity` or
+    /// `collisions.restitution`.
+    pub key: String,
+    /// Values of the key (TOML values: numbers, arrays, ...).
+    pub values: Vec<toml::Value>,
+    /// Seeds per value (ensemble size).
+    #[serde(default = "four")]
+    pub seeds: usize,
+    /// Observable plotted against the value (a key of `summary.json`'s `final`, or
+    /// `crater_size`).
+    #[serde(default = "kinetic")]
+    pub observable: String,
+}
+
+fn four() -> usize {
+    4
+}
+fn kinetic() -> String {
+    "kinetic_energy".into()
 }
 
 fn two() -> usize {
@@ -810,6 +852,37 @@ impl Scenario {
                 "output.interval",
                 format!("is {}; it must be positive", self.output.interval),
             ));
+        }
+        if let Some(c) = &self.crater {
+            if !self.species.iter().any(|s| s.name == c.species) {
+                return Err(ScenarioError::new(
+                    "crater.species",
+                    format!(
+                        "\"{}\" is not a species of this scenario; use one of the [[species]] names",
+                        c.species
+                    ),
+                ));
+            }
+            if c.displacement.is_nan() || c.displacement <= 0.0 {
+                return Err(ScenarioError::new(
+                    "crater.displacement",
+                    format!("is {}; give a positive distance", c.displacement),
+                ));
+            }
+        }
+        if let Some(sw) = &self.sweep {
+            if sw.values.is_empty() {
+                return Err(ScenarioError::new(
+                    "sweep.values",
+                    "is empty; list the values to scan",
+                ));
+            }
+            if sw.seeds == 0 {
+                return Err(ScenarioError::new(
+                    "sweep.seeds",
+                    "is 0; use at least 1 seed per value",
+                ));
+            }
         }
         if self.output.histogram_bins == 0 {
             return Err(ScenarioError::new(
