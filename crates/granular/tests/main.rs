@@ -1,4 +1,5 @@
 //! The library's integration tests, one binary (fast to link on two cores).
 
 mod edmd;
+mod problems;
 mod spine;

@@ -74,7 +74,8 @@ fn value_text(v: &toml::Value) -> String {
     }
 }
 
-/// The scalar observables of a member summary (final observables, crater size).
+/// The scalar observables of a member summary (final observables, crater size); all of
+/// them deterministic, so the table does not depend on timing or threads.
 fn observables(summary: &Summary) -> Vec<(String, f64)> {
     let mut out: Vec<(String, f64)> = summary
         .final_observables
@@ -86,7 +87,6 @@ fn observables(summary: &Summary) -> Vec<(String, f64)> {
     {
         out.push(("crater_size".into(), d));
     }
-    out.push(("wall_seconds".into(), summary.wall_seconds));
     out
 }
 
@@ -192,7 +192,7 @@ fn write_table(path: &Path, key: &str, rows: &[SweepRow]) -> Result<(), SweepErr
     let mut columns: Vec<String> = Vec::new();
     for r in rows {
         for (n, ..) in &r.observables {
-            if n != "wall_seconds" && !columns.contains(n) {
+            if !columns.contains(n) {
                 columns.push(n.clone());
             }
         }

@@ -1,0 +1,236 @@
+//! Fast versions of the four problems of the hard-disk seed, run through the same
+//! scenario files and runner as the CLI, asserting the physics; and sweeps.
+
+use granular::run::sweep::run_sweep;
+use granular::run::{Run, Summary};
+use granular::scenario::Scenario;
+use std::path::PathBuf;
+
+fn scenario_text(name: &str) -> String {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenarios")
+        .join(name);
+    std::fs::read_to_string(&path).expect("bundled scenario")
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("granular-problems-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+fn run(name: &str, overrides: &[&str], dir: &str) -> (Summary, PathBuf) {
+    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+    let s = Scenario::from_toml(&scenario_text(name), &o).expect("valid");
+    let d = tmp(dir);
+    let summary = Run::create(&d, s)
+        .unwrap()
+        .run_to_end(&mut |_| {}, None)
+        .unwrap();
+    (summary, d)
+}
+
+#[test]
+fn problem1_speeds_pass_the_maxwell_boltzmann_test() {
+    let (s, d) = run(
+        "maxwell-boltzmann.toml",
+        &["species[0].count=2000", "stop.collisions_per_particle=200"],
+        "p1",
+    );
+    let fit = &s.maxwell_boltzmann_fit["disk"];
+    assert!(fit["p_value"].as_f64().unwrap() > 1e-3, "{fit}");
+    assert!(fit["samples"].as_u64().unwrap() >= 2000 * 30);
+    let _ = std::fs::remove_dir_all(d);
+}
+
+#[test]
+fn problem2_mixture_reaches_equipartition() {
+    let (s, d) = run(
+        "problem2-mixture.toml",
+        &[
+            "species[0].count=1000",
+            "species[1].count=1000",
+            "species[0].radius=0.008",
+            "species[1].radius=0.008",
+            "stop.collisions_per_particle=300",
+        ],
+        "p2",
+    );
+    let light = &s.species["m0"];
+    let heavy = &s.species["4m0"];
+    let (el, sl) = (
+        light["mean_kinetic_energy"].as_f64().unwrap(),
+        light["mean_kinetic_energy_error"].as_f64().unwrap(),
+    );
+    let (eh, sh) = (
+        heavy["mean_kinetic_energy"].as_f64().unwrap(),
+        heavy["mean_kinetic_energy_error"].as_f64().unwrap(),
+    );
+    // Equal within 3 combined standard errors (samples 5 collisions per grain apart).
+    assert!(
+        (el - eh).abs() < 3.0 * (sl * sl + sh * sh).sqrt(),
+        "light {el} ± {sl}, heavy {eh} ± {sh}"
+    );
+    // Mean speeds: the heavy grains are slower by a factor 2 = sqrt(4).
+    let ratio = light["mean_speed"].as_f64().unwrap() / heavy["mean_speed"].as_f64().unwrap();
+    let err = ratio
+        * (light["mean_speed_error"].as_f64().unwrap() / light["mean_speed"].as_f64().unwrap())
+            .hypot(
+                heavy["mean_speed_error"].as_f64().unwrap() / heavy["mean_speed"].as_f64().unwrap(),
+            );
+    assert!(
+        (ratio - 2.0).abs() < 4.0 * err,
+        "speed ratio {ratio} ± {err}"
+    );
+    for fit in s.maxwell_boltzmann_fit.values() {
+        assert!(fit["p_value"].as_f64().unwrap() > 1e-3, "{fit}");
+    }
+    let _ = std::fs::remove_dir_all(d);
+}
+
+/// Ratio of light to heavy mean kinetic energy per grain over the second half of the run,
+/// with its standard error over seeds.
+fn cooling_ratio(restitution: f64) -> (f64, f64) {
+    let mut ratios = granular::stats::RunningStats::new();
+    for seed in 0..4 {
+        let (_, d) = run(
+            "problem3-cooling.toml",
+            &[
+                "species[0].count=1000",
+                "species[1].count=1000",
+                "species[0].radius=0.008",
+                "species[1].radius=0.008",
+                &format!("collisions.restitution={restitution}"),
+                &format!("seed={}", 100 + seed),
+                "output.interval=0.002",
+            ],
+            &format!("p3-{restitution}-{seed}"),
+        );
+        let text = std::fs::read_to_string(d.join("timeseries.csv")).unwrap();
+        let mut lines = text.lines();
+        let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+        let il = header
+            .iter()
+            .position(|h| *h == "kinetic_energy_per_grain.m0")
+            .unwrap();
+        let ih = header
+            .iter()
+            .position(|h| *h == "kinetic_energy_per_grain.4m0")
+            .unwrap();
+        let ic = header
+            .iter()
+            .position(|h| *h == "collisions_per_particle")
+            .unwrap();
+        let rows: Vec<Vec<f64>> = lines
+            .map(|l| {
+                l.split(',')
+                    .map(|x| x.parse().unwrap_or(f64::NAN))
+                    .collect()
+            })
+            .collect();
+        let late: Vec<&Vec<f64>> = rows.iter().filter(|r| r[ic] >= 10.0).collect();
+        let r = late.iter().map(|r| r[il] / r[ih]).sum::<f64>() / late.len() as f64;
+        ratios.push(r);
+        let _ = std::fs::remove_dir_all(d);
+    }
+    (ratios.mean(), ratios.standard_error())
+}
+
+#[test]
+fn problem3_equipartition_holds_at_one_and_breaks_below() {
+    let (r1, e1) = cooling_ratio(1.0);
+    let (r8, e8) = cooling_ratio(0.8);
+    assert!(
+        (r1 - 1.0).abs() < 4.0 * e1 + 0.02,
+        "ξ = 1: light/heavy energy ratio {r1} ± {e1}"
+    );
+    assert!(
+        1.0 - r8 > 4.0 * e8,
+        "ξ = 0.8: light/heavy energy ratio {r8} ± {e8} should fall below 1"
+    );
+}
+
+fn crater_sweep(values: &str, threads: usize, dir: &str) -> Vec<granular::run::sweep::SweepRow> {
+    let text = scenario_text("problem4-crater.toml");
+    let o = vec![
+        "species[1].count=2000".to_string(),
+        "species[1].radius=0.00631".to_string(),
+        "species[0].radius=0.03154".to_string(),
+        "crater.displacement=0.01262".to_string(),
+        format!("sweep.values={values}"),
+        "sweep.seeds=3".to_string(),
+    ];
+    let d = tmp(dir);
+    let rows = run_sweep(&d, &text, &o, threads, &|_, _| {}).expect("sweep");
+    let _ = std::fs::remove_dir_all(d);
+    rows
+}
+
+fn crater(row: &granular::run::sweep::SweepRow) -> (f64, f64) {
+    let o = row
+        .observables
+        .iter()
+        .find(|o| o.0 == "crater_size")
+        .expect("crater_size");
+    (o.1, o.2)
+}
+
+#[test]
+fn problem4_crater_grows_with_projectile_mass() {
+    let rows = crater_sweep("[5.0, 15.0, 30.0]", 0, "p4-mass");
+    for w in rows.windows(2) {
+        let ((a, ea), (b, eb)) = (crater(&w[0]), crater(&w[1]));
+        assert!(
+            b - a > 3.0 * (ea * ea + eb * eb).sqrt(),
+            "crater {a} ± {ea} -> {b} ± {eb}"
+        );
+    }
+}
+
+#[test]
+fn problem4_crater_does_not_depend_on_speed_without_a_velocity_scale() {
+    // Hard grains without gravity have no velocity scale: the run at speed 4v, with t_c and
+    // the output interval divided by 4, is the run at speed v with time divided by 4. A
+    // factor 4 is exact in binary arithmetic, so the two craters agree exactly. (This is
+    // why the bundled scan varies the projectile mass, not its speed.)
+    let common = [
+        "species[1].count=2000",
+        "species[1].radius=0.00631",
+        "species[0].radius=0.03154",
+        "crater.displacement=0.01262",
+    ];
+    let slow: Vec<&str> = common
+        .iter()
+        .copied()
+        .chain([
+            "species[0].velocity.velocity=[0.0, -2.0]",
+            "collisions.contact_duration=4e-7",
+            "output.interval=0.02",
+            "stop.time=20.0",
+        ])
+        .collect();
+    let fast: Vec<&str> = common
+        .iter()
+        .copied()
+        .chain([
+            "species[0].velocity.velocity=[0.0, -8.0]",
+            "collisions.contact_duration=1e-7",
+            "output.interval=0.005",
+            "stop.time=5.0",
+        ])
+        .collect();
+    let (a, da) = run("problem4-crater.toml", &slow, "p4-slow");
+    let (b, db) = run("problem4-crater.toml", &fast, "p4-fast");
+    let (ca, cb) = (a.crater.unwrap(), b.crater.unwrap());
+    assert_eq!(ca["displaced"], cb["displaced"]);
+    assert_eq!(a.collisions, b.collisions);
+    assert!(ca["displaced"].as_u64().unwrap() > 100);
+    let _ = (std::fs::remove_dir_all(da), std::fs::remove_dir_all(db));
+}
+
+#[test]
+fn sweeps_give_identical_tables_with_one_and_two_threads() {
+    let one = crater_sweep("[10.0, 30.0]", 1, "sweep-1");
+    let two = crater_sweep("[10.0, 30.0]", 2, "sweep-2");
+    assert_eq!(one, two);
+}
