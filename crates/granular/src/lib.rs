@@ -11,9 +11,11 @@
 //! a temperature is an energy, `T = m <|v|^2> / D` in `D` dimensions.
 
 pub mod boundary;
+pub mod dsmc;
 pub mod engine;
 pub mod random;
 pub mod stats;
+pub mod theory;
 pub mod vector;
 
 pub use boundary::{AxisKind, SimulationBox};
