@@ -25,7 +25,7 @@ pub struct BenchResult {
     pub particle_steps_per_second: f64,
     /// Accepted collisions per second.
     pub collisions_per_second: f64,
-    /// Accepted collisions per particle per step (about 0.1 by construction).
+    /// Collisions suffered per particle per step, `2 C / (N steps)` (about 0.1 by construction).
     pub collisions_per_particle_step: f64,
 }
 
@@ -44,8 +44,8 @@ pub enum BenchError {
 }
 
 /// The benchmark set-up: periodic cube of `n` grains at packing fraction 0.01, `T = m = 1`,
-/// about 10 particles per cell, time step 0.05 mean free times (0.1 collisions per particle
-/// per step, each collision involving two particles), elastic collisions.
+/// about 10 particles per cell, time step 0.1 mean free times (each particle suffers 0.1
+/// collisions per step on average, i.e. 0.05 pair collisions per particle), elastic.
 pub fn setup<const D: usize>(n: usize, seed: u64) -> Result<DsmcEngine<D>, BenchError> {
     let phi = 0.01;
     let radius = 1.0;
@@ -55,7 +55,7 @@ pub fn setup<const D: usize>(n: usize, seed: u64) -> Result<DsmcEngine<D>, Bench
     let omega = haff::collision_frequency(D, density, radius, 1.0, 1.0, 1.0);
     let cell = (10.0 / density).powf(1.0 / D as f64);
     let config = DsmcConfig {
-        time_step: Some(0.05 / omega),
+        time_step: Some(0.1 / omega),
         cell_size: Some(side / (side / cell).round().max(1.0)),
         ..DsmcConfig::default()
     };
