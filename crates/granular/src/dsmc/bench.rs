@@ -64,7 +64,9 @@ pub fn setup<const D: usize>(n: usize, seed: u64) -> Result<DsmcEngine<D>, Bench
 }
 
 fn run<const D: usize>(n: usize, threads: usize) -> Result<BenchResult, BenchError> {
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build()?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()?;
     pool.install(|| {
         let mut e = setup::<D>(n, 1)?;
         let tau = e.time_step();

@@ -64,10 +64,14 @@ impl<const D: usize> DsmcEngine<D> {
         seed: u64,
     ) -> Result<Self, DsmcError> {
         if n < 2 {
-            return Err(DsmcError::Invalid(format!("need at least 2 particles, got {n}")));
+            return Err(DsmcError::Invalid(format!(
+                "need at least 2 particles, got {n}"
+            )));
         }
         if !(temperature > 0.0) {
-            return Err(DsmcError::Invalid(format!("temperature {temperature} must be > 0")));
+            return Err(DsmcError::Invalid(format!(
+                "temperature {temperature} must be > 0"
+            )));
         }
         let mut rng = stream(seed, &[INITIAL_STATE]);
         let mut pos = Vec::with_capacity(n);
@@ -132,7 +136,10 @@ impl<const D: usize> DsmcEngine<D> {
             return bad("restitution coefficients must lie in [0, 1]".into());
         }
         if !config.gravity.is_empty() && config.gravity.len() != D {
-            return bad(format!("gravity has {} components, expected {D}", config.gravity.len()));
+            return bad(format!(
+                "gravity has {} components, expected {D}",
+                config.gravity.len()
+            ));
         }
         if sim_box.lengths.0.iter().any(|&l| !(l > 0.0)) {
             return bad("box lengths must be > 0".into());
@@ -141,7 +148,9 @@ impl<const D: usize> DsmcEngine<D> {
         let density = n as f64 / sim_box.volume();
         let phi = haff::packing_fraction(D, density, radius);
         if (config.enskog || config.free_volume) && phi >= haff::random_close_packing(D) {
-            return bad(format!("packing fraction {phi} exceeds random close packing"));
+            return bad(format!(
+                "packing fraction {phi} exceeds random close packing"
+            ));
         }
         let chi_global = if config.enskog {
             haff::contact_value(D, phi)
@@ -154,7 +163,11 @@ impl<const D: usize> DsmcEngine<D> {
             u += *v;
         }
         u = u * (1.0 / n as f64);
-        let t0 = mass * velocities.iter().map(|v| (*v - u).norm_squared()).sum::<f64>()
+        let t0 = mass
+            * velocities
+                .iter()
+                .map(|v| (*v - u).norm_squared())
+                .sum::<f64>()
             / (D * n) as f64;
         let lambda = haff::mean_free_path(D, density, radius, chi_global);
         let cell_size = match config.cell_size {
@@ -379,7 +392,13 @@ impl<const D: usize> DsmcEngine<D> {
     /// numbers, for each one that is violated.
     pub fn validity_warnings(&self) -> Vec<ValidityWarning> {
         let edge = self.grid.edges.iter().cloned().fold(0.0, f64::max);
-        let min_len = self.sim_box.lengths.0.iter().cloned().fold(f64::INFINITY, f64::min);
+        let min_len = self
+            .sim_box
+            .lengths
+            .0
+            .iter()
+            .cloned()
+            .fold(f64::INFINITY, f64::min);
         guards::check(&guards::GuardInput {
             dimension: D,
             number_density: self.number_density(),
@@ -433,7 +452,11 @@ impl<const D: usize> DsmcEngine<D> {
                 let m2 = self
                     .vel
                     .par_chunks(SUM_CHUNK)
-                    .map(|c| c.iter().map(|v| (*v - u).norm_squared()).fold(0.0, f64::max))
+                    .map(|c| {
+                        c.iter()
+                            .map(|v| (*v - u).norm_squared())
+                            .fold(0.0, f64::max)
+                    })
                     .reduce(|| 0.0, f64::max);
                 2.0 * m2.sqrt()
             }
@@ -609,7 +632,12 @@ impl<const D: usize> Engine for DsmcEngine<D> {
             if left <= self.tau * (1.0 + 1e-9) {
                 self.time = until;
             }
-            if !self.vel.iter().take(1).all(|v| v.0.iter().all(|c| c.is_finite())) {
+            if !self
+                .vel
+                .iter()
+                .take(1)
+                .all(|v| v.0.iter().all(|c| c.is_finite()))
+            {
                 return Err(EngineError::Numerical("non-finite velocity".into()));
             }
             if self.time < until && self.events() - e0 >= max_events {

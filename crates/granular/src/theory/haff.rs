@@ -193,17 +193,29 @@ mod tests {
         close(mean_relative_speed(2, 1.0, 1.0), 1.772_453_850_905_516);
         close(mean_relative_speed(3, 1.0, 1.0), 2.256_758_334_191_025);
         // Scales as sqrt(T/m).
-        close(mean_relative_speed(2, 4.0, 1.0), 2.0 * 1.772_453_850_905_516);
+        close(
+            mean_relative_speed(2, 4.0, 1.0),
+            2.0 * 1.772_453_850_905_516,
+        );
     }
 
     #[test]
     fn collision_frequency_by_hand() {
         // 2D: n = 2, R = 0.25 (sigma = 0.5), T = m = 1: 2 * 0.5 * sqrt(pi) = 1.7724538509055159.
-        close(collision_frequency(2, 2.0, 0.25, 1.0, 1.0, 1.0), 1.772_453_850_905_516);
+        close(
+            collision_frequency(2, 2.0, 0.25, 1.0, 1.0, 1.0),
+            1.772_453_850_905_516,
+        );
         // 3D: n = 1, R = 0.5 (d = 1), chi = 2: 4 * 2 * sqrt(pi) = 14.179630807244127.
-        close(collision_frequency(3, 1.0, 0.5, 1.0, 1.0, 2.0), 14.179_630_807_244_127);
+        close(
+            collision_frequency(3, 1.0, 0.5, 1.0, 1.0, 2.0),
+            14.179_630_807_244_127,
+        );
         // Mean free path, 2D n = 1, R = 0.5: 1 / sqrt(2).
-        close(mean_free_path(2, 1.0, 0.5, 1.0), std::f64::consts::FRAC_1_SQRT_2);
+        close(
+            mean_free_path(2, 1.0, 0.5, 1.0),
+            std::f64::consts::FRAC_1_SQRT_2,
+        );
     }
 
     #[test]
@@ -226,7 +238,10 @@ mod tests {
         let z0 = cooling_rate(2, 2.0, 0.25, 1.0, 1.0, 0.5, 1.0, false);
         close(z0, 0.664_670_194_089_568_5);
         let z = cooling_rate(2, 2.0, 0.25, 1.0, 1.0, 0.5, 1.0, true);
-        close(z, 0.664_670_194_089_568_5 * (1.0 + 3.0 / 16.0 * 4.0 / 48.25));
+        close(
+            z,
+            0.664_670_194_089_568_5 * (1.0 + 3.0 / 16.0 * 4.0 / 48.25),
+        );
         close(haff_time(2, 2.0, 0.25, 1.0, 1.0, 0.5, 1.0, false), 2.0 / z0);
         close(haff_energy(8.0, 1.0, 1.0), 2.0);
     }
