@@ -70,10 +70,10 @@ impl<const D: usize> CellGrid<D> {
     pub fn index(&self, x: &[f64; D]) -> u32 {
         let mut idx = 0usize;
         let mut stride = 1usize;
-        for k in 0..D {
-            let c = ((x[k] * self.inv_edges[k]) as isize).clamp(0, self.dims[k] as isize - 1);
+        for ((&xk, &inv), &n) in x.iter().zip(&self.inv_edges).zip(&self.dims) {
+            let c = ((xk * inv) as isize).clamp(0, n as isize - 1);
             idx += c as usize * stride;
-            stride *= self.dims[k];
+            stride *= n;
         }
         idx as u32
     }

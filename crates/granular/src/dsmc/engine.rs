@@ -68,7 +68,7 @@ impl<const D: usize> DsmcEngine<D> {
                 "need at least 2 particles, got {n}"
             )));
         }
-        if !(temperature > 0.0) {
+        if !positive(temperature) {
             return Err(DsmcError::Invalid(format!(
                 "temperature {temperature} must be > 0"
             )));
@@ -127,7 +127,7 @@ impl<const D: usize> DsmcEngine<D> {
                 velocities.len()
             ));
         }
-        if !(radius > 0.0) || !(mass > 0.0) {
+        if !positive(radius) || !positive(mass) {
             return bad(format!("radius {radius} and mass {mass} must be > 0"));
         }
         if !(0.0..=1.0).contains(&config.restitution)
@@ -141,7 +141,7 @@ impl<const D: usize> DsmcEngine<D> {
                 config.gravity.len()
             ));
         }
-        if sim_box.lengths.0.iter().any(|&l| !(l > 0.0)) {
+        if sim_box.lengths.0.iter().any(|&l| !positive(l)) {
             return bad("box lengths must be > 0".into());
         }
         let gravity = Vector::from_slice(&config.gravity).unwrap_or_default();
@@ -563,6 +563,11 @@ impl<const D: usize> DsmcEngine<D> {
     }
 }
 
+/// `x > 0` (false for NaN).
+fn positive(x: f64) -> bool {
+    x > 0.0
+}
+
 /// Hard walls: specular reflection with the normal velocity scaled by `ew` (the overshoot
 /// is mirrored and scaled by `ew`, exact without gravity); periodic axes: wrap.
 #[inline(always)]
@@ -582,11 +587,11 @@ fn confine<const D: usize>(bx: &SimulationBox<D>, ew: f64, x: &mut Vector<D>, v:
                 let mut guard = 0;
                 while (x[k] < 0.0 || x[k] > l) && guard < 8 {
                     if x[k] < 0.0 {
-                        x[k] = -ew * x[k];
+                        x[k] *= -ew;
                     } else {
                         x[k] = l - ew * (x[k] - l);
                     }
-                    v[k] = -ew * v[k];
+                    v[k] *= -ew;
                     guard += 1;
                 }
                 x[k] = x[k].clamp(0.0, l);
