@@ -12,6 +12,7 @@
 
 pub mod boundary;
 pub mod collision_law;
+pub mod dsmc;
 pub mod edmd;
 pub mod engine;
 pub mod random;

@@ -1,0 +1,102 @@
+//! The `[dsmc]` table of a scenario: every numerical choice of the DSMC engine.
+
+use serde::{Deserialize, Serialize};
+
+/// How the upper bound `v_max` on the relative speed (Eq. 1 and Eq. 2 of the DSMC seed)
+/// is obtained.
+///
+/// Whatever the mode, `v_max` is *raised* inside a cell as soon as a candidate pair has
+/// `|v_i - v_j| > v_max` (Bird's rule); such events are counted in the scalar
+/// `vmax_exceeded`. Because `|v_i - v_j| <= 2 max_k |v_k - c|` for any velocity `c`, both
+/// modes give a strict bound at the start of the cell's collision stage; it can only be
+/// exceeded after collisions inside the same cell and step have raised a speed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum VmaxMode {
+    /// Per cell and step: `v_max = 2 max_{i in cell} |v_i - u_c|`, `u_c` the cell's mean
+    /// velocity. The tightest cheap bound (best acceptance rate). Default.
+    #[default]
+    Cell,
+    /// Global, per step: `v_max = 2 max_i |v_i - u|`, `u` the mean velocity of all
+    /// particles (the seed's "twice the maximum particle velocity", sampled every step).
+    Global,
+}
+
+/// Which packing fraction enters the dense-gas corrections (Enskog factor, free volume).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DensityScope {
+    /// The packing fraction of the whole box, `phi = N v_p / V` (default; the Enskog
+    /// correction is then exactly a factor `chi(phi)` on every cell's rate).
+    #[default]
+    Global,
+    /// The packing fraction of the cell, `phi_c = N_c v_p / V_c` (resolves density
+    /// inhomogeneities, e.g. clusters, but fluctuates with the cell occupation).
+    Cell,
+}
+
+/// Configuration of the DSMC engine (the scenario's `[dsmc]` table).
+///
+/// Units: lengths in the scenario's length unit, times in its time unit; `k_B = 1`.
+/// Equation numbers refer to Müller & Herrmann, "DSMC - a stochastic algorithm for
+/// granular matter" (the DSMC seed). See `docs/dsmc.md`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct DsmcConfig {
+    /// Time step `tau` (time units) of the operator splitting: free flight, then
+    /// collisions. `None`: one tenth of the initial Boltzmann (or Enskog) mean free time.
+    /// Should be well below the mean free time (validity condition iii of the seed).
+    pub time_step: Option<f64>,
+    /// Requested linear cell size `L` (length units), `V_c = L^D`. The number of cells
+    /// along axis `k` is `max(1, floor(L_k / L))`, so the actual cell edge `L_k / n_k` is
+    /// at least `L` (exactly `L` when `L_k` is a multiple). `None`: the smaller of the
+    /// initial mean free path and the edge holding 10 particles on average.
+    pub cell_size: Option<f64>,
+    /// Normal restitution coefficient `e` of particle collisions (Sec. 2 of the seed:
+    /// `v'^(n) = -e v^(n)`, tangential part unchanged). `1` is elastic.
+    pub restitution: f64,
+    /// Normal restitution of the hard walls (specular reflection with the normal velocity
+    /// component scaled by this factor). `1` conserves energy.
+    pub wall_restitution: f64,
+    /// Constant acceleration (gravity), `D` components (length / time^2), applied
+    /// analytically in the free-flight stage. Empty: no external force.
+    pub gravity: Vec<f64>,
+    /// Policy for the relative-speed bound `v_max` of Eqs. 1-2.
+    pub vmax_mode: VmaxMode,
+    /// Multiply Eq. 1 by the Enskog contact value `chi(phi)` (Henderson in 2D,
+    /// Carnahan-Starling in 3D).
+    pub enskog: bool,
+    /// Replace `V_c` in Eq. 1 by the free volume `V_c - V_b / nu_rcp` (`V_b` the volume
+    /// of the beads in the cell, `nu_rcp` = 0.82 in 2D, 0.64 in 3D). Always uses the
+    /// cell's own bead volume.
+    pub free_volume: bool,
+    /// Where the packing fraction for the Enskog factor is measured.
+    pub density_scope: DensityScope,
+    /// Consistent-Boltzmann advection (Alexander, Garcia & Alder 1995): after a
+    /// collision each partner is displaced by `2R` along its momentum change.
+    pub consistent_boltzmann: bool,
+    /// TC model (Luding & McNamara 1998): a collision is elastic when one of the partners
+    /// collided less than `tc` time units before. `None`: off.
+    pub tc: Option<f64>,
+    /// Number of bins of the impact-parameter histogram (`b / 2R` in `[0, 1)`).
+    pub impact_bins: usize,
+}
+
+impl Default for DsmcConfig {
+    fn default() -> Self {
+        Self {
+            time_step: None,
+            cell_size: None,
+            restitution: 1.0,
+            wall_restitution: 1.0,
+            gravity: Vec::new(),
+            vmax_mode: VmaxMode::Cell,
+            enskog: false,
+            free_volume: false,
+            density_scope: DensityScope::Global,
+            consistent_boltzmann: false,
+            tc: None,
+            impact_bins: 20,
+        }
+    }
+}

@@ -1,0 +1,691 @@
+//! The DSMC engine: operator splitting of free flight and stochastic collisions.
+
+use super::cells::{CellGrid, counting_sort, gather};
+use super::collide::{StepParams, Tally, collide_group};
+use super::config::{DensityScope, DsmcConfig};
+use super::guards::{self, ValidityWarning};
+use super::observables::{self, DensityMap, StructureFactor};
+use crate::boundary::{AxisKind, SimulationBox};
+use crate::engine::{Engine, EngineError, Progress, Scalar, Snapshot};
+use crate::random::{INITIAL_STATE, RngExt, stream};
+use crate::stats::Histogram;
+use crate::theory::haff;
+use crate::vector::Vector;
+use rand_distr::{Distribution, StandardNormal};
+use rayon::prelude::*;
+
+/// Why a DSMC engine could not be built.
+#[derive(Debug, thiserror::Error)]
+pub enum DsmcError {
+    /// A configuration value or an initial state is invalid; the message says which.
+    #[error("invalid DSMC set-up: {0}")]
+    Invalid(String),
+}
+
+/// Fixed chunk length of the deterministic reductions (independent of the thread count).
+const SUM_CHUNK: usize = 4096;
+
+/// Direct Simulation Monte Carlo of `N` equal hard grains (disks for `D = 2`, spheres
+/// for `D = 3`), after Müller & Herrmann (the DSMC seed). See the module docs.
+#[derive(Clone, Debug)]
+pub struct DsmcEngine<const D: usize> {
+    config: DsmcConfig,
+    sim_box: SimulationBox<D>,
+    grid: CellGrid<D>,
+    radius: f64,
+    mass: f64,
+    seed: u64,
+    tau: f64,
+    gravity: Vector<D>,
+    chi_global: f64,
+    // Structure of arrays, sorted by cell (see `cells`).
+    pos: Vec<Vector<D>>,
+    vel: Vec<Vector<D>>,
+    ids: Vec<u32>,
+    last: Vec<f64>,
+    cell_of: Vec<u32>,
+    start: Vec<u32>,
+    time: f64,
+    steps: u64,
+    tally: Tally,
+}
+
+impl<const D: usize> DsmcEngine<D> {
+    /// `n` grains of radius `radius` and mass `mass` at uniformly random positions, with
+    /// Maxwell-Boltzmann velocities at temperature `temperature`, shifted to zero total
+    /// momentum and rescaled so that the kinetic temperature is exactly `temperature`.
+    pub fn new(
+        config: DsmcConfig,
+        sim_box: SimulationBox<D>,
+        n: usize,
+        radius: f64,
+        mass: f64,
+        temperature: f64,
+        seed: u64,
+    ) -> Result<Self, DsmcError> {
+        if n < 2 {
+            return Err(DsmcError::Invalid(format!(
+                "need at least 2 particles, got {n}"
+            )));
+        }
+        if !positive(temperature) {
+            return Err(DsmcError::Invalid(format!(
+                "temperature {temperature} must be > 0"
+            )));
+        }
+        let mut rng = stream(seed, &[INITIAL_STATE]);
+        let mut pos = Vec::with_capacity(n);
+        let mut vel = Vec::with_capacity(n);
+        for _ in 0..n {
+            let mut x = Vector::<D>::zero();
+            for k in 0..D {
+                x[k] = rng.random::<f64>() * sim_box.lengths[k];
+            }
+            pos.push(x);
+        }
+        let mut mean = Vector::<D>::zero();
+        for _ in 0..n {
+            let mut v = Vector::<D>::zero();
+            for k in 0..D {
+                v[k] = StandardNormal.sample(&mut rng);
+            }
+            mean += v;
+            vel.push(v);
+        }
+        mean = mean * (1.0 / n as f64);
+        let mut sum2 = 0.0;
+        for v in vel.iter_mut() {
+            *v -= mean;
+            sum2 += v.norm_squared();
+        }
+        let scale = (temperature * (D * n) as f64 / (mass * sum2)).sqrt();
+        for v in vel.iter_mut() {
+            *v = *v * scale;
+        }
+        Self::from_state(config, sim_box, radius, mass, pos, vel, seed)
+    }
+
+    /// An engine from explicit positions and velocities (equal radius and mass).
+    pub fn from_state(
+        config: DsmcConfig,
+        sim_box: SimulationBox<D>,
+        radius: f64,
+        mass: f64,
+        positions: Vec<Vector<D>>,
+        velocities: Vec<Vector<D>>,
+        seed: u64,
+    ) -> Result<Self, DsmcError> {
+        let bad = |m: String| Err(DsmcError::Invalid(m));
+        if D != 2 && D != 3 {
+            return bad(format!("dimension {D} is not supported (2 or 3)"));
+        }
+        let n = positions.len();
+        if n != velocities.len() || n == 0 || n >= u32::MAX as usize {
+            return bad(format!(
+                "{} positions and {} velocities",
+                n,
+                velocities.len()
+            ));
+        }
+        if !positive(radius) || !positive(mass) {
+            return bad(format!("radius {radius} and mass {mass} must be > 0"));
+        }
+        if !(0.0..=1.0).contains(&config.restitution)
+            || !(0.0..=1.0).contains(&config.wall_restitution)
+        {
+            return bad("restitution coefficients must lie in [0, 1]".into());
+        }
+        if !config.gravity.is_empty() && config.gravity.len() != D {
+            return bad(format!(
+                "gravity has {} components, expected {D}",
+                config.gravity.len()
+            ));
+        }
+        if sim_box.lengths.0.iter().any(|&l| !positive(l)) {
+            return bad("box lengths must be > 0".into());
+        }
+        let gravity = Vector::from_slice(&config.gravity).unwrap_or_default();
+        let density = n as f64 / sim_box.volume();
+        let phi = haff::packing_fraction(D, density, radius);
+        if (config.enskog || config.free_volume) && phi >= haff::random_close_packing(D) {
+            return bad(format!(
+                "packing fraction {phi} exceeds random close packing"
+            ));
+        }
+        let chi_global = if config.enskog {
+            haff::contact_value(D, phi)
+        } else {
+            1.0
+        };
+        // Initial temperature for the automatic time step and cell size.
+        let mut u = Vector::<D>::zero();
+        for v in &velocities {
+            u += *v;
+        }
+        u = u * (1.0 / n as f64);
+        let t0 = mass
+            * velocities
+                .iter()
+                .map(|v| (*v - u).norm_squared())
+                .sum::<f64>()
+            / (D * n) as f64;
+        let lambda = haff::mean_free_path(D, density, radius, chi_global);
+        let cell_size = match config.cell_size {
+            Some(l) if l > 0.0 => l,
+            Some(l) => return bad(format!("cell_size {l} must be > 0")),
+            None => lambda.min((10.0 / density).powf(1.0 / D as f64)),
+        };
+        let tau = match config.time_step {
+            Some(t) if t > 0.0 => t,
+            Some(t) => return bad(format!("time_step {t} must be > 0")),
+            None => {
+                let omega = haff::collision_frequency(D, density, radius, t0, mass, chi_global);
+                if omega > 0.0 { 0.1 / omega } else { 1.0 }
+            }
+        };
+        let grid = CellGrid::new(&sim_box, cell_size);
+        if grid.len() >= u32::MAX as usize {
+            return bad(format!("{} cells are too many", grid.len()));
+        }
+        let mut pos = positions;
+        for x in pos.iter_mut() {
+            sim_box.wrap(x);
+            for k in 0..D {
+                if !(0.0..=sim_box.lengths[k]).contains(&x[k]) {
+                    return bad(format!("position {:?} outside the box", x.0));
+                }
+            }
+        }
+        let last = if config.tc.is_some() {
+            vec![f64::NEG_INFINITY; n]
+        } else {
+            Vec::new()
+        };
+        let mut engine = Self {
+            tally: Tally {
+                impact: vec![0; config.impact_bins],
+                ..Tally::default()
+            },
+            config,
+            sim_box,
+            grid,
+            radius,
+            mass,
+            seed,
+            tau,
+            gravity,
+            chi_global,
+            pos,
+            vel: velocities,
+            ids: (0..n as u32).collect(),
+            last,
+            cell_of: vec![0; n],
+            start: Vec::new(),
+            time: 0.0,
+            steps: 0,
+        };
+        engine.sort_by_cell(None);
+        Ok(engine)
+    }
+
+    /// The time step `tau` in use.
+    pub fn time_step(&self) -> f64 {
+        self.tau
+    }
+
+    /// The cell grid in use.
+    pub fn grid(&self) -> &CellGrid<D> {
+        &self.grid
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &DsmcConfig {
+        &self.config
+    }
+
+    /// The simulation box.
+    pub fn sim_box(&self) -> &SimulationBox<D> {
+        &self.sim_box
+    }
+
+    /// Grain radius.
+    pub fn radius(&self) -> f64 {
+        self.radius
+    }
+
+    /// Grain mass.
+    pub fn mass(&self) -> f64 {
+        self.mass
+    }
+
+    /// Number density `N / V`.
+    pub fn number_density(&self) -> f64 {
+        self.pos.len() as f64 / self.sim_box.volume()
+    }
+
+    /// The global Enskog factor used when `enskog` is on with a global density (1 otherwise).
+    pub fn enskog_factor(&self) -> f64 {
+        self.chi_global
+    }
+
+    /// Number of time steps taken.
+    pub fn steps(&self) -> u64 {
+        self.steps
+    }
+
+    /// Number of candidate pairs drawn so far (Eq. 1).
+    pub fn candidates(&self) -> u64 {
+        self.tally.candidates
+    }
+
+    /// How often a candidate's relative speed exceeded the current `v_max`.
+    pub fn vmax_exceeded(&self) -> u64 {
+        self.tally.vmax_exceeded
+    }
+
+    /// Positions in storage (cell) order.
+    pub fn positions(&self) -> &[Vector<D>] {
+        &self.pos
+    }
+
+    /// Velocities in storage (cell) order.
+    pub fn velocities(&self) -> &[Vector<D>] {
+        &self.vel
+    }
+
+    /// Particle identities (their index at construction) in storage order.
+    pub fn ids(&self) -> &[u32] {
+        &self.ids
+    }
+
+    /// Positions and velocities in the order of construction (ids `0 .. N`).
+    pub fn state_by_id(&self) -> (Vec<Vector<D>>, Vec<Vector<D>>) {
+        let n = self.pos.len();
+        let mut p = vec![Vector::zero(); n];
+        let mut v = vec![Vector::zero(); n];
+        for (k, &id) in self.ids.iter().enumerate() {
+            p[id as usize] = self.pos[k];
+            v[id as usize] = self.vel[k];
+        }
+        (p, v)
+    }
+
+    /// Histogram of `|b| / 2R` over all accepted collisions so far (`impact_bins` bins on
+    /// `[0, 1)`): flat in 2D, density `2x` in 3D under molecular chaos.
+    pub fn impact_histogram(&self) -> Histogram {
+        let mut h = Histogram::new(0.0, 1.0, self.tally.impact.len().max(1));
+        for (c, &k) in h.counts.iter_mut().zip(&self.tally.impact) {
+            *c = k;
+        }
+        h
+    }
+
+    /// Static structure factor `S(k) = |sum_j exp(i k.x_j)|^2 / N` for the wave vectors
+    /// `k = 2 pi (n_0 / L_0, ...)` with `0 < max_k |n_k| <= max_index`, binned by `|k|`.
+    pub fn structure_factor(&self, max_index: usize) -> StructureFactor {
+        observables::structure_factor(&self.pos, &self.sim_box.lengths.0, max_index)
+    }
+
+    /// Number density on a regular grid of `dims` bins (axis 0 fastest).
+    pub fn density_map(&self, dims: [usize; D]) -> DensityMap {
+        observables::density_map(&self.pos, &self.sim_box.lengths.0, dims)
+    }
+
+    /// Mean velocity (deterministic chunked sum).
+    pub fn mean_velocity(&self) -> Vector<D> {
+        let parts: Vec<Vector<D>> = self
+            .vel
+            .par_chunks(SUM_CHUNK)
+            .map(|c| c.iter().fold(Vector::zero(), |a, v| a + *v))
+            .collect();
+        let s = parts.into_iter().fold(Vector::zero(), |a, v| a + v);
+        s * (1.0 / self.vel.len() as f64)
+    }
+
+    /// Total momentum `m sum_i v_i`.
+    pub fn momentum(&self) -> Vector<D> {
+        self.mean_velocity() * (self.mass * self.vel.len() as f64)
+    }
+
+    /// Moments `(<c^2>, <c^4>)` of the peculiar velocity `c = v - u`.
+    fn peculiar_moments(&self) -> (f64, f64) {
+        let u = self.mean_velocity();
+        let parts: Vec<(f64, f64)> = self
+            .vel
+            .par_chunks(SUM_CHUNK)
+            .map(|c| {
+                c.iter().fold((0.0, 0.0), |(a, b), v| {
+                    let c2 = (*v - u).norm_squared();
+                    (a + c2, b + c2 * c2)
+                })
+            })
+            .collect();
+        let (s2, s4) = parts
+            .into_iter()
+            .fold((0.0, 0.0), |(a, b), (x, y)| (a + x, b + y));
+        let n = self.vel.len() as f64;
+        (s2 / n, s4 / n)
+    }
+
+    /// Granular temperature `T = m <|v - u|^2> / D`.
+    pub fn temperature(&self) -> f64 {
+        self.mass * self.peculiar_moments().0 / D as f64
+    }
+
+    /// Fourth cumulant `a2 = D/(D+2) <c^4>/<c^2>^2 - 1` of the peculiar velocity.
+    pub fn a2(&self) -> f64 {
+        let (c2, c4) = self.peculiar_moments();
+        D as f64 / (D as f64 + 2.0) * c4 / (c2 * c2) - 1.0
+    }
+
+    /// Total kinetic energy `m/2 sum_i |v_i|^2` (deterministic chunked sum).
+    pub fn kinetic_energy_now(&self) -> f64 {
+        let parts: Vec<f64> = self
+            .vel
+            .par_chunks(SUM_CHUNK)
+            .map(|c| c.iter().map(|v| v.norm_squared()).sum::<f64>())
+            .collect();
+        0.5 * self.mass * parts.into_iter().sum::<f64>()
+    }
+
+    /// The validity conditions of the seed (Sec. 2) at the current state: warnings, with
+    /// numbers, for each one that is violated.
+    pub fn validity_warnings(&self) -> Vec<ValidityWarning> {
+        let edge = self.grid.edges.iter().cloned().fold(0.0, f64::max);
+        let min_len = self
+            .sim_box
+            .lengths
+            .0
+            .iter()
+            .cloned()
+            .fold(f64::INFINITY, f64::min);
+        guards::check(&guards::GuardInput {
+            dimension: D,
+            number_density: self.number_density(),
+            radius: self.radius,
+            mass: self.mass,
+            temperature: self.temperature(),
+            chi: self.chi_global,
+            cell_edge: edge,
+            time_step: self.tau,
+            particles_per_cell: self.pos.len() as f64 / self.grid.len() as f64,
+            system_size: min_len,
+        })
+    }
+
+    /// One time step of length `dt`: free flight with gravity and walls, counting sort by
+    /// cell, collisions cell by cell.
+    pub fn step(&mut self, dt: f64) {
+        let threads = rayon::current_num_threads().max(1);
+        let n = self.pos.len();
+        let chunk = n.div_ceil(threads).max(1);
+        let cells = self.grid.len();
+        // 1. Free flight (analytic under constant acceleration), walls, cell index.
+        let g = self.gravity;
+        let bx = &self.sim_box;
+        let grid = &self.grid;
+        let ew = self.config.wall_restitution;
+        let counts: Vec<Vec<u32>> = self
+            .pos
+            .par_chunks_mut(chunk)
+            .zip(self.vel.par_chunks_mut(chunk))
+            .zip(self.cell_of.par_chunks_mut(chunk))
+            .map(|((p, v), c)| {
+                let mut cnt = vec![0u32; cells];
+                for ((x, u), ci) in p.iter_mut().zip(v.iter_mut()).zip(c.iter_mut()) {
+                    *x = x.add_scaled(dt, u).add_scaled(0.5 * dt * dt, &g);
+                    *u = u.add_scaled(dt, &g);
+                    confine(bx, ew, x, u);
+                    let k = grid.index(&x.0);
+                    *ci = k;
+                    cnt[k as usize] += 1;
+                }
+                cnt
+            })
+            .collect();
+        self.time += dt;
+        self.sort_by_cell(Some((chunk, counts)));
+        // 2. Collisions.
+        let global_vmax = match self.config.vmax_mode {
+            super::config::VmaxMode::Global => {
+                let u = self.mean_velocity();
+                let m2 = self
+                    .vel
+                    .par_chunks(SUM_CHUNK)
+                    .map(|c| {
+                        c.iter()
+                            .map(|v| (*v - u).norm_squared())
+                            .fold(0.0, f64::max)
+                    })
+                    .reduce(|| 0.0, f64::max);
+                2.0 * m2.sqrt()
+            }
+            super::config::VmaxMode::Cell => 0.0,
+        };
+        let params = StepParams {
+            seed: self.seed,
+            step: self.steps,
+            time: self.time,
+            dt,
+            sigma: haff::cross_section(D, self.radius),
+            radius: self.radius,
+            cell_volume: self.grid.volume,
+            restitution: self.config.restitution,
+            vmax_mode: self.config.vmax_mode,
+            global_vmax,
+            enskog_global: (self.config.enskog
+                && self.config.density_scope == DensityScope::Global)
+                .then_some(self.chi_global),
+            enskog_local: self.config.enskog && self.config.density_scope == DensityScope::Cell,
+            free_volume: self.config.free_volume,
+            grain_volume: haff::grain_volume(D, self.radius),
+            nu_rcp: haff::random_close_packing(D),
+            consistent_boltzmann: self.config.consistent_boltzmann,
+            tc: self.config.tc,
+            impact_bins: self.config.impact_bins,
+            lengths: self.sim_box.lengths.0.to_vec(),
+            periodic: (0..D).map(|k| self.sim_box.is_periodic(k)).collect(),
+        };
+        // Groups of consecutive cells with about `target` particles each; the grouping
+        // does not change the result (every cell has its own random stream).
+        let target = (n / (8 * threads)).clamp(256, 1 << 16);
+        let mut groups: Vec<(usize, usize)> = Vec::new(); // (first cell, end cell)
+        let mut c0 = 0;
+        while c0 < cells {
+            let mut c1 = c0 + 1;
+            while c1 < cells && (self.start[c1] - self.start[c0]) < target as u32 {
+                c1 += 1;
+            }
+            groups.push((c0, c1));
+            c0 = c1;
+        }
+        let mut jobs = Vec::with_capacity(groups.len());
+        let mut rest_p = &mut self.pos[..];
+        let mut rest_v = &mut self.vel[..];
+        let mut rest_l = &mut self.last[..];
+        let tc = !rest_l.is_empty();
+        for &(a, b) in &groups {
+            let len = (self.start[b] - self.start[a]) as usize;
+            let (p, rp) = rest_p.split_at_mut(len);
+            let (v, rv) = rest_v.split_at_mut(len);
+            rest_p = rp;
+            rest_v = rv;
+            let l = if tc {
+                let (l, rl) = rest_l.split_at_mut(len);
+                rest_l = rl;
+                l
+            } else {
+                &mut [][..]
+            };
+            jobs.push((a, &self.start[a..=b], p, v, l));
+        }
+        let tallies: Vec<Tally> = jobs
+            .into_par_iter()
+            .map(|(a, bounds, p, v, l)| collide_group(&params, a, bounds, p, v, l))
+            .collect();
+        for t in &tallies {
+            self.tally.add(t);
+        }
+        self.steps += 1;
+    }
+
+    /// Re-sorts the arrays by cell. `counts`: per-chunk occupations from the move stage;
+    /// `None` recomputes the cell indices sequentially (construction).
+    fn sort_by_cell(&mut self, counts: Option<(usize, Vec<Vec<u32>>)>) {
+        let cells = self.grid.len();
+        let n = self.pos.len();
+        let (chunk, counts) = match counts {
+            Some(c) => c,
+            None => {
+                let mut cnt = vec![0u32; cells];
+                for (x, c) in self.pos.iter().zip(self.cell_of.iter_mut()) {
+                    *c = self.grid.index(&x.0);
+                    cnt[*c as usize] += 1;
+                }
+                (n, vec![cnt])
+            }
+        };
+        let (start, perm) = counting_sort(&self.cell_of, chunk, counts, cells);
+        let mut buf = vec![Vector::<D>::zero(); n];
+        gather(&self.pos, &perm, &mut buf);
+        std::mem::swap(&mut self.pos, &mut buf);
+        gather(&self.vel, &perm, &mut buf);
+        std::mem::swap(&mut self.vel, &mut buf);
+        let mut ids = vec![0u32; n];
+        gather(&self.ids, &perm, &mut ids);
+        self.ids = ids;
+        if !self.last.is_empty() {
+            let mut l = vec![0.0; n];
+            gather(&self.last, &perm, &mut l);
+            self.last = l;
+        }
+        self.start = start;
+    }
+}
+
+/// `x > 0` (false for NaN).
+fn positive(x: f64) -> bool {
+    x > 0.0
+}
+
+/// Hard walls: specular reflection with the normal velocity scaled by `ew` (the overshoot
+/// is mirrored and scaled by `ew`, exact without gravity); periodic axes: wrap.
+#[inline(always)]
+fn confine<const D: usize>(bx: &SimulationBox<D>, ew: f64, x: &mut Vector<D>, v: &mut Vector<D>) {
+    for k in 0..D {
+        let l = bx.lengths[k];
+        match bx.axes[k] {
+            AxisKind::Periodic => {
+                if x[k] >= l || x[k] < 0.0 {
+                    x[k] = x[k].rem_euclid(l);
+                    if x[k] >= l {
+                        x[k] = 0.0;
+                    }
+                }
+            }
+            AxisKind::Wall => {
+                let mut guard = 0;
+                while (x[k] < 0.0 || x[k] > l) && guard < 8 {
+                    if x[k] < 0.0 {
+                        x[k] *= -ew;
+                    } else {
+                        x[k] = l - ew * (x[k] - l);
+                    }
+                    v[k] *= -ew;
+                    guard += 1;
+                }
+                x[k] = x[k].clamp(0.0, l);
+            }
+        }
+    }
+}
+
+impl<const D: usize> Engine for DsmcEngine<D> {
+    fn name(&self) -> &'static str {
+        "dsmc"
+    }
+
+    fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// Time steps plus collisions.
+    fn events(&self) -> u64 {
+        self.steps + self.tally.collisions
+    }
+
+    fn collisions(&self) -> u64 {
+        self.tally.collisions
+    }
+
+    fn particle_count(&self) -> usize {
+        self.pos.len()
+    }
+
+    /// Steps of `tau` (the last one shortened to land exactly on `until`); stops after the
+    /// first step at which the events of this call reach `max_events`.
+    fn advance(&mut self, until: f64, max_events: u64) -> Result<Progress, EngineError> {
+        let e0 = self.events();
+        while self.time < until {
+            let left = until - self.time;
+            let dt = if left <= self.tau * (1.0 + 1e-9) {
+                left
+            } else {
+                self.tau
+            };
+            self.step(dt);
+            if left <= self.tau * (1.0 + 1e-9) {
+                self.time = until;
+            }
+            if !self
+                .vel
+                .iter()
+                .take(1)
+                .all(|v| v.0.iter().all(|c| c.is_finite()))
+            {
+                return Err(EngineError::Numerical("non-finite velocity".into()));
+            }
+            if self.time < until && self.events() - e0 >= max_events {
+                return Ok(Progress::BudgetExhausted);
+            }
+        }
+        Ok(Progress::Reached)
+    }
+
+    fn scalars(&mut self) -> Vec<Scalar> {
+        let (c2, c4) = self.peculiar_moments();
+        let n = self.pos.len() as f64;
+        let d = D as f64;
+        vec![
+            ("kinetic_energy".into(), self.kinetic_energy_now()),
+            ("temperature".into(), self.mass * c2 / d),
+            ("collisions".into(), self.tally.collisions as f64),
+            (
+                "collisions_per_particle".into(),
+                2.0 * self.tally.collisions as f64 / n,
+            ),
+            ("a2".into(), d / (d + 2.0) * c4 / (c2 * c2) - 1.0),
+            ("steps".into(), self.steps as f64),
+            ("vmax_exceeded".into(), self.tally.vmax_exceeded as f64),
+        ]
+    }
+
+    fn kinetic_energy(&mut self) -> f64 {
+        self.kinetic_energy_now()
+    }
+
+    fn snapshot(&mut self) -> Option<Snapshot> {
+        let (p, v) = self.state_by_id();
+        let n = p.len();
+        Some(Snapshot {
+            time: self.time,
+            dimension: D,
+            positions: p.iter().flat_map(|x| x.0).collect(),
+            velocities: v.iter().flat_map(|x| x.0).collect(),
+            radii: vec![self.radius; n],
+            masses: vec![self.mass; n],
+            species: vec![0; n],
+            species_names: vec!["grain".into()],
+        })
+    }
+}

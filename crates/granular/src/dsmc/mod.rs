@@ -1,0 +1,33 @@
+//! Direct Simulation Monte Carlo (DSMC) of granular gases, after M. Müller and
+//! H. J. Herrmann, "DSMC - a stochastic algorithm for granular matter" (the DSMC seed),
+//! and G. A. Bird, *Molecular Gas Dynamics* (1976).
+//!
+//! Each time step `tau` splits into
+//!
+//! 1. **free flight** of every grain (exact under a constant acceleration), with
+//!    specular, possibly inelastic, walls or periodic faces;
+//! 2. **sorting** of the particle arrays by cell (stable parallel counting sort, see
+//!    [`cells`]);
+//! 3. **collisions** in every cell independently: `M_c` candidate pairs (Eq. 1, with the
+//!    true cross-section, see `docs/dsmc.md`), each accepted with probability
+//!    `|v_i - v_j| / v_max` (Eq. 2), with a random impact parameter and normal
+//!    restitution `e`.
+//!
+//! Cells are processed on all rayon threads; cell `c` of step `s` draws from its own
+//! random stream `(seed, [DYNAMICS, s, c])`, and all floating-point reductions are summed
+//! over fixed chunks in a fixed order, so results are bit-identical for any thread count.
+//!
+//! Generic over the dimension `D` (2: disks, 3: spheres).
+
+pub mod bench;
+pub mod cells;
+mod collide;
+pub mod config;
+pub mod engine;
+pub mod guards;
+pub mod observables;
+
+pub use config::{DensityScope, DsmcConfig, VmaxMode};
+pub use engine::{DsmcEngine, DsmcError};
+pub use guards::{GuardKind, ValidityWarning};
+pub use observables::{DensityMap, StructureFactor};

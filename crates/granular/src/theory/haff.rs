@@ -1,0 +1,248 @@
+//! Homogeneous cooling of inelastic hard disks and spheres: Haff's law (Eq. 3 of the DSMC
+//! seed), the cooling rate with the first Sonine correction, and the Boltzmann/Enskog
+//! collision frequency.
+//!
+//! References: P. K. Haff, J. Fluid Mech. 134, 401 (1983); T. P. C. van Noije and
+//! M. H. Ernst, Granular Matter 1, 57 (1998); V. Garzó and J. W. Dufty, Phys. Rev. E 59,
+//! 5895 (1999); N. V. Brilliantov and T. Pöschel, *Kinetic Theory of Granular Gases*
+//! (Oxford 2004). Derivations in `docs/dsmc.md`.
+
+use std::f64::consts::PI;
+
+fn check_dimension(dimension: usize) {
+    assert!(
+        dimension == 2 || dimension == 3,
+        "dimension must be 2 or 3, got {dimension}"
+    );
+}
+
+/// Total collision cross-section of two equal grains of radius `radius`: the diameter
+/// `2R` (a length) for disks, `pi (2R)^2` for spheres.
+pub fn cross_section(dimension: usize, radius: f64) -> f64 {
+    check_dimension(dimension);
+    if dimension == 2 {
+        2.0 * radius
+    } else {
+        PI * 4.0 * radius * radius
+    }
+}
+
+/// Volume (area in 2D) of one grain: `pi R^2` or `4 pi R^3 / 3`.
+pub fn grain_volume(dimension: usize, radius: f64) -> f64 {
+    check_dimension(dimension);
+    if dimension == 2 {
+        PI * radius * radius
+    } else {
+        4.0 / 3.0 * PI * radius.powi(3)
+    }
+}
+
+/// Packing (area or volume) fraction `phi = n v_p` at number density `n`.
+pub fn packing_fraction(dimension: usize, number_density: f64, radius: f64) -> f64 {
+    number_density * grain_volume(dimension, radius)
+}
+
+/// Random-close-packing fraction used by the free-volume correction: 0.82 for disks,
+/// 0.64 for spheres (Berryman, Phys. Rev. A 27, 1053 (1983)).
+pub fn random_close_packing(dimension: usize) -> f64 {
+    check_dimension(dimension);
+    if dimension == 2 { 0.82 } else { 0.64 }
+}
+
+/// Pair correlation at contact `chi(phi)` (the Enskog factor): Henderson's
+/// `(1 - 7 phi / 16) / (1 - phi)^2` for disks (Mol. Phys. 30, 971 (1975)), the
+/// Carnahan-Starling `(1 - phi / 2) / (1 - phi)^3` for spheres (J. Chem. Phys. 51, 635
+/// (1969)).
+pub fn contact_value(dimension: usize, phi: f64) -> f64 {
+    check_dimension(dimension);
+    if dimension == 2 {
+        (1.0 - 7.0 * phi / 16.0) / ((1.0 - phi) * (1.0 - phi))
+    } else {
+        (1.0 - 0.5 * phi) / (1.0 - phi).powi(3)
+    }
+}
+
+/// Mean relative speed `<|v_1 - v_2|>` of two grains of mass `mass` drawn from a
+/// Maxwell-Boltzmann distribution at temperature `T`:
+/// `sqrt(4T/m) Gamma((D+1)/2) / Gamma(D/2)`, i.e. `sqrt(pi T / m)` in 2D and
+/// `4 sqrt(T / (pi m))` in 3D.
+pub fn mean_relative_speed(dimension: usize, temperature: f64, mass: f64) -> f64 {
+    check_dimension(dimension);
+    let s = (temperature / mass).sqrt();
+    if dimension == 2 {
+        PI.sqrt() * s
+    } else {
+        4.0 / PI.sqrt() * s
+    }
+}
+
+/// Collision frequency per grain, `omega = chi n sigma <|v_12|>` (number of collisions a
+/// given grain suffers per unit time) for a Maxwellian gas: `chi n 2R sqrt(pi T/m)` in
+/// 2D, `4 chi n (2R)^2 sqrt(pi T/m)` in 3D. `chi = 1` is the Boltzmann value, `chi`
+/// from [`contact_value`] the Enskog value.
+pub fn collision_frequency(
+    dimension: usize,
+    number_density: f64,
+    radius: f64,
+    temperature: f64,
+    mass: f64,
+    chi: f64,
+) -> f64 {
+    chi * number_density
+        * cross_section(dimension, radius)
+        * mean_relative_speed(dimension, temperature, mass)
+}
+
+/// Mean free path `lambda = <|v|> / omega = 1 / (sqrt(2) chi n sigma)` of a Maxwellian gas.
+pub fn mean_free_path(dimension: usize, number_density: f64, radius: f64, chi: f64) -> f64 {
+    1.0 / (std::f64::consts::SQRT_2 * chi * number_density * cross_section(dimension, radius))
+}
+
+/// First Sonine coefficient of the homogeneous cooling state (van Noije & Ernst 1998,
+/// Eq. 36, linearised in `a2`):
+/// `a2 = 16 (1-e)(1-2e^2) / (9 + 24 D + e (8 D - 41) + 30 e^2 (1-e))`.
+pub fn sonine_a2(dimension: usize, restitution: f64) -> f64 {
+    check_dimension(dimension);
+    let e = restitution;
+    let d = dimension as f64;
+    16.0 * (1.0 - e) * (1.0 - 2.0 * e * e)
+        / (9.0 + 24.0 * d + e * (8.0 * d - 41.0) + 30.0 * e * e * (1.0 - e))
+}
+
+/// Cooling rate `zeta` of `dT/dt = -zeta T` in the homogeneous cooling state:
+/// `zeta = (1 - e^2) / D * omega * (1 + 3 a2 / 16)`, `omega` the Maxwellian (Enskog)
+/// [`collision_frequency`] at `T`; `sonine = false` drops the `a2` term (Haff's
+/// Maxwellian estimate).
+#[allow(clippy::too_many_arguments)]
+pub fn cooling_rate(
+    dimension: usize,
+    number_density: f64,
+    radius: f64,
+    temperature: f64,
+    mass: f64,
+    restitution: f64,
+    chi: f64,
+    sonine: bool,
+) -> f64 {
+    let omega = collision_frequency(dimension, number_density, radius, temperature, mass, chi);
+    let a2 = if sonine {
+        sonine_a2(dimension, restitution)
+    } else {
+        0.0
+    };
+    (1.0 - restitution * restitution) / dimension as f64 * omega * (1.0 + 3.0 * a2 / 16.0)
+}
+
+/// Haff's time `t0 = 2 / zeta(T(0))`, so that `T(t) = T(0) / (1 + t/t0)^2` (because
+/// `zeta ~ sqrt(T)`).
+#[allow(clippy::too_many_arguments)]
+pub fn haff_time(
+    dimension: usize,
+    number_density: f64,
+    radius: f64,
+    initial_temperature: f64,
+    mass: f64,
+    restitution: f64,
+    chi: f64,
+    sonine: bool,
+) -> f64 {
+    2.0 / cooling_rate(
+        dimension,
+        number_density,
+        radius,
+        initial_temperature,
+        mass,
+        restitution,
+        chi,
+        sonine,
+    )
+}
+
+/// Haff's law, Eq. 3 of the DSMC seed: `K(t) = K(0) / (1 + t / t0)^2`.
+pub fn haff_energy(initial_energy: f64, t: f64, t0: f64) -> f64 {
+    initial_energy / ((1.0 + t / t0) * (1.0 + t / t0))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn close(a: f64, b: f64) {
+        assert!((a - b).abs() <= 1e-12 * b.abs().max(1.0), "{a} != {b}");
+    }
+
+    #[test]
+    fn cross_sections_and_volumes() {
+        close(cross_section(2, 0.5), 1.0);
+        close(cross_section(3, 0.5), PI);
+        close(grain_volume(2, 1.0), PI);
+        close(grain_volume(3, 1.0), 4.18879020478639);
+    }
+
+    #[test]
+    fn contact_values_by_hand() {
+        // phi = 0.5: 2D (1 - 7/32) / 0.25 = 3.125; 3D 0.75 / 0.125 = 6.
+        close(contact_value(2, 0.5), 3.125);
+        close(contact_value(3, 0.5), 6.0);
+        close(contact_value(2, 0.0), 1.0);
+    }
+
+    #[test]
+    fn mean_relative_speed_by_hand() {
+        // T = m = 1: 2D sqrt(pi) = 1.7724538509055159, 3D 4/sqrt(pi) = 2.256758334191025.
+        close(mean_relative_speed(2, 1.0, 1.0), 1.772_453_850_905_516);
+        close(mean_relative_speed(3, 1.0, 1.0), 2.256_758_334_191_025);
+        // Scales as sqrt(T/m).
+        close(
+            mean_relative_speed(2, 4.0, 1.0),
+            2.0 * 1.772_453_850_905_516,
+        );
+    }
+
+    #[test]
+    fn collision_frequency_by_hand() {
+        // 2D: n = 2, R = 0.25 (sigma = 0.5), T = m = 1: 2 * 0.5 * sqrt(pi) = 1.7724538509055159.
+        close(
+            collision_frequency(2, 2.0, 0.25, 1.0, 1.0, 1.0),
+            1.772_453_850_905_516,
+        );
+        // 3D: n = 1, R = 0.5 (d = 1), chi = 2: 4 * 2 * sqrt(pi) = 14.179630807244127.
+        close(
+            collision_frequency(3, 1.0, 0.5, 1.0, 1.0, 2.0),
+            14.179_630_807_244_127,
+        );
+        // Mean free path, 2D n = 1, R = 0.5: 1 / sqrt(2).
+        close(
+            mean_free_path(2, 1.0, 0.5, 1.0),
+            std::f64::consts::FRAC_1_SQRT_2,
+        );
+    }
+
+    #[test]
+    fn sonine_coefficient_by_hand() {
+        // e = 0.5, 2D: 16 * 0.5 * 0.5 / (57 - 12.5 + 3.75) = 4 / 48.25.
+        close(sonine_a2(2, 0.5), 4.0 / 48.25);
+        // e = 0.5, 3D: 4 / (81 - 8.5 + 3.75) = 4 / 76.25.
+        close(sonine_a2(3, 0.5), 4.0 / 76.25);
+        // e = 0.9, 3D: 16*0.1*(1-1.62) / (81 - 15.3 + 2.43) = -0.992 / 68.13.
+        close(sonine_a2(3, 0.9), -0.992 / 68.13);
+        // Elastic limit and the sign change at e = 1/sqrt(2).
+        close(sonine_a2(2, 1.0), 0.0);
+        assert!(sonine_a2(3, std::f64::consts::FRAC_1_SQRT_2).abs() < 1e-15);
+    }
+
+    #[test]
+    fn cooling_rate_and_haff_time_by_hand() {
+        // 2D, n = 2, R = 0.25, T = m = 1, e = 0.5: omega = sqrt(pi),
+        // zeta0 = 0.75 / 2 * sqrt(pi) = 0.6646701940895685.
+        let z0 = cooling_rate(2, 2.0, 0.25, 1.0, 1.0, 0.5, 1.0, false);
+        close(z0, 0.664_670_194_089_568_5);
+        let z = cooling_rate(2, 2.0, 0.25, 1.0, 1.0, 0.5, 1.0, true);
+        close(
+            z,
+            0.664_670_194_089_568_5 * (1.0 + 3.0 / 16.0 * 4.0 / 48.25),
+        );
+        close(haff_time(2, 2.0, 0.25, 1.0, 1.0, 0.5, 1.0, false), 2.0 / z0);
+        close(haff_energy(8.0, 1.0, 1.0), 2.0);
+    }
+}
