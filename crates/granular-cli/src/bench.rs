@@ -12,6 +12,21 @@ use std::time::Instant;
 
 #[derive(Subcommand)]
 pub enum BenchCommand {
+    /// DSMC engine: 2D and 3D at N = 10^5, 10^6, 10^7, with 1 and 2 threads.
+    Dsmc {
+        /// Only this dimension (2 or 3).
+        #[arg(long)]
+        dimension: Option<usize>,
+        /// Only this number of particles.
+        #[arg(long)]
+        n: Option<usize>,
+        /// Only this number of threads.
+        #[arg(long)]
+        threads: Option<usize>,
+        /// One JSON object per case on standard output.
+        #[arg(long)]
+        json: bool,
+    },
     /// Event-driven engine: elastic grains in a periodic box.
     Edmd {
         /// Only this dimension (2 or 3).
@@ -46,6 +61,38 @@ const CASES: &[(usize, usize, f64)] = &[
 
 pub fn run(cmd: BenchCommand) -> Result<(), String> {
     match cmd {
+        BenchCommand::Dsmc {
+            dimension,
+            n,
+            threads,
+            json,
+        } => {
+            let dims: Vec<usize> = dimension.map_or(vec![2, 3], |d| vec![d]);
+            let ns: Vec<usize> = n.map_or(vec![100_000, 1_000_000, 10_000_000], |n| vec![n]);
+            let ts: Vec<usize> = threads.map_or(vec![1, 2], |t| vec![t]);
+            for &d in &dims {
+                for &n in &ns {
+                    for &t in &ts {
+                        let r =
+                            granular::dsmc::bench::measure(d, n, t).map_err(|e| e.to_string())?;
+                        if json {
+                            println!("{}", serde_json::to_string(&r).unwrap_or_default());
+                        } else {
+                            println!(
+                                "dsmc {}D N = {:>9} threads = {}: {:.3e} particle-steps/s, {:.3e} collisions/s ({:.3} collisions per particle-step)",
+                                r.dimension,
+                                r.n,
+                                r.threads,
+                                r.particle_steps_per_second,
+                                r.collisions_per_second,
+                                r.collisions_per_particle_step
+                            );
+                        }
+                    }
+                }
+            }
+            Ok(())
+        }
         BenchCommand::Edmd {
             dimension,
             n,

@@ -20,13 +20,16 @@ use rayon::prelude::*;
 use std::sync::atomic::{AtomicU32, Ordering};
 
 /// A regular grid of `n_0 x ... x n_{D-1}` cells covering the box.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct CellGrid<const D: usize> {
     /// Cells per axis.
+    #[serde(with = "crate::vector::serde_array")]
     pub dims: [usize; D],
     /// Cell edge per axis (`L_k / n_k`).
+    #[serde(with = "crate::vector::serde_array")]
     pub edges: [f64; D],
     /// Inverse cell edges.
+    #[serde(with = "crate::vector::serde_array")]
     inv_edges: [f64; D],
     /// Cell volume `V_c` (area in 2D).
     pub volume: f64,

@@ -36,7 +36,7 @@ pub(crate) struct StepParams {
 }
 
 /// Counters of one group of cells, summed in cell order by the engine.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub(crate) struct Tally {
     pub collisions: u64,
     pub candidates: u64,

@@ -27,7 +27,7 @@ const SUM_CHUNK: usize = 4096;
 
 /// Direct Simulation Monte Carlo of `N` equal hard grains (disks for `D = 2`, spheres
 /// for `D = 3`), after Müller & Herrmann (the DSMC seed). See the module docs.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct DsmcEngine<const D: usize> {
     config: DsmcConfig,
     sim_box: SimulationBox<D>,

@@ -1,11 +1,13 @@
 //! Turns a validated [`Scenario`] into an engine with its initial state.
 
 use crate::boundary::SimulationBox;
+use crate::dsmc::config::DsmcConfig;
+use crate::dsmc::engine::DsmcEngine;
 use crate::edmd::init::{self, InitError, Region};
 use crate::edmd::{Edmd, EdmdOptions, ParticleSet};
 use crate::engine::{Engine, EngineError, Progress, Scalar, Snapshot};
 use crate::random::{self, stream};
-use crate::scenario::{Placement, Scenario, ScenarioError, VelocitySpec};
+use crate::scenario::{EngineKind, Placement, Scenario, ScenarioError, VelocitySpec};
 use crate::vector::Vector;
 use serde::{Deserialize, Serialize};
 
@@ -17,56 +19,55 @@ pub enum AnyEngine {
     Edmd2(Edmd<2>),
     /// Event-driven, 3D.
     Edmd3(Edmd<3>),
+    /// DSMC, 2D.
+    Dsmc2(DsmcEngine<2>),
+    /// DSMC, 3D.
+    Dsmc3(DsmcEngine<3>),
+}
+
+macro_rules! each_engine {
+    ($self:expr, $e:ident => $body:expr) => {
+        match $self {
+            AnyEngine::Edmd2($e) => $body,
+            AnyEngine::Edmd3($e) => $body,
+            AnyEngine::Dsmc2($e) => $body,
+            AnyEngine::Dsmc3($e) => $body,
+        }
+    };
 }
 
 impl AnyEngine {
     /// The engine behind the common interface.
     pub fn as_engine(&mut self) -> &mut dyn Engine {
-        match self {
-            AnyEngine::Edmd2(e) => e,
-            AnyEngine::Edmd3(e) => e,
-        }
+        each_engine!(self, e => e)
     }
 
-    /// Impact-parameter histogram counts (event-driven engines).
-    pub fn impact_histogram(&self) -> Option<&crate::stats::Histogram> {
+    /// Histogram of the normalised impact parameter of all collisions so far.
+    pub fn impact_histogram(&self) -> Option<crate::stats::Histogram> {
         match self {
-            AnyEngine::Edmd2(e) => Some(e.impact_histogram()),
-            AnyEngine::Edmd3(e) => Some(e.impact_histogram()),
+            AnyEngine::Edmd2(e) => Some(e.impact_histogram().clone()),
+            AnyEngine::Edmd3(e) => Some(e.impact_histogram().clone()),
+            AnyEngine::Dsmc2(e) => Some(e.impact_histogram()),
+            AnyEngine::Dsmc3(e) => Some(e.impact_histogram()),
         }
     }
 }
 
 impl Engine for AnyEngine {
     fn name(&self) -> &'static str {
-        match self {
-            AnyEngine::Edmd2(e) => e.name(),
-            AnyEngine::Edmd3(e) => e.name(),
-        }
+        each_engine!(self, e => e.name())
     }
     fn time(&self) -> f64 {
-        match self {
-            AnyEngine::Edmd2(e) => e.time(),
-            AnyEngine::Edmd3(e) => e.time(),
-        }
+        each_engine!(self, e => e.time())
     }
     fn events(&self) -> u64 {
-        match self {
-            AnyEngine::Edmd2(e) => e.events(),
-            AnyEngine::Edmd3(e) => e.events(),
-        }
+        each_engine!(self, e => e.events())
     }
     fn collisions(&self) -> u64 {
-        match self {
-            AnyEngine::Edmd2(e) => e.collisions(),
-            AnyEngine::Edmd3(e) => e.collisions(),
-        }
+        each_engine!(self, e => e.collisions())
     }
     fn particle_count(&self) -> usize {
-        match self {
-            AnyEngine::Edmd2(e) => e.particle_count(),
-            AnyEngine::Edmd3(e) => e.particle_count(),
-        }
+        each_engine!(self, e => e.particle_count())
     }
     fn advance(&mut self, until: f64, max_events: u64) -> Result<Progress, EngineError> {
         self.as_engine().advance(until, max_events)
@@ -96,6 +97,9 @@ pub enum BuildError {
         /// What went wrong.
         source: InitError,
     },
+    /// The DSMC engine rejected its input.
+    #[error("DSMC: {0}")]
+    Dsmc(String),
     /// Given positions overlap.
     #[error(
         "grains {a} and {b} overlap at the start (distance {distance:.6} < sum of radii {sigma:.6}); move them apart or make them smaller"
@@ -115,9 +119,11 @@ pub enum BuildError {
 /// Builds the engine named by the scenario.
 pub fn build(scenario: &Scenario) -> Result<AnyEngine, BuildError> {
     scenario.validate()?;
-    Ok(match scenario.dimension {
-        2 => AnyEngine::Edmd2(build_edmd::<2>(scenario)?),
-        _ => AnyEngine::Edmd3(build_edmd::<3>(scenario)?),
+    Ok(match (scenario.engine, scenario.dimension) {
+        (EngineKind::Edmd, 2) => AnyEngine::Edmd2(build_edmd::<2>(scenario)?),
+        (EngineKind::Edmd, _) => AnyEngine::Edmd3(build_edmd::<3>(scenario)?),
+        (EngineKind::Dsmc, 2) => AnyEngine::Dsmc2(build_dsmc::<2>(scenario)?),
+        (EngineKind::Dsmc, _) => AnyEngine::Dsmc3(build_dsmc::<3>(scenario)?),
     })
 }
 
@@ -280,4 +286,38 @@ fn build_edmd<const D: usize>(scenario: &Scenario) -> Result<Edmd<D>, BuildError
         impact_bins: scenario.edmd.impact_bins,
     };
     Ok(Edmd::new(bx, set, scenario.collisions.law(), options))
+}
+
+/// The DSMC engine starts from the same initial state as the event-driven one (the same
+/// placement and velocities for the same scenario and seed), so the two can be compared
+/// member by member.
+fn build_dsmc<const D: usize>(scenario: &Scenario) -> Result<DsmcEngine<D>, BuildError> {
+    let (bx, set) = initial_particles::<D>(scenario)?;
+    let law = scenario.collisions.law();
+    let spec = &scenario.dsmc;
+    let config = DsmcConfig {
+        time_step: spec.time_step,
+        cell_size: spec.cell_size,
+        restitution: law.restitution,
+        wall_restitution: law.wall_restitution,
+        gravity: scenario.gravity.clone(),
+        vmax_mode: spec.vmax_mode,
+        enskog: spec.enskog,
+        free_volume: spec.free_volume,
+        density_scope: spec.density_scope,
+        consistent_boltzmann: spec.consistent_boltzmann,
+        tc: (law.contact_duration > 0.0).then_some(law.contact_duration),
+        impact_bins: scenario.edmd.impact_bins,
+    };
+    let seed = crate::random::derive_key(scenario.seed, &[crate::random::DYNAMICS]);
+    DsmcEngine::from_state(
+        config,
+        bx,
+        set.radii[0],
+        set.masses[0],
+        set.positions,
+        set.velocities,
+        seed,
+    )
+    .map_err(|e| BuildError::Dsmc(e.to_string()))
 }

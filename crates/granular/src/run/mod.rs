@@ -370,7 +370,10 @@ impl Run {
         if !first {
             self.state.outputs += 1;
         }
-        let scalars = self.engine.scalars();
+        let mut scalars = self.engine.scalars();
+        if !scalars.iter().any(|s| s.0 == "time") {
+            scalars.insert(0, ("time".into(), self.engine.time()));
+        }
         let csv_path = self.dir.join("timeseries.csv");
         let mut file = if first {
             self.state.columns = scalars.iter().map(|s| s.0.clone()).collect();

@@ -20,13 +20,15 @@ use std::fmt;
 pub enum EngineKind {
     /// Event-driven molecular dynamics (`granular::edmd`).
     Edmd,
+    /// Direct Simulation Monte Carlo (`granular::dsmc`).
+    Dsmc,
 }
 
 /// A whole scenario.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Scenario {
-    /// Engine: `"edmd"`.
+    /// Engine: `"edmd"` or `"dsmc"`.
     pub engine: EngineKind,
     /// Spatial dimension: 2 (disks) or 3 (spheres).
     #[serde(default = "two")]
@@ -60,12 +62,58 @@ pub struct Scenario {
     /// Options of the event-driven engine.
     #[serde(default)]
     pub edmd: EdmdSpec,
+    /// Options of the DSMC engine (its numerics; the collision law, gravity, box and
+    /// grains come from the shared tables).
+    #[serde(default)]
+    pub dsmc: DsmcSpec,
     /// Crater measure (Problem 4 of the hard-disk seed).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub crater: Option<CraterSpec>,
     /// Parameter scan run by `granular sweep`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sweep: Option<SweepSpec>,
+}
+
+/// `[dsmc]`: numerical choices of the DSMC engine (see `docs/dsmc.md`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DsmcSpec {
+    /// Time step τ; default one tenth of the initial mean free time.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub time_step: Option<f64>,
+    /// Requested cell edge L; default the smaller of the mean free path and the edge
+    /// holding 10 grains on average.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cell_size: Option<f64>,
+    /// `"cell"` (per cell and step, default) or `"global"` bound on relative speeds.
+    #[serde(default)]
+    pub vmax_mode: crate::dsmc::config::VmaxMode,
+    /// Multiply Eq. 1 by the Enskog contact value χ(φ).
+    #[serde(default)]
+    pub enskog: bool,
+    /// Use the free volume `V_c - V_b / ν_rcp` in Eq. 1.
+    #[serde(default)]
+    pub free_volume: bool,
+    /// `"global"` (default) or `"cell"` packing fraction for the Enskog factor.
+    #[serde(default)]
+    pub density_scope: crate::dsmc::config::DensityScope,
+    /// Consistent-Boltzmann advection: partners displaced by 2R along their momentum change.
+    #[serde(default)]
+    pub consistent_boltzmann: bool,
+}
+
+impl Default for DsmcSpec {
+    fn default() -> Self {
+        Self {
+            time_step: None,
+            cell_size: None,
+            vmax_mode: Default::default(),
+            enskog: false,
+            free_volume: false,
+            density_scope: Default::default(),
+            consistent_boltzmann: false,
+        }
+    }
 }
 
 /// `[crater]`: the crater size is the number of grains of `species` whose final position
@@ -852,6 +900,33 @@ impl Scenario {
                 "output.interval",
                 format!("is {}; it must be positive", self.output.interval),
             ));
+        }
+        if self.engine == EngineKind::Dsmc {
+            if self.species.len() != 1 {
+                return Err(ScenarioError::new(
+                    "species",
+                    format!(
+                        "has {} species; the DSMC engine takes one species of equal grains",
+                        self.species.len()
+                    ),
+                ));
+            }
+            if let Some(t) = self.dsmc.time_step
+                && (t.is_nan() || t <= 0.0)
+            {
+                return Err(ScenarioError::new(
+                    "dsmc.time_step",
+                    format!("is {t}; give a positive time step (well below the mean free time)"),
+                ));
+            }
+            if let Some(l) = self.dsmc.cell_size
+                && (l.is_nan() || l <= 0.0)
+            {
+                return Err(ScenarioError::new(
+                    "dsmc.cell_size",
+                    format!("is {l}; give a positive cell edge (below the mean free path)"),
+                ));
+            }
         }
         if let Some(c) = &self.crater {
             if !self.species.iter().any(|s| s.name == c.species) {
