@@ -18,7 +18,8 @@ fn periodic<const D: usize>() -> SimulationBox<D> {
 fn radius_for_knudsen<const D: usize>(n: usize, ratio: f64) -> f64 {
     let sigma = ratio / (SQRT_2 * n as f64);
     if D == 2 {
-        sigma / 2.0
+        // sigma_2D = 4R: the strip |b| < 2R of impact parameters.
+        sigma / 4.0
     } else {
         (sigma / PI).sqrt() / 2.0
     }

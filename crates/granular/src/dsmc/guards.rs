@@ -144,12 +144,12 @@ mod tests {
     use super::*;
 
     fn input() -> GuardInput {
-        // 2D, n = 1, R = 0.05 (sigma = 0.1): lambda = 1/(sqrt2 * 0.1) = 7.07;
+        // 2D, n = 1, R = 0.025 (sigma = 4R = 0.1): lambda = 1/(sqrt2 * 0.1) = 7.07;
         // omega = 0.1 sqrt(pi) = 0.177, t_free = 5.64.
         GuardInput {
             dimension: 2,
             number_density: 1.0,
-            radius: 0.05,
+            radius: 0.025,
             mass: 1.0,
             temperature: 1.0,
             chi: 1.0,

@@ -16,12 +16,16 @@ fn check_dimension(dimension: usize) {
     );
 }
 
-/// Total collision cross-section of two equal grains of radius `radius`: the diameter
-/// `2R` (a length) for disks, `pi (2R)^2` for spheres.
+/// Total collision cross-section of two equal grains of radius `R`: the set of impact
+/// parameters that lead to a collision. Two disks of diameter `d = 2R` collide when
+/// `|b| < d`, a strip of width `2d = 4R` (a length); two spheres when `|b| < d`, a disk
+/// of area `pi d^2 = 4 pi R^2`. These are the seed's `sigma_2D = 4R`, `sigma_3D = 4 pi R^2`
+/// (DSMC seed, after Eq. 1), and they give the exact hard-disk relation between collision
+/// frequency and pressure (`theory::equilibrium::collision_frequency_from_pressure`).
 pub fn cross_section(dimension: usize, radius: f64) -> f64 {
     check_dimension(dimension);
     if dimension == 2 {
-        2.0 * radius
+        4.0 * radius
     } else {
         PI * 4.0 * radius * radius
     }
@@ -77,7 +81,7 @@ pub fn mean_relative_speed(dimension: usize, temperature: f64, mass: f64) -> f64
 }
 
 /// Collision frequency per grain, `omega = chi n sigma <|v_12|>` (number of collisions a
-/// given grain suffers per unit time) for a Maxwellian gas: `chi n 2R sqrt(pi T/m)` in
+/// given grain suffers per unit time) for a Maxwellian gas: `chi n 4R sqrt(pi T/m)` in
 /// 2D, `4 chi n (2R)^2 sqrt(pi T/m)` in 3D. `chi = 1` is the Boltzmann value, `chi`
 /// from [`contact_value`] the Enskog value.
 pub fn collision_frequency(
@@ -173,7 +177,7 @@ mod tests {
 
     #[test]
     fn cross_sections_and_volumes() {
-        close(cross_section(2, 0.5), 1.0);
+        close(cross_section(2, 0.5), 2.0);
         close(cross_section(3, 0.5), PI);
         close(grain_volume(2, 1.0), PI);
         close(grain_volume(3, 1.0), 4.18879020478639);
@@ -201,9 +205,9 @@ mod tests {
 
     #[test]
     fn collision_frequency_by_hand() {
-        // 2D: n = 2, R = 0.25 (sigma = 0.5), T = m = 1: 2 * 0.5 * sqrt(pi) = 1.7724538509055159.
+        // 2D: n = 2, R = 0.125 (sigma = 4R = 0.5), T = m = 1: 2 * 0.5 * sqrt(pi) = 1.7724538509055159.
         close(
-            collision_frequency(2, 2.0, 0.25, 1.0, 1.0, 1.0),
+            collision_frequency(2, 2.0, 0.125, 1.0, 1.0, 1.0),
             1.772_453_850_905_516,
         );
         // 3D: n = 1, R = 0.5 (d = 1), chi = 2: 4 * 2 * sqrt(pi) = 14.179630807244127.
@@ -211,9 +215,9 @@ mod tests {
             collision_frequency(3, 1.0, 0.5, 1.0, 1.0, 2.0),
             14.179_630_807_244_127,
         );
-        // Mean free path, 2D n = 1, R = 0.5: 1 / sqrt(2).
+        // Mean free path, 2D n = 1, R = 0.25 (sigma = 1): 1 / sqrt(2).
         close(
-            mean_free_path(2, 1.0, 0.5, 1.0),
+            mean_free_path(2, 1.0, 0.25, 1.0),
             std::f64::consts::FRAC_1_SQRT_2,
         );
     }
@@ -233,16 +237,19 @@ mod tests {
 
     #[test]
     fn cooling_rate_and_haff_time_by_hand() {
-        // 2D, n = 2, R = 0.25, T = m = 1, e = 0.5: omega = sqrt(pi),
+        // 2D, n = 2, R = 0.125 (sigma = 0.5), T = m = 1, e = 0.5: omega = sqrt(pi),
         // zeta0 = 0.75 / 2 * sqrt(pi) = 0.6646701940895685.
-        let z0 = cooling_rate(2, 2.0, 0.25, 1.0, 1.0, 0.5, 1.0, false);
+        let z0 = cooling_rate(2, 2.0, 0.125, 1.0, 1.0, 0.5, 1.0, false);
         close(z0, 0.664_670_194_089_568_5);
-        let z = cooling_rate(2, 2.0, 0.25, 1.0, 1.0, 0.5, 1.0, true);
+        let z = cooling_rate(2, 2.0, 0.125, 1.0, 1.0, 0.5, 1.0, true);
         close(
             z,
             0.664_670_194_089_568_5 * (1.0 + 3.0 / 16.0 * 4.0 / 48.25),
         );
-        close(haff_time(2, 2.0, 0.25, 1.0, 1.0, 0.5, 1.0, false), 2.0 / z0);
+        close(
+            haff_time(2, 2.0, 0.125, 1.0, 1.0, 0.5, 1.0, false),
+            2.0 / z0,
+        );
         close(haff_energy(8.0, 1.0, 1.0), 2.0);
     }
 }
