@@ -2,5 +2,6 @@
 
 mod dsmc;
 mod edmd;
+mod engines;
 mod problems;
 mod spine;
