@@ -1,0 +1,301 @@
+//! Publication-ready figures: data in, file out. The plotting types know nothing of engines
+//! or scenarios; they take numbers (and, for pictures, a [`granular::engine::Snapshot`]).
+//!
+//! * [`LinePlot`]: named series with optional error bars, log axes, theory curves;
+//! * [`HistogramPlot`]: a normalised histogram with theory densities overlaid;
+//! * [`SnapshotPicture`]: grains as true-size disks, coloured by species or by speed;
+//! * [`Animation`]: a GIF (and, with `ffmpeg`, an MP4) of a sequence of snapshots.
+//!
+//! Every figure is written as PNG or SVG according to the file extension (`save`), or as
+//! both (`save_png_and_svg`). Text is drawn with the embedded DejaVu Sans font (see
+//! `assets/DejaVuSans-LICENSE.txt`), so bitmaps render the same on every machine.
+//! Colours follow the Okabe–Ito palette (safe for colour-blind readers); series are
+//! also told apart by marker shape and dash pattern, so the figures survive grey-scale print.
+
+// The CLI commands that call these types are being written on another branch.
+#![allow(dead_code, unused_imports)]
+
+mod animation;
+mod chart;
+mod colour;
+mod histogram;
+mod line;
+mod snapshot;
+
+// pub use animation::Animation;
+pub use colour::{Colour, PALETTE, viridis};
+// pub use histogram::HistogramPlot;
+pub use chart::LegendPosition;
+pub use line::{LinePlot, Series, SeriesStyle};
+// pub use snapshot::{ColourBy, SnapshotPicture};
+
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+/// The default figure size in pixels (4:3); fonts scale with the height.
+pub const DEFAULT_SIZE: (u32, u32) = (1000, 750);
+
+/// Font family name under which the embedded font is registered.
+pub(crate) const FONT: &str = "sans-serif";
+
+static FONT_BYTES: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
+
+/// Why a figure could not be produced.
+#[derive(Debug, thiserror::Error)]
+pub enum PlotError {
+    /// The output path has no extension or one other than `png` / `svg` (`gif` for animations).
+    #[error("cannot tell the image format of {0}: use a .png or .svg file name")]
+    UnknownFormat(PathBuf),
+    /// The input data are unusable (empty, mismatched lengths, not finite, …).
+    #[error("{0}")]
+    Data(String),
+    /// The drawing backend failed (often: the output file could not be written).
+    #[error("drawing failed: {0}")]
+    Draw(String),
+    /// The embedded font could not be registered.
+    #[error("the embedded font could not be loaded")]
+    Font,
+    /// A file or an external program failed.
+    #[error("{context}: {source}")]
+    Io {
+        /// What was being done.
+        context: String,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+}
+
+impl<E: std::error::Error + Send + Sync> From<DrawingAreaErrorKind<E>> for PlotError {
+    fn from(e: DrawingAreaErrorKind<E>) -> Self {
+        PlotError::Draw(e.to_string())
+    }
+}
+
+/// Registers the embedded font once per process; bitmap text is not drawn without it.
+pub(crate) fn ensure_font() -> Result<(), PlotError> {
+    static REGISTERED: OnceLock<bool> = OnceLock::new();
+    let ok = *REGISTERED.get_or_init(|| {
+        plotters::style::register_font(FONT, FontStyle::Normal, FONT_BYTES).is_ok()
+    });
+    if ok { Ok(()) } else { Err(PlotError::Font) }
+}
+
+/// The output format chosen from a file extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Format {
+    Png,
+    Svg,
+}
+
+pub(crate) fn format_of(path: &Path) -> Result<Format, PlotError> {
+    match path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .as_deref()
+    {
+        Some("png") => Ok(Format::Png),
+        Some("svg") => Ok(Format::Svg),
+        _ => Err(PlotError::UnknownFormat(path.to_path_buf())),
+    }
+}
+
+/// Font sizes and line widths for a figure, scaled with its height (reference: 750 px).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Metrics {
+    pub title: f64,
+    pub label: f64,
+    pub tick: f64,
+    pub legend: f64,
+    pub line: u32,
+    pub marker: i32,
+    pub margin: u32,
+}
+
+impl Metrics {
+    pub fn for_size((w, h): (u32, u32)) -> Self {
+        let s = (f64::from(h.min(w * 3 / 4)) / 750.0).max(0.4);
+        Self {
+            title: 32.0 * s,
+            label: 28.0 * s,
+            tick: 24.0 * s,
+            legend: 24.0 * s,
+            line: ((3.0 * s).round() as u32).max(1),
+            marker: ((7.0 * s).round() as i32).max(2),
+            margin: ((24.0 * s).round() as u32).max(4),
+        }
+    }
+}
+
+/// A text style in the embedded font.
+pub(crate) fn font(size: f64) -> TextStyle<'static> {
+    (FONT, size).into_font().color(&BLACK)
+}
+
+/// Something drawn onto a drawing area of any backend.
+pub(crate) trait Draw {
+    fn size(&self) -> (u32, u32);
+    fn draw_on<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<(), PlotError>;
+}
+
+/// Renders a figure to `path` as PNG or SVG by extension, on a white background.
+pub(crate) fn save_figure<F: Draw>(figure: &F, path: &Path) -> Result<(), PlotError> {
+    ensure_font()?;
+    let format = format_of(path)?;
+    let size = figure.size();
+    if size.0 < 50 || size.1 < 50 {
+        return Err(PlotError::Data(format!(
+            "figure size {}x{} is too small",
+            size.0, size.1
+        )));
+    }
+    match format {
+        Format::Png => {
+            let root = BitMapBackend::new(path, size).into_drawing_area();
+            root.fill(&WHITE)?;
+            figure.draw_on(&root)?;
+            root.present()?;
+        }
+        Format::Svg => {
+            let root = SVGBackend::new(path, size).into_drawing_area();
+            root.fill(&WHITE)?;
+            figure.draw_on(&root)?;
+            root.present()?;
+        }
+    }
+    Ok(())
+}
+
+/// Writes `stem.png` and `stem.svg` (any extension of `stem` is replaced).
+pub(crate) fn save_both<F: Draw>(figure: &F, stem: &Path) -> Result<[PathBuf; 2], PlotError> {
+    let png = stem.with_extension("png");
+    let svg = stem.with_extension("svg");
+    save_figure(figure, &png)?;
+    save_figure(figure, &svg)?;
+    Ok([png, svg])
+}
+
+/// Tick label text: plain decimals for ordinary magnitudes, `a×10ⁿ` otherwise.
+pub(crate) fn format_tick(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return if v == 0.0 { "0".into() } else { format!("{v}") };
+    }
+    let a = v.abs();
+    if (1e-3..1e5).contains(&a) {
+        let s = format!("{v:.6}");
+        let s = s.trim_end_matches('0').trim_end_matches('.');
+        // Round away float noise such as 0.30000000000000004 -> 0.3.
+        let rounded: f64 = format!("{v:.4e}").parse().unwrap_or(v);
+        let r = format!("{rounded:.6}");
+        let r = r.trim_end_matches('0').trim_end_matches('.');
+        return if r.len() < s.len() {
+            r.into()
+        } else {
+            s.into()
+        };
+    }
+    let exponent = a.log10().floor() as i32;
+    let mantissa = v / 10f64.powi(exponent);
+    let power = format!("10{}", superscript(exponent));
+    if (mantissa.abs() - 1.0).abs() < 1e-9 {
+        if mantissa < 0.0 {
+            format!("−{power}")
+        } else {
+            power
+        }
+    } else {
+        let m = format!("{mantissa:.2}");
+        let m = m.trim_end_matches('0').trim_end_matches('.');
+        format!("{m}×{power}")
+    }
+}
+
+fn superscript(n: i32) -> String {
+    n.to_string()
+        .chars()
+        .map(|c| match c {
+            '-' => '⁻',
+            '0' => '⁰',
+            '1' => '¹',
+            '2' => '²',
+            '3' => '³',
+            '4' => '⁴',
+            '5' => '⁵',
+            '6' => '⁶',
+            '7' => '⁷',
+            '8' => '⁸',
+            _ => '⁹',
+        })
+        .collect()
+}
+
+#[cfg(test)]
+pub(crate) mod test_support {
+    use std::path::PathBuf;
+
+    /// A fresh directory for one test's files.
+    pub fn temp_dir(test: &str) -> PathBuf {
+        let dir = std::env::temp_dir()
+            .join(format!("granular-plot-tests-{}", std::process::id()))
+            .join(test);
+        std::fs::create_dir_all(&dir).expect("create temp dir");
+        dir
+    }
+
+    /// Decodes a PNG and returns its size and RGB pixels.
+    pub fn decode_png(path: &std::path::Path) -> (u32, u32, Vec<[u8; 3]>) {
+        let file = std::fs::File::open(path).expect("open png");
+        let mut decoder = png::Decoder::new(std::io::BufReader::new(file));
+        decoder.set_transformations(png::Transformations::normalize_to_color8());
+        let mut reader = decoder.read_info().expect("png header");
+        let mut buf = vec![0; reader.output_buffer_size()];
+        let info = reader.next_frame(&mut buf).expect("png frame");
+        let channels = info.color_type.samples();
+        let pixels = buf[..info.buffer_size()]
+            .chunks(channels)
+            .map(|c| match channels {
+                1 | 2 => [c[0]; 3],
+                _ => [c[0], c[1], c[2]],
+            })
+            .collect();
+        (info.width, info.height, pixels)
+    }
+
+    /// Number of pixels that are neither white nor nearly white.
+    pub fn ink(pixels: &[[u8; 3]]) -> usize {
+        pixels.iter().filter(|p| p.iter().any(|&c| c < 200)).count()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tick_labels() {
+        assert_eq!(format_tick(0.0), "0");
+        assert_eq!(format_tick(0.30000000000000004), "0.3");
+        assert_eq!(format_tick(2.5), "2.5");
+        assert_eq!(format_tick(100.0), "100");
+        assert_eq!(format_tick(1e-5), "10⁻⁵");
+        assert_eq!(format_tick(2e6), "2×10⁶");
+        assert_eq!(format_tick(-0.001), "-0.001");
+    }
+
+    #[test]
+    fn formats_by_extension() {
+        assert_eq!(format_of(Path::new("a.PNG")).ok(), Some(Format::Png));
+        assert_eq!(format_of(Path::new("a.svg")).ok(), Some(Format::Svg));
+        assert!(format_of(Path::new("a")).is_err());
+        assert!(format_of(Path::new("a.pdf")).is_err());
+    }
+
+    #[test]
+    fn font_registers() {
+        ensure_font().expect("font");
+        ensure_font().expect("font twice");
+    }
+}
