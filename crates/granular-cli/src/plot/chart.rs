@@ -6,7 +6,7 @@ use plotters::coord::ranged1d::{Ranged, ValueFormatter};
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
-use super::{Metrics, PlotError, font, format_tick};
+use super::{Metrics, PlotError, font, format_log_tick, format_tick};
 
 /// Where the legend goes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -117,20 +117,29 @@ where
         .margin(m.margin)
         .margin_right(m.margin * 2)
         .x_label_area_size(m.tick * 1.3 + m.label * 1.9)
-        .y_label_area_size(m.tick * 4.2 + m.label * 1.6);
+        .y_label_area_size(m.tick * 3.4 + m.label * 1.6);
     if !frame.title.is_empty() {
         builder.caption(frame.title, font(m.title));
     }
     let mut chart = builder.build_cartesian_2d(x, y)?;
-    let formatter = |v: &f64| format_tick(*v);
+    let tick = |log: bool| {
+        move |v: &f64| {
+            if log {
+                format_log_tick(*v)
+            } else {
+                format_tick(*v)
+            }
+        }
+    };
+    let (x_fmt, y_fmt) = (tick(frame.log_x), tick(frame.log_y));
     chart
         .configure_mesh()
         .x_desc(frame.x_label)
         .y_desc(frame.y_label)
         .axis_desc_style(font(m.label))
         .label_style(font(m.tick))
-        .x_label_formatter(&formatter)
-        .y_label_formatter(&formatter)
+        .x_label_formatter(&x_fmt)
+        .y_label_formatter(&y_fmt)
         .x_labels(7)
         .y_labels(7)
         .bold_line_style(BLACK.mix(0.12))
@@ -178,7 +187,7 @@ fn auto_legend_position<DB: DrawingBackend>(
     let (w, h) = area.dim_in_pixel();
     let m = &frame.metrics;
     // Rough plot-area size and legend-box size in pixels.
-    let plot_w = (f64::from(w) - m.tick * 4.2 - m.label * 1.6 - 3.0 * f64::from(m.margin)).max(1.0);
+    let plot_w = (f64::from(w) - m.tick * 3.4 - m.label * 1.6 - 3.0 * f64::from(m.margin)).max(1.0);
     let plot_h = (f64::from(h) - m.title * 1.5 - m.tick * 1.3 - m.label * 1.9).max(1.0);
     let (chars, entries) = frame.legend_extent;
     let box_w = ((chars as f64 * 0.6 * m.legend + m.legend * 3.5) / plot_w).min(1.0);

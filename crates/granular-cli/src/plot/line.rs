@@ -529,7 +529,7 @@ impl Draw for LinePlot {
         self.size
     }
 
-    fn draw_on<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
+    fn check(&self) -> Result<(), PlotError> {
         if self.series.is_empty() {
             return Err(PlotError::Data(
                 "a line plot needs at least one series".into(),
@@ -538,6 +538,11 @@ impl Draw for LinePlot {
         for s in &self.series {
             s.validate()?;
         }
+        self.ranges().map(|_| ())
+    }
+
+    fn draw_on<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
+        self.check()?;
         let (x_range, y_range) = self.ranges()?;
         let named: Vec<&Series> = self.series.iter().filter(|s| !s.name.is_empty()).collect();
         let frame = Frame {
@@ -656,5 +661,7 @@ mod tests {
             Err(PlotError::UnknownFormat(_))
         ));
         assert!(LinePlot::new("").save(dir.join("empty.png")).is_err());
+        // Rejected data leave no file behind.
+        assert!(!dir.join("x.png").exists() && !dir.join("empty.png").exists());
     }
 }

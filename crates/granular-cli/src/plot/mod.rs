@@ -23,9 +23,9 @@ mod line;
 mod snapshot;
 
 // pub use animation::Animation;
-pub use colour::{Colour, PALETTE, viridis};
-// pub use histogram::HistogramPlot;
 pub use chart::LegendPosition;
+pub use colour::{Colour, PALETTE, viridis};
+pub use histogram::{HistogramPlot, maxwell_speed_density};
 pub use line::{LinePlot, Series, SeriesStyle};
 // pub use snapshot::{ColourBy, SnapshotPicture};
 
@@ -138,6 +138,10 @@ pub(crate) fn font(size: f64) -> TextStyle<'static> {
 /// Something drawn onto a drawing area of any backend.
 pub(crate) trait Draw {
     fn size(&self) -> (u32, u32);
+    /// Checks the data before any file is created.
+    fn check(&self) -> Result<(), PlotError> {
+        Ok(())
+    }
     fn draw_on<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<(), PlotError>;
 }
 
@@ -145,6 +149,7 @@ pub(crate) trait Draw {
 pub(crate) fn save_figure<F: Draw>(figure: &F, path: &Path) -> Result<(), PlotError> {
     ensure_font()?;
     let format = format_of(path)?;
+    figure.check()?;
     let size = figure.size();
     if size.0 < 50 || size.1 < 50 {
         return Err(PlotError::Data(format!(
@@ -211,6 +216,17 @@ pub(crate) fn format_tick(v: f64) -> String {
         let m = m.trim_end_matches('0').trim_end_matches('.');
         format!("{m}×{power}")
     }
+}
+
+/// Tick label text on a logarithmic axis: `10ⁿ` at exact decades.
+pub(crate) fn format_log_tick(v: f64) -> String {
+    if v > 0.0 && v.is_finite() {
+        let e = v.log10();
+        if (e - e.round()).abs() < 1e-9 {
+            return format!("10{}", superscript(e.round() as i32));
+        }
+    }
+    format_tick(v)
 }
 
 fn superscript(n: i32) -> String {
@@ -283,6 +299,9 @@ mod tests {
         assert_eq!(format_tick(1e-5), "10⁻⁵");
         assert_eq!(format_tick(2e6), "2×10⁶");
         assert_eq!(format_tick(-0.001), "-0.001");
+        assert_eq!(format_log_tick(1.0), "10⁰");
+        assert_eq!(format_log_tick(0.001), "10⁻³");
+        assert_eq!(format_log_tick(300.0), "300");
     }
 
     #[test]
