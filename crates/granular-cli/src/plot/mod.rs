@@ -27,7 +27,7 @@ pub use chart::LegendPosition;
 pub use colour::{Colour, PALETTE, viridis};
 pub use histogram::{HistogramPlot, maxwell_speed_density};
 pub use line::{LinePlot, Series, SeriesStyle};
-// pub use snapshot::{ColourBy, SnapshotPicture};
+pub use snapshot::{ColourBy, PictureStyle, SnapshotPicture};
 
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
