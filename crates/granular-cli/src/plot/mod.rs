@@ -22,7 +22,7 @@ mod histogram;
 mod line;
 mod snapshot;
 
-// pub use animation::Animation;
+pub use animation::Animation;
 pub use chart::LegendPosition;
 pub use colour::{Colour, PALETTE, viridis};
 pub use histogram::{HistogramPlot, maxwell_speed_density};

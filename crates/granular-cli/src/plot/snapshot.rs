@@ -520,7 +520,7 @@ impl Draw for SnapshotPicture<'_> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::super::test_support::{decode_png, temp_dir};
     use super::*;
 
