@@ -232,6 +232,9 @@ fn auto_legend_position<DB: DrawingBackend>(
         .unwrap_or(SeriesLabelPosition::UpperRight)
 }
 
+/// The x and y ranges of a chart.
+pub(crate) type Ranges = ((f64, f64), (f64, f64));
+
 /// A padded axis range covering `values` (positive values only for a log axis).
 pub(crate) fn padded_range(
     values: impl IntoIterator<Item = f64>,

@@ -8,7 +8,7 @@ use plotters::coord::Shift;
 use plotters::coord::ranged1d::Ranged;
 use plotters::prelude::*;
 
-use super::chart::{ChartBody, Frame, LegendPosition, draw_chart, padded_range};
+use super::chart::{ChartBody, Frame, LegendPosition, Ranges, draw_chart, padded_range};
 use super::colour::{Colour, darken, lighten, palette};
 use super::line::{Series, check_range, draw_error_bars, draw_line, sample_points};
 use super::{DEFAULT_SIZE, Draw, Metrics, PlotError, save_both, save_figure};
@@ -225,7 +225,7 @@ impl HistogramPlot {
             .collect()
     }
 
-    fn ranges(&self) -> Result<((f64, f64), (f64, f64)), PlotError> {
+    fn ranges(&self) -> Result<Ranges, PlotError> {
         let x = (self.edges[0], self.edges[self.edges.len() - 1]);
         let theory_y = self
             .theories

@@ -8,8 +8,8 @@ use plotters::coord::ranged1d::Ranged;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 
-pub use super::chart::LegendPosition;
-use super::chart::{ChartBody, Frame, draw_chart, padded_range};
+use super::chart::LegendPosition;
+use super::chart::{ChartBody, Frame, Ranges, draw_chart, padded_range};
 use super::colour::{Colour, palette};
 use super::{DEFAULT_SIZE, Draw, Metrics, PlotError, save_both, save_figure};
 
@@ -430,7 +430,7 @@ impl LinePlot {
         save_both(self, stem.as_ref())
     }
 
-    fn ranges(&self) -> Result<((f64, f64), (f64, f64)), PlotError> {
+    fn ranges(&self) -> Result<Ranges, PlotError> {
         let points: Vec<(f64, f64, f64)> = self
             .series
             .iter()

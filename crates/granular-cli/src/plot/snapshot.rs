@@ -454,7 +454,6 @@ impl Draw for SnapshotPicture<'_> {
             ColourBy::Species => palette(g.species),
             ColourBy::Speed { .. } => viridis(g.speed / vmax),
         };
-        let mut shapes: Vec<(Vec<(f64, f64)>, RGBColor, bool)> = Vec::new();
         for g in &grains {
             let r_px = g.r * px;
             let colour = colour_of(g);
@@ -474,19 +473,18 @@ impl Draw for SnapshotPicture<'_> {
             for dx in shifts(0, g.x, lx) {
                 for dy in shifts(1, g.y, ly) {
                     let poly = circle_polygon(g.x + dx, g.y + dy, g.r, r_px);
-                    shapes.push((poly, colour, outline));
+                    if outline {
+                        let mut closed = poly.clone();
+                        closed.push(poly[0]);
+                        chart.draw_series(std::iter::once(Polygon::new(poly, colour.filled())))?;
+                        chart.draw_series(std::iter::once(PathElement::new(
+                            closed,
+                            darken(colour, 0.45).stroke_width(1),
+                        )))?;
+                    } else {
+                        chart.draw_series(std::iter::once(Polygon::new(poly, colour.filled())))?;
+                    }
                 }
-            }
-        }
-        for (poly, colour, outline) in &shapes {
-            chart.draw_series(std::iter::once(Polygon::new(poly.clone(), colour.filled())))?;
-            if *outline {
-                let mut closed = poly.clone();
-                closed.push(poly[0]);
-                chart.draw_series(std::iter::once(PathElement::new(
-                    closed,
-                    darken(*colour, 0.45).stroke_width(1),
-                )))?;
             }
         }
         // Box: walls solid and thick, periodic faces dashed.
