@@ -93,7 +93,7 @@ impl<'a> Animation<'a> {
             .into_drawing_area();
         for frame in &frames {
             root.fill(&WHITE)?;
-            frame.draw_on(&root)?;
+            frame.draw_on(&root, false)?;
             root.present()?;
         }
         Ok(())
@@ -160,7 +160,7 @@ impl<'a> Animation<'a> {
                 {
                     let root = BitMapBackend::with_buffer(&mut buffer, (w, h)).into_drawing_area();
                     root.fill(&WHITE)?;
-                    frame.draw_on(&root)?;
+                    frame.draw_on(&root, false)?;
                     root.present()?;
                 }
                 if let Err(e) = stdin.write_all(&buffer) {

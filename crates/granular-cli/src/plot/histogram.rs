@@ -388,7 +388,11 @@ impl Draw for HistogramPlot {
         self.ranges().map(|_| ())
     }
 
-    fn draw_on<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
+    fn draw_on<DB: DrawingBackend>(
+        &self,
+        area: &DrawingArea<DB, Shift>,
+        _vector: bool,
+    ) -> Result<(), PlotError> {
         self.check()?;
         let (x_range, y_range) = self.ranges()?;
         let names: Vec<&str> = std::iter::once(self.data_name.as_str())

@@ -541,7 +541,11 @@ impl Draw for LinePlot {
         self.ranges().map(|_| ())
     }
 
-    fn draw_on<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
+    fn draw_on<DB: DrawingBackend>(
+        &self,
+        area: &DrawingArea<DB, Shift>,
+        _vector: bool,
+    ) -> Result<(), PlotError> {
         self.check()?;
         let (x_range, y_range) = self.ranges()?;
         let named: Vec<&Series> = self.series.iter().filter(|s| !s.name.is_empty()).collect();

@@ -142,7 +142,13 @@ pub(crate) trait Draw {
     fn check(&self) -> Result<(), PlotError> {
         Ok(())
     }
-    fn draw_on<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<(), PlotError>;
+    /// Draws the figure; `vector` is true for SVG output (exact geometry matters more than
+    /// pixel anti-aliasing there).
+    fn draw_on<DB: DrawingBackend>(
+        &self,
+        area: &DrawingArea<DB, Shift>,
+        vector: bool,
+    ) -> Result<(), PlotError>;
 }
 
 /// Renders a figure to `path` as PNG or SVG by extension, on a white background.
@@ -161,13 +167,13 @@ pub(crate) fn save_figure<F: Draw>(figure: &F, path: &Path) -> Result<(), PlotEr
         Format::Png => {
             let root = BitMapBackend::new(path, size).into_drawing_area();
             root.fill(&WHITE)?;
-            figure.draw_on(&root)?;
+            figure.draw_on(&root, false)?;
             root.present()?;
         }
         Format::Svg => {
             let root = SVGBackend::new(path, size).into_drawing_area();
             root.fill(&WHITE)?;
-            figure.draw_on(&root)?;
+            figure.draw_on(&root, true)?;
             root.present()?;
         }
     }
@@ -316,5 +322,127 @@ mod tests {
     fn font_registers() {
         ensure_font().expect("font");
         ensure_font().expect("font twice");
+    }
+}
+
+/// A gallery of demonstration figures for looking at by eye:
+/// `cargo test -p granular-cli plot::gallery -- --ignored` writes them to
+/// `$GRANULAR_PLOT_DEMOS` (default `/tmp/granular-plot-demos`).
+#[cfg(test)]
+mod gallery {
+    use super::*;
+    use granular::engine::Snapshot;
+
+    /// A small deterministic generator (xorshift) so the gallery needs no `rand`.
+    struct Xorshift(u64);
+    impl Xorshift {
+        fn next(&mut self) -> f64 {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 7;
+            self.0 ^= self.0 << 17;
+            (self.0 >> 11) as f64 / (1u64 << 53) as f64
+        }
+        fn normal(&mut self) -> f64 {
+            let (u, v) = (self.next().max(1e-300), self.next());
+            (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
+        }
+    }
+
+    /// A dilute hard-disk gas: 1500 disks of radius 0.006 plus 3 intruders, random
+    /// non-overlapping positions, Maxwellian velocities.
+    fn dense_snapshot() -> Snapshot {
+        let mut rng = Xorshift(0x9E37_79B9_7F4A_7C15);
+        let mut s = Snapshot {
+            time: 3.25,
+            dimension: 2,
+            species_names: vec!["bath".into(), "intruder".into()],
+            ..Snapshot::default()
+        };
+        let mut placed: Vec<(f64, f64, f64)> = Vec::new();
+        let wanted = [(0.04, 3usize, 1u32), (0.006, 1500, 0)];
+        for (r, n, species) in wanted {
+            let mut count = 0;
+            while count < n {
+                let (x, y) = (
+                    r + (1.0 - 2.0 * r) * rng.next(),
+                    r + (1.0 - 2.0 * r) * rng.next(),
+                );
+                if placed
+                    .iter()
+                    .all(|&(a, b, q)| (a - x).powi(2) + (b - y).powi(2) > (q + r).powi(2))
+                {
+                    placed.push((x, y, r));
+                    s.positions.extend([x, y]);
+                    let scale = if species == 1 { 0.2 } else { 1.0 };
+                    s.velocities
+                        .extend([scale * rng.normal(), scale * rng.normal()]);
+                    s.radii.push(r);
+                    s.masses.push(if species == 1 { 44.0 } else { 1.0 });
+                    s.species.push(species);
+                    count += 1;
+                }
+            }
+        }
+        s
+    }
+
+    #[test]
+    #[ignore = "writes demonstration images for inspection"]
+    fn gallery() {
+        let dir = std::env::var_os("GRANULAR_PLOT_DEMOS")
+            .map_or_else(|| PathBuf::from("/tmp/granular-plot-demos"), PathBuf::from);
+        std::fs::create_dir_all(&dir).expect("demo dir");
+        let snap = dense_snapshot();
+        let style = PictureStyle::new(1.0, 1.0).title("Hard-disk gas, N = 1503");
+        SnapshotPicture::new(&snap, style.clone())
+            .save_png_and_svg(dir.join("snapshot_species"))
+            .expect("species");
+        SnapshotPicture::new(
+            &snap,
+            style
+                .colour_by(ColourBy::Speed { max: None })
+                .periodic(true, true),
+        )
+        .save(dir.join("snapshot_speed.png"))
+        .expect("speed");
+        let speeds: Vec<f64> = (0..snap.radii.len())
+            .filter(|&i| snap.species[i] == 0)
+            .map(|i| snap.velocities[2 * i].hypot(snap.velocities[2 * i + 1]))
+            .collect();
+        HistogramPlot::from_samples("Speed distribution of the bath", &speeds, 25, None)
+            .data_label("bath grains, N = 1500")
+            .x_label("speed v [L/τ]")
+            .y_label("probability density p(v) [τ/L]")
+            .theory("Maxwell–Boltzmann, T = 1", |v| {
+                maxwell_speed_density(2, 1.0, 1.0, v)
+            })
+            .save_png_and_svg(dir.join("speed_histogram"))
+            .expect("histogram");
+        let t: Vec<f64> = (0..12).map(|i| f64::from(i) * 0.5).collect();
+        let msd: Vec<f64> = t
+            .iter()
+            .map(|&t| 4.0 * 0.3 * t * (1.0 + 0.02 * t.sin()))
+            .collect();
+        LinePlot::new("Mean-square displacement")
+            .x_label("time t [τ]")
+            .y_label("⟨|Δr|²⟩ [L²]")
+            .series(
+                Series::markers("intruder", t.clone(), msd.clone())
+                    .with_errors(msd.iter().map(|v| 0.05 * v + 0.02).collect()),
+            )
+            .series(Series::line_markers(
+                "bath",
+                t.clone(),
+                t.iter().map(|&t| 4.0 * 0.9 * t).collect(),
+            ))
+            .series(Series::theory_fn(
+                "4 D t, D = 0.3",
+                (0.0, 5.5),
+                50,
+                false,
+                |t| 1.2 * t,
+            ))
+            .save_png_and_svg(dir.join("msd"))
+            .expect("msd");
     }
 }

@@ -390,7 +390,11 @@ impl Draw for SnapshotPicture<'_> {
         Ok(())
     }
 
-    fn draw_on<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
+    fn draw_on<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        vector: bool,
+    ) -> Result<(), PlotError> {
         self.check()?;
         let style = &self.style;
         let m = style.metrics();
@@ -472,7 +476,26 @@ impl Draw for SnapshotPicture<'_> {
             };
             for dx in shifts(0, g.x, lx) {
                 for dy in shifts(1, g.y, ly) {
-                    let poly = circle_polygon(g.x + dx, g.y + dy, g.r, r_px);
+                    let (cx, cy) = (g.x + dx, g.y + dy);
+                    if !vector && r_px < 12.0 {
+                        // Small disks in bitmaps: plotters' anti-aliased circle, radius
+                        // rounded to the pixel (a polygon this small would be ragged).
+                        let r_int = r_px.round().max(1.0) as i32;
+                        chart.draw_series(std::iter::once(Circle::new(
+                            (cx, cy),
+                            r_int,
+                            colour.filled(),
+                        )))?;
+                        if outline {
+                            chart.draw_series(std::iter::once(Circle::new(
+                                (cx, cy),
+                                r_int,
+                                darken(colour, 0.45).stroke_width(1),
+                            )))?;
+                        }
+                        continue;
+                    }
+                    let poly = circle_polygon(cx, cy, g.r, r_px);
                     if outline {
                         let mut closed = poly.clone();
                         closed.push(poly[0]);
