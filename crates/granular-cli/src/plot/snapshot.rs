@@ -59,6 +59,19 @@ impl PictureStyle {
         }
     }
 
+    /// A picture of the x-y face of a simulation box, with its periodic axes.
+    pub fn from_box<const D: usize>(simulation_box: &granular::SimulationBox<D>) -> Self {
+        let length = |k: usize| {
+            if k < D {
+                simulation_box.lengths[k]
+            } else {
+                1.0
+            }
+        };
+        let periodic = |k: usize| k < D && simulation_box.is_periodic(k);
+        Self::new(length(0), length(1)).periodic(periodic(0), periodic(1))
+    }
+
     /// Which of the x and y faces are periodic (drawn dashed; grains crossing them are
     /// drawn on both sides).
     pub fn periodic(mut self, x: bool, y: bool) -> Self {
@@ -702,6 +715,18 @@ pub(crate) mod tests {
                 .save(dir.join("bad.png"))
                 .is_err()
         );
+    }
+
+    #[test]
+    fn style_from_box() {
+        use granular::{AxisKind, SimulationBox, Vector};
+        let b = SimulationBox::<3> {
+            lengths: Vector([2.0, 3.0, 4.0]),
+            axes: [AxisKind::Periodic, AxisKind::Wall, AxisKind::Periodic],
+        };
+        let style = PictureStyle::from_box(&b);
+        assert_eq!(style.box_lengths, [2.0, 3.0]);
+        assert_eq!(style.periodic, [true, false]);
     }
 
     #[test]
