@@ -4,6 +4,7 @@
 //! terminal, and reports errors. All physics and file formats live in the library.
 
 mod bench;
+mod plot;
 
 use clap::{Parser, Subcommand};
 use granular::run::{ProgressReport, Run, RunError};

@@ -14,11 +14,10 @@
 //! | `log.txt` | what happened, with wall-clock times |
 
 mod build;
-mod snapshot;
 pub mod sweep;
 
+pub use crate::output::npz::{read_snapshot, write_snapshot};
 pub use build::{AnyEngine, BuildError, build, initial_particles};
-pub use snapshot::{read_snapshot, write_snapshot};
 
 use crate::engine::{Engine, EngineError, Progress, Scalar};
 use crate::scenario::Scenario;
@@ -49,6 +48,9 @@ pub enum RunError {
         /// The error.
         source: std::io::Error,
     },
+    /// A NumPy file could not be written or read.
+    #[error(transparent)]
+    Npz(#[from] crate::output::npz::NpzError),
     /// A checkpoint could not be read.
     #[error("checkpoint {path}: {message}")]
     Checkpoint {
@@ -441,7 +443,7 @@ impl Run {
                 .dir
                 .join("snapshots")
                 .join(format!("snapshot_{:06}.npz", self.state.outputs));
-            write_snapshot(&path, &snap).map_err(io_err(&path))?;
+            write_snapshot(&path, &snap)?;
             self.state.snapshots += 1;
         }
         Ok(())
@@ -779,7 +781,7 @@ impl Run {
             return Ok(None);
         };
         let path = self.dir.join("snapshots").join("snapshot_000000.npz");
-        let initial = read_snapshot(&path).map_err(io_err(&path))?;
+        let initial = read_snapshot(&path)?;
         let Some(now) = self.engine.snapshot() else {
             return Ok(None);
         };

@@ -75,7 +75,7 @@ pub struct Scenario {
 }
 
 /// `[dsmc]`: numerical choices of the DSMC engine (see `docs/dsmc.md`).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct DsmcSpec {
     /// Time step τ; default one tenth of the initial mean free time.
@@ -100,20 +100,6 @@ pub struct DsmcSpec {
     /// Consistent-Boltzmann advection: partners displaced by 2R along their momentum change.
     #[serde(default)]
     pub consistent_boltzmann: bool,
-}
-
-impl Default for DsmcSpec {
-    fn default() -> Self {
-        Self {
-            time_step: None,
-            cell_size: None,
-            vmax_mode: Default::default(),
-            enskog: false,
-            free_volume: false,
-            density_scope: Default::default(),
-            consistent_boltzmann: false,
-        }
-    }
 }
 
 /// `[crater]`: the crater size is the number of grains of `species` whose final position
