@@ -167,8 +167,8 @@ fn resume_equals_the_uninterrupted_run() {
         assert_eq!(x, y, "timeseries row {k}");
     }
     assert_eq!(a.1.lines().count(), b.1.lines().count());
-    let snap_a = granular::run::read_snapshot(&full.join("snapshots/snapshot_000020.npz")).unwrap();
-    let snap_b = granular::run::read_snapshot(&cut.join("snapshots/snapshot_000020.npz")).unwrap();
+    let snap_a = granular::run::read_snapshot(full.join("snapshots/snapshot_000020.npz")).unwrap();
+    let snap_b = granular::run::read_snapshot(cut.join("snapshots/snapshot_000020.npz")).unwrap();
     assert_eq!(snap_a.positions, snap_b.positions);
     assert_eq!(
         snap_a.species_names,
