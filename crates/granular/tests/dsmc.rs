@@ -18,7 +18,7 @@ fn periodic<const D: usize>() -> SimulationBox<D> {
 fn radius_for_knudsen<const D: usize>(n: usize, ratio: f64) -> f64 {
     let sigma = ratio / (SQRT_2 * n as f64);
     if D == 2 {
-        sigma / 2.0
+        sigma / 4.0
     } else {
         (sigma / PI).sqrt() / 2.0
     }
@@ -233,7 +233,7 @@ fn frequency<const D: usize>() {
     check_count(c, chi * x, &format!("{D}D Enskog"));
 }
 
-/// The measured collision frequency equals the Boltzmann value `n sigma <g>` (sigma = 2R
+/// The measured collision frequency equals the Boltzmann value `n sigma <g>` (sigma = 4R
 /// in 2D, pi (2R)^2 in 3D) and, with the Enskog factor on, `chi n sigma <g>`; 4-sigma
 /// Poisson tolerance on about 1.5e5 collisions.
 #[test]
