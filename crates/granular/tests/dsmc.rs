@@ -18,7 +18,6 @@ fn periodic<const D: usize>() -> SimulationBox<D> {
 fn radius_for_knudsen<const D: usize>(n: usize, ratio: f64) -> f64 {
     let sigma = ratio / (SQRT_2 * n as f64);
     if D == 2 {
-        // sigma_2D = 4R: the strip |b| < 2R of impact parameters.
         sigma / 4.0
     } else {
         (sigma / PI).sqrt() / 2.0
@@ -234,7 +233,7 @@ fn frequency<const D: usize>() {
     check_count(c, chi * x, &format!("{D}D Enskog"));
 }
 
-/// The measured collision frequency equals the Boltzmann value `n sigma <g>` (sigma = 2R
+/// The measured collision frequency equals the Boltzmann value `n sigma <g>` (sigma = 4R
 /// in 2D, pi (2R)^2 in 3D) and, with the Enskog factor on, `chi n sigma <g>`; 4-sigma
 /// Poisson tolerance on about 1.5e5 collisions.
 #[test]
@@ -535,4 +534,39 @@ fn guards_and_observables() {
     let d = e.density_map([10, 10]);
     let total: f64 = d.values.iter().map(|v| v * 0.01).sum();
     assert!((total - n as f64).abs() < 1e-9);
+}
+
+/// `advance` stops after the step at which the event budget is spent, resumes, and lands
+/// exactly on the requested time; snapshots list grains in construction order.
+#[test]
+fn advance_budget_and_snapshot() {
+    let n = 2000;
+    let r = radius_for_knudsen::<2>(n, 10.0);
+    let cfg = DsmcConfig {
+        cell_size: Some(0.1),
+        ..DsmcConfig::default()
+    };
+    let mut e = DsmcEngine::<2>::new(cfg, periodic(), n, r, 1.0, 1.0, 4).unwrap();
+    let until = 25.3 * e.time_step();
+    assert_eq!(e.advance(until, 50).unwrap(), Progress::BudgetExhausted);
+    assert!(e.time() < until && e.events() >= 50);
+    assert_eq!(e.advance(until, u64::MAX).unwrap(), Progress::Reached);
+    assert_eq!(e.time(), until);
+    assert_eq!(e.steps(), 26);
+    let (p, v) = e.state_by_id();
+    let snap = e.snapshot().unwrap();
+    assert_eq!(snap.dimension, 2);
+    assert_eq!(snap.positions.len(), 2 * n);
+    assert_eq!(snap.positions[2 * 7 + 1], p[7][1]);
+    assert_eq!(snap.velocities[2 * 9], v[9][0]);
+    let names: Vec<String> = e.scalars().into_iter().map(|(k, _)| k).collect();
+    for key in [
+        "kinetic_energy",
+        "temperature",
+        "collisions",
+        "collisions_per_particle",
+        "a2",
+    ] {
+        assert!(names.iter().any(|k| k == key), "missing {key}");
+    }
 }

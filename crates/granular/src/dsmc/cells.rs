@@ -82,18 +82,30 @@ impl<const D: usize> CellGrid<D> {
     }
 }
 
+/// Scratch permutation of the counting sort (atomic so that chunks can scatter into it
+/// in parallel without `unsafe`); cloning yields an empty buffer.
+#[derive(Debug, Default)]
+pub struct Permutation(pub Vec<AtomicU32>);
+
+impl Clone for Permutation {
+    fn clone(&self) -> Self {
+        Self(Vec::new())
+    }
+}
+
 /// A stable counting sort of particle indices by cell, done in parallel.
 ///
 /// `cell_of` is split into `counts.len()` chunks of `chunk` particles; `counts[j]` holds
-/// the per-cell occupation of chunk `j`. Returns `(start, perm)`: the first sorted slot of
-/// each cell (length `cells + 1`) and the permutation `perm[k] = old index of the particle
-/// that goes to slot k`. The result is the unique stable order, independent of the chunking.
+/// the per-cell occupation of chunk `j`. Returns `start`, the first sorted slot of each
+/// cell (length `cells + 1`), and fills `perm` (reused between steps) with the permutation
+/// `perm[k] = old index of the particle that goes to slot k`. The result is the unique stable order, independent of the chunking.
 pub fn counting_sort(
     cell_of: &[u32],
     chunk: usize,
     counts: Vec<Vec<u32>>,
     cells: usize,
-) -> (Vec<u32>, Vec<AtomicU32>) {
+    perm: &mut Permutation,
+) -> Vec<u32> {
     let n = cell_of.len();
     // offsets[j][c]: first slot of chunk j's particles of cell c.
     let mut start = vec![0u32; cells + 1];
@@ -109,7 +121,10 @@ pub fn counting_sort(
     }
     start[cells] = acc;
     debug_assert_eq!(acc as usize, n);
-    let perm: Vec<AtomicU32> = (0..n).map(|_| AtomicU32::new(0)).collect();
+    if perm.0.len() != n {
+        perm.0 = (0..n).map(|_| AtomicU32::new(0)).collect();
+    }
+    let perm = &perm.0;
     offsets
         .into_par_iter()
         .zip(cell_of.par_chunks(chunk.max(1)))
@@ -122,7 +137,7 @@ pub fn counting_sort(
                 *slot += 1;
             }
         });
-    (start, perm)
+    start
 }
 
 /// `dst[k] = src[perm[k]]` in parallel.

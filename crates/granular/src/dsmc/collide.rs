@@ -14,7 +14,7 @@ pub(crate) struct StepParams {
     /// Time at which collisions of this step happen (end of the free flight).
     pub time: f64,
     pub dt: f64,
-    /// Cross-section `sigma` (2R in 2D, pi (2R)^2 in 3D).
+    /// Cross-section `sigma` (4R in 2D, pi (2R)^2 in 3D; see `theory::haff::cross_section`).
     pub sigma: f64,
     pub radius: f64,
     pub cell_volume: f64,

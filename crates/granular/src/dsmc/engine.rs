@@ -1,6 +1,6 @@
 //! The DSMC engine: operator splitting of free flight and stochastic collisions.
 
-use super::cells::{CellGrid, counting_sort, gather};
+use super::cells::{CellGrid, Permutation, counting_sort, gather};
 use super::collide::{StepParams, Tally, collide_group};
 use super::config::{DensityScope, DsmcConfig};
 use super::guards::{self, ValidityWarning};
@@ -45,6 +45,11 @@ pub struct DsmcEngine<const D: usize> {
     last: Vec<f64>,
     cell_of: Vec<u32>,
     start: Vec<u32>,
+    // Scratch buffers of the sort, kept between steps (no page faults per step).
+    perm: Permutation,
+    scratch_vec: Vec<Vector<D>>,
+    scratch_ids: Vec<u32>,
+    scratch_last: Vec<f64>,
     time: f64,
     steps: u64,
     tally: Tally,
@@ -221,6 +226,10 @@ impl<const D: usize> DsmcEngine<D> {
             last,
             cell_of: vec![0; n],
             start: Vec::new(),
+            perm: Permutation::default(),
+            scratch_vec: vec![Vector::zero(); n],
+            scratch_ids: vec![0; n],
+            scratch_last: Vec::new(),
             time: 0.0,
             steps: 0,
         };
@@ -545,19 +554,18 @@ impl<const D: usize> DsmcEngine<D> {
                 (n, vec![cnt])
             }
         };
-        let (start, perm) = counting_sort(&self.cell_of, chunk, counts, cells);
-        let mut buf = vec![Vector::<D>::zero(); n];
-        gather(&self.pos, &perm, &mut buf);
-        std::mem::swap(&mut self.pos, &mut buf);
-        gather(&self.vel, &perm, &mut buf);
-        std::mem::swap(&mut self.vel, &mut buf);
-        let mut ids = vec![0u32; n];
-        gather(&self.ids, &perm, &mut ids);
-        self.ids = ids;
+        let start = counting_sort(&self.cell_of, chunk, counts, cells, &mut self.perm);
+        let perm = &self.perm.0;
+        gather(&self.pos, perm, &mut self.scratch_vec);
+        std::mem::swap(&mut self.pos, &mut self.scratch_vec);
+        gather(&self.vel, perm, &mut self.scratch_vec);
+        std::mem::swap(&mut self.vel, &mut self.scratch_vec);
+        gather(&self.ids, perm, &mut self.scratch_ids);
+        std::mem::swap(&mut self.ids, &mut self.scratch_ids);
         if !self.last.is_empty() {
-            let mut l = vec![0.0; n];
-            gather(&self.last, &perm, &mut l);
-            self.last = l;
+            self.scratch_last.resize(n, 0.0);
+            gather(&self.last, perm, &mut self.scratch_last);
+            std::mem::swap(&mut self.last, &mut self.scratch_last);
         }
         self.start = start;
     }

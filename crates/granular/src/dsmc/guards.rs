@@ -144,8 +144,8 @@ mod tests {
     use super::*;
 
     fn input() -> GuardInput {
-        // 2D, n = 1, R = 0.025 (sigma = 4R = 0.1): lambda = 1/(sqrt2 * 0.1) = 7.07;
-        // omega = 0.1 sqrt(pi) = 0.177, t_free = 5.64.
+        // 2D, n = 1, R = 0.05 (sigma = 4R = 0.2): lambda = 1/(sqrt2 * 0.2) = 3.54;
+        // omega = 0.2 sqrt(pi) = 0.354, t_free = 2.82.
         GuardInput {
             dimension: 2,
             number_density: 1.0,
@@ -183,7 +183,7 @@ mod tests {
                 GuardKind::TooFewParticlesPerCell
             ]
         );
-        assert!((w[1].value - 14.0 * 0.1 * std::f64::consts::SQRT_2).abs() < 1e-12);
+        assert!((w[1].value - 14.0 * 0.2 * std::f64::consts::SQRT_2).abs() < 1e-12);
         assert!(w[2].message.contains("mean free times"));
     }
 }

@@ -16,12 +16,10 @@ fn check_dimension(dimension: usize) {
     );
 }
 
-/// Total collision cross-section of two equal grains of radius `R`: the set of impact
-/// parameters that lead to a collision. Two disks of diameter `d = 2R` collide when
-/// `|b| < d`, a strip of width `2d = 4R` (a length); two spheres when `|b| < d`, a disk
-/// of area `pi d^2 = 4 pi R^2`. These are the seed's `sigma_2D = 4R`, `sigma_3D = 4 pi R^2`
-/// (DSMC seed, after Eq. 1), and they give the exact hard-disk relation between collision
-/// frequency and pressure (`theory::equilibrium::collision_frequency_from_pressure`).
+/// Total collision cross-section of two equal grains of radius `radius`: the measure of
+/// the set of impact parameters `|b| < 2R` that lead to a collision, i.e. the length `4R`
+/// (twice the diameter) for disks and the area `pi (2R)^2` for spheres (the seed's
+/// `sigma_2D = 4R`, `sigma_3D = 4 pi R^2`; see `docs/dsmc.md`).
 pub fn cross_section(dimension: usize, radius: f64) -> f64 {
     check_dimension(dimension);
     if dimension == 2 {
@@ -81,8 +79,8 @@ pub fn mean_relative_speed(dimension: usize, temperature: f64, mass: f64) -> f64
 }
 
 /// Collision frequency per grain, `omega = chi n sigma <|v_12|>` (number of collisions a
-/// given grain suffers per unit time) for a Maxwellian gas: `chi n 4R sqrt(pi T/m)` in
-/// 2D, `4 chi n (2R)^2 sqrt(pi T/m)` in 3D. `chi = 1` is the Boltzmann value, `chi`
+/// given grain suffers per unit time) for a Maxwellian gas: `2 chi n (2R) sqrt(pi T/m)`
+/// in 2D, `4 chi n (2R)^2 sqrt(pi T/m)` in 3D. `chi = 1` is the Boltzmann value, `chi`
 /// from [`contact_value`] the Enskog value.
 pub fn collision_frequency(
     dimension: usize,
@@ -205,21 +203,21 @@ mod tests {
 
     #[test]
     fn collision_frequency_by_hand() {
-        // 2D: n = 2, R = 0.125 (sigma = 4R = 0.5), T = m = 1: 2 * 0.5 * sqrt(pi) = 1.7724538509055159.
+        // 2D: n = 2, R = 0.25 (d = 0.5, sigma = 2d = 1), T = m = 1:
+        // 2 * 1 * sqrt(pi) = 3.5449077018110318.
         close(
-            collision_frequency(2, 2.0, 0.125, 1.0, 1.0, 1.0),
-            1.772_453_850_905_516,
+            collision_frequency(2, 2.0, 0.25, 1.0, 1.0, 1.0),
+            3.544_907_701_811_032,
         );
         // 3D: n = 1, R = 0.5 (d = 1), chi = 2: 4 * 2 * sqrt(pi) = 14.179630807244127.
         close(
             collision_frequency(3, 1.0, 0.5, 1.0, 1.0, 2.0),
             14.179_630_807_244_127,
         );
-        // Mean free path, 2D n = 1, R = 0.25 (sigma = 1): 1 / sqrt(2).
-        close(
-            mean_free_path(2, 1.0, 0.25, 1.0),
-            std::f64::consts::FRAC_1_SQRT_2,
-        );
+        // Mean free path of hard disks, 1 / (2 sqrt(2) n d), n = 1, d = 1: 0.35355339059327373;
+        // of spheres, 1 / (sqrt(2) pi n d^2): 0.22507907903927651.
+        close(mean_free_path(2, 1.0, 0.5, 1.0), 0.353_553_390_593_273_7);
+        close(mean_free_path(3, 1.0, 0.5, 1.0), 0.225_079_079_039_276_5);
     }
 
     #[test]
@@ -237,14 +235,17 @@ mod tests {
 
     #[test]
     fn cooling_rate_and_haff_time_by_hand() {
-        // 2D, n = 2, R = 0.125 (sigma = 0.5), T = m = 1, e = 0.5: omega = sqrt(pi),
-        // zeta0 = 0.75 / 2 * sqrt(pi) = 0.6646701940895685.
-        let z0 = cooling_rate(2, 2.0, 0.125, 1.0, 1.0, 0.5, 1.0, false);
-        close(z0, 0.664_670_194_089_568_5);
-        let z = cooling_rate(2, 2.0, 0.125, 1.0, 1.0, 0.5, 1.0, true);
+        // 2D, n = 2, R = 0.25 (d = 0.5), T = m = 1, e = 0.5: omega = 2 sqrt(pi),
+        // zeta0 = 0.75 / 2 * 2 sqrt(pi) = 1.329340388179137, which is Garzo & Dufty's
+        // (1 - e^2) sqrt(pi) n d sqrt(T/m) for d = 2.
+        let z0 = cooling_rate(2, 2.0, 0.25, 1.0, 1.0, 0.5, 1.0, false);
+        close(z0, 1.329_340_388_179_137);
+        let z = cooling_rate(2, 2.0, 0.25, 1.0, 1.0, 0.5, 1.0, true);
+        close(z, 1.329_340_388_179_137 * (1.0 + 3.0 / 16.0 * 4.0 / 48.25));
+        // 3D, n = 1, d = 1, e = 0.5: Garzo-Dufty (4 sqrt(pi) / 3)(1 - e^2) n d^2 = 1.7724538509055159.
         close(
-            z,
-            0.664_670_194_089_568_5 * (1.0 + 3.0 / 16.0 * 4.0 / 48.25),
+            cooling_rate(3, 1.0, 0.5, 1.0, 1.0, 0.5, 1.0, false),
+            1.772_453_850_905_516,
         );
         close(
             haff_time(2, 2.0, 0.125, 1.0, 1.0, 0.5, 1.0, false),
