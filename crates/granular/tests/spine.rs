@@ -175,3 +175,34 @@ fn resume_equals_the_uninterrupted_run() {
         vec!["light".to_string(), "heavy".to_string()]
     );
 }
+
+#[test]
+fn dsmc_resume_equals_the_uninterrupted_run() {
+    let text = std::fs::read_to_string(
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/dsmc-cooling.toml"),
+    )
+    .unwrap();
+    let o: Vec<String> = vec![
+        "species[0].count=3000".into(),
+        "stop.time=0.5".into(),
+        "output.interval=0.05".into(),
+    ];
+    let s = Scenario::from_toml(&text, &o).unwrap();
+    let (full, cut) = (tmp("dsmc-full"), tmp("dsmc-cut"));
+    Run::create(&full, s.clone())
+        .unwrap()
+        .run_to_end(&mut |_| {}, None)
+        .unwrap();
+    assert!(
+        Run::create(&cut, s)
+            .unwrap()
+            .run_to_end(&mut |_| {}, Some(4))
+            .is_err()
+    );
+    Run::resume(&cut)
+        .unwrap()
+        .run_to_end(&mut |_| {}, None)
+        .unwrap();
+    let (a, b) = (final_state(&full), final_state(&cut));
+    assert_eq!(a, b);
+}

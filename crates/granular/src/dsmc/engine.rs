@@ -45,10 +45,15 @@ pub struct DsmcEngine<const D: usize> {
     last: Vec<f64>,
     cell_of: Vec<u32>,
     start: Vec<u32>,
-    // Scratch buffers of the sort, kept between steps (no page faults per step).
+    // Scratch buffers of the sort, kept between steps (no page faults per step); not part
+    // of the state, so not written to checkpoints.
+    #[serde(skip)]
     perm: Permutation,
+    #[serde(skip)]
     scratch_vec: Vec<Vector<D>>,
+    #[serde(skip)]
     scratch_ids: Vec<u32>,
+    #[serde(skip)]
     scratch_last: Vec<f64>,
     time: f64,
     steps: u64,
@@ -555,6 +560,9 @@ impl<const D: usize> DsmcEngine<D> {
             }
         };
         let start = counting_sort(&self.cell_of, chunk, counts, cells, &mut self.perm);
+        // Scratch buffers are empty after a checkpoint restore.
+        self.scratch_vec.resize(n, Vector::zero());
+        self.scratch_ids.resize(n, 0);
         let perm = &self.perm.0;
         gather(&self.pos, perm, &mut self.scratch_vec);
         std::mem::swap(&mut self.pos, &mut self.scratch_vec);

@@ -149,7 +149,7 @@ mod tests {
         GuardInput {
             dimension: 2,
             number_density: 1.0,
-            radius: 0.025,
+            radius: 0.05,
             mass: 1.0,
             temperature: 1.0,
             chi: 1.0,
