@@ -4,6 +4,7 @@
 //! terminal, and reports errors. All physics and file formats live in the library.
 
 mod bench;
+mod figures;
 mod plot;
 
 use clap::{Parser, Subcommand};
@@ -14,7 +15,7 @@ use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-/// Simulate granular gases: event-driven molecular dynamics of hard disks and spheres.
+/// Simulate granular gases: event-driven molecular dynamics and DSMC of hard disks and spheres.
 #[derive(Parser)]
 #[command(name = "granular", version, about, long_about = None)]
 struct Cli {
@@ -62,6 +63,14 @@ enum Command {
         /// Override a scenario key for every member (repeatable).
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
+    },
+    /// Draw the figures of a finished run or sweep (from its files, without rerunning).
+    Plot {
+        /// Run or sweep directory.
+        dir: PathBuf,
+        /// Also write an animation of the snapshots (GIF; MP4 too when ffmpeg is present).
+        #[arg(long)]
+        animate: bool,
     },
     /// Continue an interrupted run from its last checkpoint.
     Resume {
@@ -143,6 +152,14 @@ fn dispatch(cli: Cli) -> Result<(), String> {
             finish(run, &dir, quiet)
         }
         Command::Bench { engine } => bench::run(engine),
+        Command::Plot { dir, animate } => {
+            let files = figures::plot(&dir, animate)?;
+            for f in &files {
+                println!("{}", f.display());
+            }
+            eprintln!("{}: {} figure files", dir.display(), files.len());
+            Ok(())
+        }
         Command::Sweep {
             scenario,
             out,

@@ -12,7 +12,7 @@
 //! Colours follow the Okabe–Ito palette (safe for colour-blind readers); series are
 //! also told apart by marker shape and dash pattern, so the figures survive grey-scale print.
 
-// The CLI commands that call these types are being written on another branch.
+// Some builders and helpers are public API for future commands and the Python crate.
 #![allow(dead_code, unused_imports)]
 
 mod animation;
