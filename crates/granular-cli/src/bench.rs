@@ -1,13 +1,8 @@
 //! `granular bench`: collisions per second on standard cases, from equilibrated states.
 
 use clap::Subcommand;
-use granular::boundary::{AxisKind, SimulationBox};
-use granular::collision_law::CollisionLaw;
-use granular::edmd::init::{self, Region};
-use granular::edmd::{Edmd, EdmdOptions, ParticleSet};
+use granular::edmd::bench::{advance_collisions, equilibrated_fluid};
 use granular::engine::Engine;
-use granular::random::stream;
-use granular::vector::Vector;
 use std::time::Instant;
 
 #[derive(Subcommand)]
@@ -141,39 +136,14 @@ pub fn run(cmd: BenchCommand) -> Result<(), String> {
     }
 }
 
-/// Builds an equilibrated fluid: a lattice at the target density (or random placement
-/// below 0.4), melted by 5 collisions per grain, then timed.
+/// Times one case from the library's equilibrated fluid (`granular::edmd::bench`).
 fn case<const D: usize>(n: usize, phi: f64, cpp: f64) -> Result<serde_json::Value, String> {
     let setup = Instant::now();
-    let side = (n as f64).powf(1.0 / D as f64);
-    let bx = SimulationBox::<D>::uniform(Vector([side; D]), AxisKind::Periodic);
-    let r = (phi * bx.volume() / (n as f64 * init::ball_volume::<D>(1.0))).powf(1.0 / D as f64);
-    let radii = vec![r; n];
-    let mut rng = stream(2024, &[0]);
-    let pos = if phi < 0.4 {
-        init::random_placement(&bx, &Region::whole(&bx), &radii, &[], &mut rng, 100_000)
-    } else {
-        init::lattice_placement(&bx, &Region::whole(&bx), &radii)
-    }
-    .map_err(|e| e.to_string())?;
-    let masses = vec![1.0; n];
-    let mut vel = init::maxwell_boltzmann::<D>(&masses, 1.0, &mut rng);
-    init::remove_drift(&mut vel, &masses);
-    let set = ParticleSet {
-        positions: pos,
-        velocities: vel,
-        radii,
-        masses,
-        species: vec![0; n],
-        species_names: vec!["grain".into()],
-    };
-    let mut e = Edmd::new(bx, set, CollisionLaw::default(), EdmdOptions::default());
-    let melt = (5.0 * n as f64 / 2.0) as u64;
-    advance_collisions(&mut e, melt)?;
+    let mut e = equilibrated_fluid::<D>(n, phi, 2024).map_err(|e| e.to_string())?;
     let setup_seconds = setup.elapsed().as_secs_f64();
     let (c0, ev0) = (e.collisions(), e.events());
     let start = Instant::now();
-    advance_collisions(&mut e, (cpp * n as f64 / 2.0) as u64)?;
+    advance_collisions(&mut e, (cpp * n as f64 / 2.0) as u64).map_err(|e| e.to_string())?;
     let secs = start.elapsed().as_secs_f64();
     let collisions = e.collisions() - c0;
     let events = e.events() - ev0;
@@ -190,14 +160,4 @@ fn case<const D: usize>(n: usize, phi: f64, cpp: f64) -> Result<serde_json::Valu
         "setup_seconds": setup_seconds,
         "threads": 1,
     }))
-}
-
-fn advance_collisions<const D: usize>(e: &mut Edmd<D>, collisions: u64) -> Result<(), String> {
-    let target = e.collisions() + collisions;
-    let mut t = e.time();
-    while e.collisions() < target {
-        t += 0.05;
-        e.advance(t, u64::MAX).map_err(|x| x.to_string())?;
-    }
-    Ok(())
 }

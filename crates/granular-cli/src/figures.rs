@@ -1,7 +1,9 @@
 //! `granular plot DIR`: the figures of a finished run or sweep, redrawn from its files
 //! (never by rerunning). Written to `DIR/figures/` as PNG and SVG.
 
-use crate::plot::{Animation, ColourBy, HistogramPlot, LinePlot, PictureStyle, Series, SnapshotPicture};
+use crate::plot::{
+    Animation, ColourBy, HistogramPlot, LinePlot, PictureStyle, Series, SnapshotPicture,
+};
 use granular::boundary::AxisKind;
 use granular::scenario::Scenario;
 use granular::theory::equilibrium;
@@ -13,21 +15,39 @@ type Table = (Vec<String>, Vec<Vec<String>>);
 /// Reads a CSV file (lines starting with `#` are comments) into header and rows.
 fn read_csv(path: &Path) -> Result<Table, String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let mut reader = csv::ReaderBuilder::new().comment(Some(b'#')).from_reader(text.as_bytes());
-    let header: Vec<String> = reader.headers().map_err(|e| e.to_string())?.iter().map(str::to_string).collect();
+    let mut reader = csv::ReaderBuilder::new()
+        .comment(Some(b'#'))
+        .from_reader(text.as_bytes());
+    let header: Vec<String> = reader
+        .headers()
+        .map_err(|e| e.to_string())?
+        .iter()
+        .map(str::to_string)
+        .collect();
     let rows = reader
         .records()
-        .map(|r| r.map(|r| r.iter().map(str::to_string).collect()).map_err(|e| e.to_string()))
+        .map(|r| {
+            r.map(|r| r.iter().map(str::to_string).collect())
+                .map_err(|e| e.to_string())
+        })
         .collect::<Result<Vec<Vec<String>>, String>>()?;
     Ok((header, rows))
 }
 
 fn column(t: &Table, name: &str) -> Option<Vec<f64>> {
     let i = t.0.iter().position(|h| h == name)?;
-    Some(t.1.iter().map(|r| r.get(i).and_then(|x| x.parse().ok()).unwrap_or(f64::NAN)).collect())
+    Some(
+        t.1.iter()
+            .map(|r| r.get(i).and_then(|x| x.parse().ok()).unwrap_or(f64::NAN))
+            .collect(),
+    )
 }
 
-fn save_both(stem: &Path, r: Result<[PathBuf; 2], crate::plot::PlotError>, made: &mut Vec<PathBuf>) -> Result<(), String> {
+fn save_both(
+    stem: &Path,
+    r: Result<[PathBuf; 2], crate::plot::PlotError>,
+    made: &mut Vec<PathBuf>,
+) -> Result<(), String> {
     let files = r.map_err(|e| format!("{}: {e}", stem.display()))?;
     made.extend(files);
     Ok(())
@@ -40,13 +60,20 @@ pub fn plot(dir: &Path, animate: bool) -> Result<Vec<PathBuf>, String> {
     } else if dir.join("timeseries.csv").is_file() {
         plot_run(dir, animate)
     } else {
-        Err(format!("{}: neither a run directory (timeseries.csv) nor a sweep directory (sweep.csv)", dir.display()))
+        Err(format!(
+            "{}: neither a run directory (timeseries.csv) nor a sweep directory (sweep.csv)",
+            dir.display()
+        ))
     }
 }
 
 fn snapshots(dir: &Path) -> Vec<PathBuf> {
     let mut files: Vec<PathBuf> = std::fs::read_dir(dir.join("snapshots"))
-        .map(|rd| rd.filter_map(|e| e.ok().map(|e| e.path())).filter(|p| p.extension().is_some_and(|x| x == "npz")).collect())
+        .map(|rd| {
+            rd.filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.extension().is_some_and(|x| x == "npz"))
+                .collect()
+        })
         .unwrap_or_default();
     files.sort();
     files
@@ -55,12 +82,18 @@ fn snapshots(dir: &Path) -> Vec<PathBuf> {
 fn picture_style(scenario: &Scenario, species: usize) -> PictureStyle {
     let l = scenario.lengths();
     let axes = scenario.axes();
-    let style = PictureStyle::new(l[0], l[1]).periodic(axes[0] == AxisKind::Periodic, axes[1] == AxisKind::Periodic);
-    if species > 1 { style.colour_by(ColourBy::Species) } else { style.colour_by(ColourBy::Speed { max: None }) }
+    let style = PictureStyle::new(l[0], l[1])
+        .periodic(axes[0] == AxisKind::Periodic, axes[1] == AxisKind::Periodic);
+    if species > 1 {
+        style.colour_by(ColourBy::Species)
+    } else {
+        style.colour_by(ColourBy::Speed { max: None })
+    }
 }
 
 fn plot_run(dir: &Path, animate: bool) -> Result<Vec<PathBuf>, String> {
-    let text = std::fs::read_to_string(dir.join("scenario.toml")).map_err(|e| format!("{}: {e}", dir.join("scenario.toml").display()))?;
+    let text = std::fs::read_to_string(dir.join("scenario.toml"))
+        .map_err(|e| format!("{}: {e}", dir.join("scenario.toml").display()))?;
     let scenario = Scenario::from_toml(&text, &[]).map_err(|e| e.to_string())?;
     let out = dir.join("figures");
     std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
@@ -71,33 +104,47 @@ fn plot_run(dir: &Path, animate: bool) -> Result<Vec<PathBuf>, String> {
     // Kinetic energy against time (per grain and species when there are several).
     let ts = read_csv(&dir.join("timeseries.csv"))?;
     let time = column(&ts, "time").unwrap_or_default();
-    let mut energy = LinePlot::new("Kinetic energy").x_label("time t").y_label("kinetic energy per grain E / N");
+    let mut energy = LinePlot::new("Kinetic energy")
+        .x_label("time t")
+        .y_label("kinetic energy per grain E / N");
     let n_total = scenario.particle_count() as f64;
     if let Some(k) = column(&ts, "kinetic_energy") {
         let per_grain: Vec<f64> = k.iter().map(|x| x / n_total).collect();
-        let decays = per_grain.first().zip(per_grain.last()).is_some_and(|(a, b)| *b < 0.1 * a && *b > 0.0);
-        energy = energy.log_y(decays).series(Series::line("all grains", time.clone(), per_grain));
+        let decays = per_grain
+            .first()
+            .zip(per_grain.last())
+            .is_some_and(|(a, b)| *b < 0.1 * a && *b > 0.0);
+        energy = energy
+            .log_y(decays)
+            .series(Series::line("all grains", time.clone(), per_grain));
     }
     if names.len() > 1 {
         for name in &names {
             if let Some(k) = column(&ts, &format!("kinetic_energy_per_grain.{name}")) {
-                energy = energy.series(Series::line(format!("{name}"), time.clone(), k));
+                energy = energy.series(Series::line(name.to_string(), time.clone(), k));
             }
         }
     }
-    save_both(&out.join("energy"), energy.save_png_and_svg(out.join("energy")), &mut made)?;
+    save_both(
+        &out.join("energy"),
+        energy.save_png_and_svg(out.join("energy")),
+        &mut made,
+    )?;
 
     // Speed histograms: initial and pooled equilibrium, with Maxwell-Boltzmann (Eq. 12).
     if let Ok(h) = read_csv(&dir.join("speed_histograms.csv")) {
         let sp_col = h.0.iter().position(|c| c == "species").unwrap_or(0);
         for (s, name) in names.iter().enumerate() {
-            let rows: Vec<&Vec<String>> = h.1.iter().filter(|r| r.get(sp_col) == Some(name)).collect();
+            let rows: Vec<&Vec<String>> =
+                h.1.iter().filter(|r| r.get(sp_col) == Some(name)).collect();
             if rows.is_empty() {
                 continue;
             }
             let get = |c: &str| -> Vec<f64> {
                 let i = h.0.iter().position(|x| x == c).unwrap_or(0);
-                rows.iter().map(|r| r.get(i).and_then(|x| x.parse().ok()).unwrap_or(f64::NAN)).collect()
+                rows.iter()
+                    .map(|r| r.get(i).and_then(|x| x.parse().ok()).unwrap_or(f64::NAN))
+                    .collect()
             };
             let (lo, hi) = (get("speed_low"), get("speed_high"));
             let mut edges = lo.clone();
@@ -113,18 +160,30 @@ fn plot_run(dir: &Path, animate: bool) -> Result<Vec<PathBuf>, String> {
             let total: f64 = counts.iter().filter(|c| c.is_finite()).sum();
             if total > 0.0 {
                 let width = hi[0] - lo[0];
-                let errors: Vec<f64> = counts.iter().map(|c| c.max(0.0).sqrt() / (total * width)).collect();
+                let errors: Vec<f64> = counts
+                    .iter()
+                    .map(|c| c.max(0.0).sqrt() / (total * width))
+                    .collect();
                 let mass = scenario.species[s].mass;
                 // Temperature of the pooled samples: mean of m v^2 / D from the density.
-                let mv2: f64 = lo.iter().zip(&hi).zip(&eq).map(|((a, b), p)| mass * (0.5 * (a + b)).powi(2) * p * width).sum();
+                let mv2: f64 = lo
+                    .iter()
+                    .zip(&hi)
+                    .zip(&eq)
+                    .map(|((a, b), p)| mass * (0.5 * (a + b)).powi(2) * p * width)
+                    .sum();
                 let temperature = mv2 / d as f64;
                 let stem = out.join(format!("speed_equilibrium_{name}"));
-                let p = HistogramPlot::new(format!("Equilibrium speeds: {name}"), edges.clone(), eq)
-                    .with_errors(errors)
-                    .data_label(format!("simulation ({} speeds)", total as u64))
-                    .x_label("speed v")
-                    .y_label("probability density p(v)")
-                    .theory(format!("Maxwell-Boltzmann, T = {temperature:.4}"), move |v| equilibrium::speed_density(d, v, mass, temperature));
+                let p =
+                    HistogramPlot::new(format!("Equilibrium speeds: {name}"), edges.clone(), eq)
+                        .with_errors(errors)
+                        .data_label(format!("simulation ({} speeds)", total as u64))
+                        .x_label("speed v")
+                        .y_label("probability density p(v)")
+                        .theory(
+                            format!("Maxwell-Boltzmann, T = {temperature:.4}"),
+                            move |v| equilibrium::speed_density(d, v, mass, temperature),
+                        );
                 save_both(&stem, p.save_png_and_svg(&stem), &mut made)?;
             }
         }
@@ -132,7 +191,11 @@ fn plot_run(dir: &Path, animate: bool) -> Result<Vec<PathBuf>, String> {
 
     // Impact parameters of pair collisions: uniform in 2D, p(x) = 2x in 3D under molecular chaos.
     if let Ok(h) = read_csv(&dir.join("impact_parameter.csv"))
-        && let (Some(lo), Some(hi), Some(dens)) = (column(&h, "b_over_sigma_low"), column(&h, "b_over_sigma_high"), column(&h, "density"))
+        && let (Some(lo), Some(hi), Some(dens)) = (
+            column(&h, "b_over_sigma_low"),
+            column(&h, "b_over_sigma_high"),
+            column(&h, "density"),
+        )
         && dens.iter().any(|x| *x > 0.0)
     {
         let mut edges = lo.clone();
@@ -141,7 +204,10 @@ fn plot_run(dir: &Path, animate: bool) -> Result<Vec<PathBuf>, String> {
         let p = HistogramPlot::new("Impact parameters of collisions", edges, dens)
             .x_label("impact parameter b / sigma")
             .y_label("probability density")
-            .theory("molecular chaos", move |x| if d == 2 { 1.0 } else { 2.0 * x });
+            .theory(
+                "molecular chaos",
+                move |x| if d == 2 { 1.0 } else { 2.0 * x },
+            );
         save_both(&stem, p.save_png_and_svg(&stem), &mut made)?;
     }
 
@@ -153,7 +219,11 @@ fn plot_run(dir: &Path, animate: bool) -> Result<Vec<PathBuf>, String> {
                 let snap = granular::run::read_snapshot(f).map_err(|e| e.to_string())?;
                 let stem = out.join(format!("snapshot_{label}"));
                 let style = picture_style(&scenario, names.len());
-                save_both(&stem, SnapshotPicture::new(&snap, style).save_png_and_svg(&stem), &mut made)?;
+                save_both(
+                    &stem,
+                    SnapshotPicture::new(&snap, style).save_png_and_svg(&stem),
+                    &mut made,
+                )?;
             }
         }
         if animate && files.len() > 1 {
@@ -162,8 +232,12 @@ fn plot_run(dir: &Path, animate: bool) -> Result<Vec<PathBuf>, String> {
                 .map(|f| granular::run::read_snapshot(f).map_err(|e| e.to_string()))
                 .collect::<Result<Vec<_>, String>>()?;
             let path = out.join("animation.gif");
-            let anim = Animation::new(&snaps, picture_style(&scenario, names.len()).show_time(true));
-            anim.save_gif(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+            let anim = Animation::new(
+                &snaps,
+                picture_style(&scenario, names.len()).show_time(true),
+            );
+            anim.save_gif(&path)
+                .map_err(|e| format!("{}: {e}", path.display()))?;
             made.push(path.clone());
             let mp4 = out.join("animation.mp4");
             if anim.save_mp4(&mp4).map_err(|e| e.to_string())? {
@@ -178,7 +252,11 @@ fn plot_sweep(dir: &Path) -> Result<Vec<PathBuf>, String> {
     let table = read_csv(&dir.join("sweep.csv"))?;
     let key = std::fs::read_to_string(dir.join("sweep.csv"))
         .ok()
-        .and_then(|t| t.lines().next().map(|l| l.trim_start_matches("# sweep of ").to_string()))
+        .and_then(|t| {
+            t.lines()
+                .next()
+                .map(|l| l.trim_start_matches("# sweep of ").to_string())
+        })
         .unwrap_or_else(|| "parameter".into());
     let out = dir.join("figures");
     std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
@@ -186,14 +264,20 @@ fn plot_sweep(dir: &Path) -> Result<Vec<PathBuf>, String> {
     let x = column(&table, "parameter").unwrap_or_default();
     // One figure per observable with error bars over seeds.
     for name in table.0.iter().filter_map(|c| c.strip_suffix("_mean")) {
-        let (Some(y), Some(e)) = (column(&table, &format!("{name}_mean")), column(&table, &format!("{name}_stderr"))) else {
+        let (Some(y), Some(e)) = (
+            column(&table, &format!("{name}_mean")),
+            column(&table, &format!("{name}_stderr")),
+        ) else {
             continue;
         };
         if y.iter().all(|v| !v.is_finite()) {
             continue;
         }
         let stem = out.join(format!("sweep_{}", name.replace(['.', '/'], "_")));
-        let e: Vec<f64> = e.iter().map(|v| if v.is_finite() { *v } else { 0.0 }).collect();
+        let e: Vec<f64> = e
+            .iter()
+            .map(|v| if v.is_finite() { *v } else { 0.0 })
+            .collect();
         let p = LinePlot::new(format!("{name} against {key}"))
             .x_label(key.clone())
             .y_label(format!("{name} (mean ± standard error)"))
@@ -205,21 +289,45 @@ fn plot_sweep(dir: &Path) -> Result<Vec<PathBuf>, String> {
     for p in std::fs::read_dir(dir).map_err(|e| e.to_string())?.flatten() {
         let name = p.file_name().to_string_lossy().to_string();
         if name.starts_with("point_") {
-            let mut seeds: Vec<PathBuf> = std::fs::read_dir(p.path()).map_err(|e| e.to_string())?.flatten().map(|s| s.path()).collect();
+            let mut seeds: Vec<PathBuf> = std::fs::read_dir(p.path())
+                .map_err(|e| e.to_string())?
+                .flatten()
+                .map(|s| s.path())
+                .collect();
             seeds.sort();
             points.insert(name, seeds);
         }
     }
-    let values: Vec<String> = table.1.iter().map(|r| r.first().cloned().unwrap_or_default()).collect();
-    let mut energy = LinePlot::new(format!("Kinetic energy per grain, by {key}")).x_label("time t").y_label("kinetic energy per grain");
+    let values: Vec<String> = table
+        .1
+        .iter()
+        .map(|r| r.first().cloned().unwrap_or_default())
+        .collect();
+    let mut energy = LinePlot::new(format!("Kinetic energy per grain, by {key}"))
+        .x_label("time t")
+        .y_label("kinetic energy per grain");
     let mut any = false;
     for (i, (_, seeds)) in points.iter().enumerate() {
-        let tables: Vec<Table> = seeds.iter().filter_map(|s| read_csv(&s.join("timeseries.csv")).ok()).collect();
-        let Some(first) = tables.first() else { continue };
+        let tables: Vec<Table> = seeds
+            .iter()
+            .filter_map(|s| read_csv(&s.join("timeseries.csv")).ok())
+            .collect();
+        let Some(first) = tables.first() else {
+            continue;
+        };
         let time = column(first, "time").unwrap_or_default();
         let label = values.get(i).cloned().unwrap_or_default();
-        let species_cols: Vec<String> = first.0.iter().filter(|c| c.starts_with("kinetic_energy_per_grain.")).cloned().collect();
-        let cols: Vec<String> = if species_cols.is_empty() { vec!["kinetic_energy".into()] } else { species_cols };
+        let species_cols: Vec<String> = first
+            .0
+            .iter()
+            .filter(|c| c.starts_with("kinetic_energy_per_grain."))
+            .cloned()
+            .collect();
+        let cols: Vec<String> = if species_cols.is_empty() {
+            vec!["kinetic_energy".into()]
+        } else {
+            species_cols
+        };
         for c in cols {
             let mut mean = vec![0.0; time.len()];
             let mut used = 0.0;
@@ -234,7 +342,11 @@ fn plot_sweep(dir: &Path) -> Result<Vec<PathBuf>, String> {
             if used > 0.0 {
                 mean.iter_mut().for_each(|m| *m /= used);
                 let species = c.strip_prefix("kinetic_energy_per_grain.").unwrap_or("all");
-                energy = energy.series(Series::line(format!("{key} = {label}: {species}"), time.clone(), mean));
+                energy = energy.series(Series::line(
+                    format!("{key} = {label}: {species}"),
+                    time.clone(),
+                    mean,
+                ));
                 any = true;
             }
         }

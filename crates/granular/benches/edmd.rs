@@ -5,44 +5,16 @@
 //! standard cases (up to 10^6 grains) end to end; see docs/performance.md.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use granular::boundary::{AxisKind, SimulationBox};
-use granular::collision_law::CollisionLaw;
-use granular::edmd::init::{self, Region};
-use granular::edmd::{Edmd, EdmdOptions, ParticleSet};
-use granular::engine::Engine;
-use granular::random::stream;
-use granular::vector::Vector;
+use granular::edmd::Edmd;
+use granular::edmd::bench::{advance_collisions, equilibrated_fluid};
 use std::hint::black_box;
 
 fn fluid<const D: usize>(n: usize, phi: f64) -> Edmd<D> {
-    let side = (n as f64).powf(1.0 / D as f64);
-    let bx = SimulationBox::<D>::uniform(Vector([side; D]), AxisKind::Periodic);
-    let r = (phi * bx.volume() / (n as f64 * init::ball_volume::<D>(1.0))).powf(1.0 / D as f64);
-    let radii = vec![r; n];
-    let pos = init::lattice_placement(&bx, &Region::whole(&bx), &radii).expect("lattice");
-    let masses = vec![1.0; n];
-    let mut rng = stream(7, &[0]);
-    let vel = init::maxwell_boltzmann::<D>(&masses, 1.0, &mut rng);
-    let set = ParticleSet {
-        positions: pos,
-        velocities: vel,
-        radii,
-        masses,
-        species: vec![0; n],
-        species_names: vec!["grain".into()],
-    };
-    let mut e = Edmd::new(bx, set, CollisionLaw::default(), EdmdOptions::default());
-    advance(&mut e, 5 * n as u64 / 2);
-    e
+    equilibrated_fluid::<D>(n, phi, 7).expect("benchmark state")
 }
 
 fn advance<const D: usize>(e: &mut Edmd<D>, collisions: u64) {
-    let target = e.collisions() + collisions;
-    let mut t = e.time();
-    while e.collisions() < target {
-        t += 0.01;
-        e.advance(t, u64::MAX).expect("engine");
-    }
+    advance_collisions(e, collisions).expect("engine");
 }
 
 fn bench(c: &mut Criterion) {

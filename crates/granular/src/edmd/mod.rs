@@ -7,6 +7,7 @@
 //! * [`cells`]: the cell grid for neighbour search;
 //! * [`init`]: placements, compression and initial velocities.
 
+pub mod bench;
 pub mod cells;
 pub mod engine;
 pub mod init;
