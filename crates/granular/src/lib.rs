@@ -12,6 +12,7 @@
 
 pub mod boundary;
 pub mod engine;
+pub mod intruder;
 pub mod random;
 pub mod stats;
 pub mod vector;
