@@ -27,4 +27,5 @@ pub use bath::{
     Bath, BathConfig, BathDistribution, BathError, Gaussian, PowerLaw, Side, Tabulated,
 };
 
+pub use needle::{Needle, NeedleConfig};
 pub use one_d::{Intruder1d, Intruder1dConfig};

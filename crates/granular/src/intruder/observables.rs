@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::stats::{RunningStats, batch_means};
+use crate::stats::{Histogram, RunningStats, batch_means};
 
 /// A mean with its statistical (one standard error) uncertainty.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -41,8 +41,9 @@ pub struct GridSeries {
     sums: Vec<f64>,
     /// Block means, `n` per block, block-major.
     blocks: Vec<f64>,
-    /// All samples, per quantity (for the overall mean).
-    totals: Vec<RunningStats>,
+    /// Sum of all samples, per quantity (for the overall mean).
+    totals: Vec<f64>,
+    count: u64,
 }
 
 impl GridSeries {
@@ -54,22 +55,24 @@ impl GridSeries {
             in_block: 0,
             sums: vec![0.0; n],
             blocks: Vec::new(),
-            totals: vec![RunningStats::new(); n],
+            totals: vec![0.0; n],
+            count: 0,
         }
     }
 
     /// Adds one grid sample (`values.len() == n`).
     #[inline]
     pub fn push(&mut self, values: &[f64]) {
-        for (i, &x) in values.iter().enumerate().take(self.n) {
-            self.sums[i] += x;
-            self.totals[i].push(x);
+        for (s, &x) in self.sums.iter_mut().zip(values) {
+            *s += x;
         }
         self.in_block += 1;
+        self.count += 1;
         if self.in_block == self.block_len {
             let inv = 1.0 / self.block_len as f64;
-            for s in self.sums.iter_mut() {
+            for (s, t) in self.sums.iter_mut().zip(self.totals.iter_mut()) {
                 self.blocks.push(*s * inv);
+                *t += *s;
                 *s = 0.0;
             }
             self.in_block = 0;
@@ -78,7 +81,16 @@ impl GridSeries {
 
     /// Number of samples.
     pub fn samples(&self) -> u64 {
-        self.totals.first().map_or(0, |t| t.count)
+        self.count
+    }
+
+    /// Mean of quantity `q` over all samples (NaN when empty).
+    pub fn mean(&self, q: usize) -> f64 {
+        if self.count == 0 {
+            f64::NAN
+        } else {
+            (self.totals[q] + self.sums[q]) / self.count as f64
+        }
     }
 
     /// Block means of quantity `q`.
@@ -101,7 +113,7 @@ impl GridSeries {
             (f64::NAN, f64::NAN)
         };
         Estimate {
-            mean: self.totals[q].mean(),
+            mean: self.mean(q),
             error,
         }
     }
@@ -110,7 +122,7 @@ impl GridSeries {
     /// of a smooth function; its bias is of order 1/(samples per batch)).
     pub fn estimate_fn(&self, g: impl Fn(&[f64]) -> f64) -> Estimate {
         let nblocks = self.blocks.len() / self.n.max(1);
-        let overall: Vec<f64> = self.totals.iter().map(|t| t.mean()).collect();
+        let overall: Vec<f64> = (0..self.n).map(|q| self.mean(q)).collect();
         let mean = g(&overall);
         if nblocks < 2 {
             return Estimate {
@@ -135,6 +147,21 @@ impl GridSeries {
         Estimate {
             mean,
             error: st.standard_error(),
+        }
+    }
+}
+
+/// Adds `x` to a histogram with a precomputed `1/bin_width` (same binning as
+/// [`Histogram::push`], without its division).
+#[inline]
+pub fn hist_push(h: &mut Histogram, inv_width: f64, x: f64) {
+    if x < h.min {
+        h.underflow += 1;
+    } else {
+        let i = ((x - h.min) * inv_width) as usize;
+        match h.counts.get_mut(i) {
+            Some(c) => *c += 1,
+            None => h.overflow += 1,
         }
     }
 }

@@ -27,7 +27,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use super::bath::{Bath, BathConfig, BathDistribution, BathError, Side};
-use super::observables::{Estimate, GridSeries};
+use super::observables::{Estimate, GridSeries, hist_push};
 use super::theory;
 use crate::engine::{Engine, EngineError, Progress, Scalar};
 use crate::random::{DYNAMICS, INITIAL_STATE, MEMBER, RngExt, Stream, open01, stream};
@@ -244,6 +244,7 @@ pub struct Intruder1d {
     /// Grid samples of `v1, v1^2, v1^4`.
     series: GridSeries,
     histogram: Histogram,
+    inv_bin_width: f64,
 }
 
 /// Stationary averages of a 1D intruder run.
@@ -308,6 +309,7 @@ impl Intruder1d {
             next_sample: transient,
             series: GridSeries::new(3, 64),
             histogram: Histogram::new(-hmax, hmax, cfg.histogram_bins),
+            inv_bin_width: cfg.histogram_bins as f64 / (2.0 * hmax),
             params,
         }
     }
@@ -333,7 +335,7 @@ impl Intruder1d {
             let v = self.v1;
             let v2 = v * v;
             self.series.push(&[v, v2, v2 * v2]);
-            self.histogram.push(v);
+            hist_push(&mut self.histogram, self.inv_bin_width, v);
             self.next_sample += self.dt;
         }
     }
