@@ -65,6 +65,10 @@ pub trait BathDistribution {
     fn density(&self, v: f64) -> f64;
     /// Cumulative distribution `F(v) = int_{-inf}^{v} f`.
     fn cdf(&self, v: f64) -> f64;
+    /// Survival function `1 - F(v)`, accurate in the upper tail.
+    fn sf(&self, v: f64) -> f64 {
+        1.0 - self.cdf(v)
+    }
     /// `<v^2>` (the bath temperature is `m <v^2>`).
     fn second_moment(&self) -> f64;
     /// `<|v|>`; the collision rate of an intruder at rest is `rho <|v|>`.
@@ -107,7 +111,7 @@ pub trait BathDistribution {
                 if v <= v1 {
                     0.0
                 } else {
-                    let upper = self.flux_minus(v) + (v - v1) * (1.0 - self.cdf(v));
+                    let upper = self.flux_minus(v) + (v - v1) * self.sf(v);
                     (1.0 - upper / self.flux_minus(v1)).max(0.0)
                 }
             }
@@ -271,6 +275,9 @@ impl BathDistribution for Gaussian {
     }
     fn cdf(&self, v: f64) -> f64 {
         0.5 * libm::erfc(-self.s * v)
+    }
+    fn sf(&self, v: f64) -> f64 {
+        0.5 * libm::erfc(self.s * v)
     }
     fn second_moment(&self) -> f64 {
         0.5 / self.a
@@ -449,6 +456,9 @@ impl BathDistribution for PowerLaw {
     }
     fn cdf(&self, v: f64) -> f64 {
         power_law_cdf_scaled(self.s * v)
+    }
+    fn sf(&self, v: f64) -> f64 {
+        power_law_cdf_scaled(-self.s * v)
     }
     fn second_moment(&self) -> f64 {
         1.0 / self.a
@@ -906,6 +916,9 @@ impl BathDistribution for Bath {
     }
     fn cdf(&self, v: f64) -> f64 {
         dispatch!(self, b => b.cdf(v))
+    }
+    fn sf(&self, v: f64) -> f64 {
+        dispatch!(self, b => b.sf(v))
     }
     fn second_moment(&self) -> f64 {
         dispatch!(self, b => b.second_moment())
