@@ -707,7 +707,7 @@ impl Tabulated {
             .last()
             .copied()
             .unwrap_or(0.0);
-        if !(norm > 0.0) {
+        if norm.is_nan() || norm <= 0.0 {
             return Err(BathError::Invalid("the density integrates to zero".into()));
         }
         let f: Vec<f64> = f.iter().map(|x| x / norm).collect();

@@ -691,7 +691,7 @@ mod tests {
 
     #[test]
     fn small_omega_branch_is_continuous() {
-        let a = 1.7;
+        let a: f64 = 1.7;
         let l = 0.8;
         let w = 0.05 / (l * a.sqrt());
         let lo = total_flux(1.3, a, l, 0.4, w * (1.0 - 1e-9));

@@ -137,8 +137,11 @@ impl GridSeries {
         for b in 0..batches {
             buf.iter_mut().for_each(|x| *x = 0.0);
             for k in b * per..(b + 1) * per {
-                for q in 0..self.n {
-                    buf[q] += self.blocks[k * self.n + q];
+                for (b, x) in buf
+                    .iter_mut()
+                    .zip(&self.blocks[k * self.n..(k + 1) * self.n])
+                {
+                    *b += x;
                 }
             }
             buf.iter_mut().for_each(|x| *x /= per as f64);

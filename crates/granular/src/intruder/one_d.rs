@@ -506,13 +506,13 @@ pub fn run_ensemble(
     seed: u64,
 ) -> Result<EnsembleResult, BathError> {
     let params = Intruder1dParams::new(cfg)?;
-    if times.windows(2).any(|w| w[1] < w[0]) || times.iter().any(|t| !(*t >= 0.0)) {
+    if times.windows(2).any(|w| w[1] < w[0]) || times.iter().any(|t| t.is_nan() || *t < 0.0) {
         return Err(BathError::Parameter(
             "output times must be >= 0 and increasing".into(),
         ));
     }
     if let InitialVelocity::Gaussian { temperature } = initial
-        && !(*temperature >= 0.0)
+        && (temperature.is_nan() || *temperature < 0.0)
     {
         return Err(BathError::Parameter(
             "initial temperature must be >= 0".into(),
