@@ -15,6 +15,7 @@ pub mod collision_law;
 pub mod dsmc;
 pub mod edmd;
 pub mod engine;
+pub mod intruder;
 pub mod output;
 pub mod random;
 pub mod run;

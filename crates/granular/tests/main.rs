@@ -3,5 +3,6 @@
 mod dsmc;
 mod edmd;
 mod engines;
+mod intruder;
 mod problems;
 mod spine;

@@ -1,0 +1,98 @@
+//! Collision-rate measurement for a future `granular bench intruder` command.
+
+use std::time::Instant;
+
+use serde::{Deserialize, Serialize};
+
+use super::bath::BathConfig;
+use super::needle::{Needle, NeedleConfig, NeedleMethod};
+use super::one_d::{Intruder1d, Intruder1dConfig, Method1d};
+
+/// The benchmark cases.
+pub const CASES: [&str; 5] = [
+    "1d-gaussian",
+    "1d-power-law",
+    "needle",
+    "1d-gaussian-direct",
+    "needle-paper",
+];
+
+/// Result of one measurement.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BenchResult {
+    /// Case name.
+    pub case: String,
+    /// Collisions simulated (after a short warm-up).
+    pub collisions: u64,
+    /// Wall-clock seconds.
+    pub seconds: f64,
+    /// Collisions per second on one core.
+    pub collisions_per_second: f64,
+}
+
+/// Simulates `collisions` collisions of the named case on the calling thread and returns
+/// the rate. Cases: `1d-gaussian`, `1d-power-law`, `needle` (default samplers, i.e.
+/// thinning) and `1d-gaussian-direct`, `needle-paper` (the paper's Eqs. 10-13 / 23-26).
+/// Parameters: `M = m = 1`, `alpha = 0.5`, `rho = 1`, `a = 1`, averaging grid on.
+pub fn measure_collision_rate(
+    case: &str,
+    collisions: u64,
+    seed: u64,
+) -> Result<BenchResult, String> {
+    let warm = (collisions / 10).max(1);
+    let seconds = match case {
+        "1d-gaussian" | "1d-power-law" | "1d-gaussian-direct" => {
+            let cfg = Intruder1dConfig {
+                bath: if case == "1d-power-law" {
+                    BathConfig::PowerLaw { temperature: 1.0 }
+                } else {
+                    BathConfig::default()
+                },
+                method: if case == "1d-gaussian-direct" {
+                    Method1d::Direct
+                } else {
+                    Method1d::Thinning
+                },
+                transient: Some(0.0),
+                ..Default::default()
+            };
+            let mut e = Intruder1d::new(&cfg, seed).map_err(|e| e.to_string())?;
+            e.run_collisions(warm);
+            let t0 = Instant::now();
+            e.run_collisions(collisions);
+            let s = t0.elapsed().as_secs_f64();
+            std::hint::black_box(e.velocity());
+            s
+        }
+        "needle" | "needle-paper" => {
+            let cfg = NeedleConfig {
+                method: if case == "needle" {
+                    NeedleMethod::Thinning
+                } else {
+                    NeedleMethod::Paper
+                },
+                transient: Some(0.0),
+                ..Default::default()
+            };
+            let mut e = Needle::new(&cfg, seed).map_err(|e| e.to_string())?;
+            e.run_collisions(warm).map_err(|e| e.to_string())?;
+            let t0 = Instant::now();
+            e.run_collisions(collisions).map_err(|e| e.to_string())?;
+            let s = t0.elapsed().as_secs_f64();
+            std::hint::black_box(e.velocity());
+            s
+        }
+        other => {
+            return Err(format!(
+                "unknown intruder benchmark case {other:?}; known: {}",
+                CASES.join(", ")
+            ));
+        }
+    };
+    Ok(BenchResult {
+        case: case.to_string(),
+        collisions,
+        seconds,
+        collisions_per_second: collisions as f64 / seconds,
+    })
+}

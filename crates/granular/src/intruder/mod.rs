@@ -1,0 +1,31 @@
+//! Gillespie simulation of a granular intruder in a bath of thermalised point particles,
+//! after Gillespie-type event sampling for a granular intruder (seed document
+//! `gillespie-granular-intruder.txt`; equation numbers below refer to it).
+//!
+//! * [`bath`]: bath velocity distributions, side fluxes (Eqs. 5-7, 14-16, 19) and exact
+//!   samplers of the colliding bath velocity (Eqs. 12-13);
+//! * [`one_d`]: the one-dimensional intruder (Eqs. 8-13, 17), stationary and ensemble runs;
+//! * [`needle`]: the two-dimensional needle (Eqs. 20-30);
+//! * [`dsmc_twin`]: the DSMC version of the 1D intruder (section 4);
+//! * [`theory`]: exact results (Eq. 18, the power-law case `M/m = alpha`);
+//! * [`figures`]: the data of the paper's figures as tables;
+//! * [`bench`]: collision-rate measurement.
+//!
+//! Units: `k_B = 1`; a temperature is `mass * <v_component^2>`. The bath mass `m`
+//! (default 1) and the bath density `rho` set the collision rate.
+
+pub mod bath;
+pub mod bench;
+pub mod dsmc_twin;
+pub mod figures;
+pub mod needle;
+pub mod observables;
+pub mod one_d;
+pub mod theory;
+
+pub use bath::{
+    Bath, BathConfig, BathDistribution, BathError, Gaussian, PowerLaw, Side, Tabulated,
+};
+
+pub use needle::{Needle, NeedleConfig};
+pub use one_d::{Intruder1d, Intruder1dConfig};

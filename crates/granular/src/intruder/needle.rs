@@ -1,0 +1,701 @@
+//! The two-dimensional needle (section 3.2): mass `M`, length `L`, moment of inertia `I`,
+//! in a Gaussian bath (Eq. 14 for the velocity component normal to the needle) of point
+//! particles of mass `m` and areal density `rho`.
+//!
+//! State: centre-of-mass velocity `v1 = (v1x, v1y)`, angular velocity `omega`, orientation
+//! `theta`; the unit normal is `n = (-sin theta, cos theta)` so that
+//! `v_n = v1 . n = v1y cos(theta) - v1x sin(theta)` (Eq. 20), and the material point at
+//! distance `x` from the centre moves with normal velocity `v_n + omega x`.
+//!
+//! Two exact event samplers ([`NeedleMethod`]):
+//!
+//! * `paper`: collision time from `int_0^t Phi = -ln(xi3)` (Eq. 23) by Newton-Raphson
+//!   (Eq. 24) safeguarded by bisection, `Phi` from the closed form of Eq. 21 for any `a`,
+//!   `L` (see [`total_flux`]), its time integral by composite Gauss-Legendre quadrature;
+//!   impact point by acceptance-rejection on Eq. 25, side by Eq. 26, bath velocity from
+//!   `g_+-` (exact sampler of [`super::bath`]).
+//! * `thinning` (default, faster): candidates at the constant rate
+//!   `Lambda = rho L (U + <|v|>)`, `U = |v1| + |omega| L/2` (constant between collisions and
+//!   an upper bound of `|v_n + omega x|` at every time and point). Each candidate gets a
+//!   uniform impact point `x` and a normal bath velocity `v` of density
+//!   `(U + |v|) f(v)/(U + <|v|>)`, and is accepted with probability
+//!   `|v - v_n(t) - omega x| / (U + |v|)`. The accepted events have intensity
+//!   `rho |v - v_n - omega x| f(v) dx dv` at time `t`, which is exactly the collision
+//!   intensity whose integrals over `v` and `x` are Eqs. 21 and 25-26, so the process is the
+//!   same Markov process as the paper's, without Newton iterations or error functions.
+//!
+//! Collision (Eqs. 27-29): `Delta p = -(1 + alpha) g.n / (1/m + 1/M + x^2/I)`,
+//! `g.n = v_n + omega x - v` (relative normal velocity at the impact point),
+//! `v1' = v1 + n Delta p / M`, `omega' = omega + x Delta p / I`.
+
+use std::f64::consts::{PI, TAU};
+
+use rand_distr::Exp1;
+use serde::{Deserialize, Serialize};
+
+use super::bath::{BathDistribution, BathError, FRAC_1_SQRT_PI, Gaussian, Side, gaussian_h};
+use super::observables::{Estimate, GridSeries};
+use crate::engine::{Engine, EngineError, Progress, Scalar};
+use crate::random::{DYNAMICS, RngExt, Stream, open01, stream};
+use crate::stats::Histogram;
+
+/// Which exact event sampler drives the needle.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum NeedleMethod {
+    /// Thinning against the rate bound `rho L (|v1| + |omega| L/2 + <|v|>)`.
+    #[default]
+    Thinning,
+    /// The paper's algorithm, Eqs. 21-26 with Newton-Raphson/bisection on Eq. 23.
+    Paper,
+}
+
+/// Configuration of the needle (an `[intruder]` table of a scenario).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct NeedleConfig {
+    /// Needle mass `M` (mass units); Figs. 7-8 use `M/m = 0.1, 0.5, 1`.
+    pub mass: f64,
+    /// Bath particle mass `m` (mass units), 1 in the paper.
+    pub bath_mass: f64,
+    /// Needle length `L` (length units); the paper's Eq. 22 takes `L = 1`.
+    pub length: f64,
+    /// Moment of inertia `I` about the centre (mass x length^2), Eqs. 28-29. Default
+    /// `M L^2 / 12` (thin uniform rod).
+    pub moment_of_inertia: Option<f64>,
+    /// Coefficient of restitution `alpha` in `[0, 1]` (Eq. 29).
+    pub restitution: f64,
+    /// Bath areal number density `rho` (1/length^2), Eq. 21.
+    pub bath_density: f64,
+    /// Bath temperature `T_B` (energy, `k_B = 1`): `a = m/(2 T_B)` in Eq. 14. Default 0.5
+    /// (`a = 1`, as in Eq. 22).
+    pub bath_temperature: f64,
+    /// Initial centre-of-mass velocity `(v1x, v1y)` (velocity units).
+    pub initial_velocity: [f64; 2],
+    /// Initial angular velocity `omega` (1/time).
+    pub initial_angular_velocity: f64,
+    /// Initial orientation `theta_0` (radians), Eq. 20.
+    pub initial_angle: f64,
+    /// Event sampler.
+    pub method: NeedleMethod,
+    /// Tolerance on `|int_0^t Phi + ln xi3|` in Eq. 23, relative to `1 - ln xi3` (paper
+    /// method only).
+    pub time_tolerance: f64,
+    /// Averaging grid spacing (time units). Default: mean collision time of a needle at
+    /// rest, `sqrt(pi a)/(rho L)`.
+    pub sample_interval: Option<f64>,
+    /// Time discarded before averaging (time units). Default:
+    /// `100 (1 + max(M/m, 12 I/(m L^2))) / ((1 + alpha) rho L <|v|>)`.
+    pub transient: Option<f64>,
+    /// Histograms cover `[-h sigma, h sigma]` with `sigma` the equipartition width of each
+    /// variable (`sqrt(T_B/M)`, `sqrt(T_B/I)`).
+    pub histogram_width: f64,
+    /// Number of histogram bins.
+    pub histogram_bins: usize,
+}
+
+impl Default for NeedleConfig {
+    fn default() -> Self {
+        Self {
+            mass: 1.0,
+            bath_mass: 1.0,
+            length: 1.0,
+            moment_of_inertia: None,
+            restitution: 0.5,
+            bath_density: 1.0,
+            bath_temperature: 0.5,
+            initial_velocity: [0.0, 0.0],
+            initial_angular_velocity: 0.0,
+            initial_angle: 0.0,
+            method: NeedleMethod::Thinning,
+            time_tolerance: 1e-12,
+            sample_interval: None,
+            transient: None,
+            histogram_width: 6.0,
+            histogram_bins: 120,
+        }
+    }
+}
+
+/// Derived constants of a needle run.
+#[derive(Clone, Debug)]
+pub struct NeedleParams {
+    /// Normal-velocity distribution of the bath.
+    pub bath: Gaussian,
+    /// `rho`.
+    pub rho: f64,
+    /// `M`.
+    pub mass: f64,
+    /// `m`.
+    pub bath_mass: f64,
+    /// `L`.
+    pub length: f64,
+    /// `I`.
+    pub inertia: f64,
+    /// `alpha`.
+    pub restitution: f64,
+    /// `T_B`.
+    pub bath_temperature: f64,
+    /// Event sampler.
+    pub method: NeedleMethod,
+    /// Eq. 23 tolerance.
+    pub time_tolerance: f64,
+}
+
+impl NeedleParams {
+    /// From a configuration (validated).
+    pub fn new(c: &NeedleConfig) -> Result<Self, BathError> {
+        let pos = |name: &str, x: f64| {
+            if x > 0.0 && x.is_finite() {
+                Ok(())
+            } else {
+                Err(BathError::Parameter(format!(
+                    "{name} must be positive, got {x}"
+                )))
+            }
+        };
+        pos("mass", c.mass)?;
+        pos("bath_mass", c.bath_mass)?;
+        pos("length", c.length)?;
+        pos("bath_density", c.bath_density)?;
+        pos("bath_temperature", c.bath_temperature)?;
+        pos("time_tolerance", c.time_tolerance)?;
+        pos("histogram_width", c.histogram_width)?;
+        let inertia = c
+            .moment_of_inertia
+            .unwrap_or(c.mass * c.length * c.length / 12.0);
+        pos("moment_of_inertia", inertia)?;
+        if !(0.0..=1.0).contains(&c.restitution) {
+            return Err(BathError::Parameter(format!(
+                "restitution must be in [0, 1], got {}",
+                c.restitution
+            )));
+        }
+        if c.histogram_bins == 0 {
+            return Err(BathError::Parameter("histogram_bins must be >= 1".into()));
+        }
+        let finite = c.initial_velocity.iter().all(|x| x.is_finite())
+            && c.initial_angular_velocity.is_finite()
+            && c.initial_angle.is_finite();
+        if !finite {
+            return Err(BathError::Parameter("initial state must be finite".into()));
+        }
+        if let Some(dt) = c.sample_interval {
+            pos("sample_interval", dt)?;
+        }
+        if let Some(t) = c.transient
+            && !(t >= 0.0 && t.is_finite())
+        {
+            return Err(BathError::Parameter(format!(
+                "transient must be >= 0, got {t}"
+            )));
+        }
+        Ok(Self {
+            bath: Gaussian::with_temperature(c.bath_temperature, c.bath_mass)?,
+            rho: c.bath_density,
+            mass: c.mass,
+            bath_mass: c.bath_mass,
+            length: c.length,
+            inertia,
+            restitution: c.restitution,
+            bath_temperature: c.bath_temperature,
+            method: c.method,
+            time_tolerance: c.time_tolerance,
+        })
+    }
+
+    /// Flux per unit length on both sides of a surface element moving with normal velocity
+    /// `u`: `phi(u)` of Eq. 16 (includes `rho`).
+    #[inline]
+    pub fn local_flux(&self, u: f64) -> f64 {
+        self.rho * self.bath.flux(u)
+    }
+
+    /// Total flux `Phi` of Eq. 21 for normal velocity `vn` and angular velocity `omega`.
+    pub fn total_flux(&self, vn: f64, omega: f64) -> f64 {
+        total_flux(self.rho, self.bath.a, self.length, vn, omega)
+    }
+
+    /// `int_0^tau Phi(t) dt` for a needle with velocity `v`, angular velocity `omega`,
+    /// orientation `theta0` at `t = 0` (composite 8-point Gauss-Legendre, panels of at most
+    /// 0.5 rad of rotation and of at most `0.5/sqrt(a)` change in `v_n`).
+    pub fn integrated_flux(&self, v: [f64; 2], omega: f64, theta0: f64, t0: f64, t1: f64) -> f64 {
+        if t1 <= t0 {
+            return 0.0;
+        }
+        let speed = (v[0] * v[0] + v[1] * v[1]).sqrt();
+        let rate = omega.abs() * (1.0 + speed * self.bath.sqrt_a());
+        let panels = ((t1 - t0) * rate / 0.5).ceil().clamp(1.0, 1e7) as usize;
+        let h = (t1 - t0) / panels as f64;
+        let mut sum = 0.0;
+        for p in 0..panels {
+            let mid = t0 + (p as f64 + 0.5) * h;
+            let mut s = 0.0;
+            for (x, w) in GL8 {
+                let t = mid + 0.5 * h * x;
+                let th = theta0 + omega * t;
+                let (sn, cs) = th.sin_cos();
+                s += w * self.total_flux(v[1] * cs - v[0] * sn, omega);
+            }
+            sum += 0.5 * h * s;
+        }
+        sum
+    }
+
+    /// Solves Eq. 23, `int_0^tau Phi = target`, by Newton-Raphson (Eq. 24, initial guess
+    /// `target/Phi(0)`) with a bisection fallback whenever a step leaves the bracket (which
+    /// is how the paper's oscillations are cured). Returns `(tau, iterations)`; converged
+    /// when `|int_0^tau Phi - target| <= tol (1 + target)`.
+    pub fn collision_time(&self, v: [f64; 2], omega: f64, theta0: f64, target: f64) -> (f64, u32) {
+        let phi_at = |t: f64| {
+            let (sn, cs) = (theta0 + omega * t).sin_cos();
+            self.total_flux(v[1] * cs - v[0] * sn, omega)
+        };
+        // Phi >= L phi(0) = rho L <|v|>, so tau <= target / (rho L <|v|>).
+        let phi_min = self.rho * self.length * self.bath.mean_speed();
+        let (mut lo, mut int_lo) = (0.0, 0.0);
+        let mut hi = target / phi_min;
+        let tol = self.time_tolerance * (1.0 + target);
+        let mut t = (target / phi_at(0.0)).min(hi);
+        for it in 1..=200u32 {
+            let int_t = int_lo + self.integrated_flux(v, omega, theta0, lo, t);
+            let r = int_t - target;
+            if r.abs() <= tol {
+                return (t, it);
+            }
+            if r < 0.0 {
+                lo = t;
+                int_lo = int_t;
+            } else {
+                hi = t;
+            }
+            let mut next = t - r / phi_at(t); // Eq. 24
+            if !(next > lo && next < hi) {
+                next = 0.5 * (lo + hi);
+            }
+            if hi - lo <= 4.0 * f64::EPSILON * hi {
+                return (next, it);
+            }
+            t = next;
+        }
+        (t, 200)
+    }
+
+    /// Thermal speed scale `<|v|>` of the normal bath velocity.
+    pub fn mean_speed(&self) -> f64 {
+        self.bath.mean_speed()
+    }
+}
+
+/// 8-point Gauss-Legendre nodes and weights on `[-1, 1]`.
+const GL8: [(f64, f64); 8] = [
+    (-0.960_289_856_497_536_3, 0.101_228_536_290_376_26),
+    (-0.796_666_477_413_626_7, 0.222_381_034_453_374_47),
+    (-0.525_532_409_916_329, 0.313_706_645_877_887_3),
+    (-0.183_434_642_495_649_8, 0.362_683_783_378_362),
+    (0.183_434_642_495_649_8, 0.362_683_783_378_362),
+    (0.525_532_409_916_329, 0.313_706_645_877_887_3),
+    (0.796_666_477_413_626_7, 0.222_381_034_453_374_47),
+    (0.960_289_856_497_536_3, 0.101_228_536_290_376_26),
+];
+
+/// `Psi(u) = (u^2/2 + 1/(4a)) erf(sqrt(a) u) + u exp(-a u^2)/(2 sqrt(pi a))`, the
+/// antiderivative of `phi(u)/rho` (Eq. 16).
+#[inline]
+fn flux_antiderivative(a: f64, u: f64) -> f64 {
+    let s = a.sqrt();
+    (0.5 * u * u + 0.25 / a) * libm::erf(s * u)
+        + u * (-a * u * u).exp() * FRAC_1_SQRT_PI / (2.0 * s)
+}
+
+/// Eq. 21 in closed form for any `a` and `L` (Eq. 22 is the case `a = L = 1`):
+/// `Phi = rho [Psi(v_n + omega L/2) - Psi(v_n - omega L/2)] / omega`, with the
+/// antiderivative `Psi` of the flux (derivation in `docs/intruder.md`). When
+/// `|omega| L sqrt(a) < 0.05` the difference quotient loses digits and the `x` integral is
+/// done by 4-point Gauss-Legendre instead (error below 1e-13 relative there).
+pub fn total_flux(rho: f64, a: f64, length: f64, vn: f64, omega: f64) -> f64 {
+    let s = a.sqrt();
+    let half = 0.5 * length;
+    if (omega * length * s).abs() >= 0.05 {
+        rho * (flux_antiderivative(a, vn + omega * half)
+            - flux_antiderivative(a, vn - omega * half))
+            / omega
+    } else {
+        const GL4: [(f64, f64); 4] = [
+            (-0.861_136_311_594_052_6, 0.347_854_845_137_453_85),
+            (-0.339_981_043_584_856_3, 0.652_145_154_862_546_2),
+            (0.339_981_043_584_856_3, 0.652_145_154_862_546_2),
+            (0.861_136_311_594_052_6, 0.347_854_845_137_453_85),
+        ];
+        let mut sum = 0.0;
+        for (x, w) in GL4 {
+            let u = s * (vn + omega * half * x);
+            sum += w * ((-u * u).exp() * FRAC_1_SQRT_PI + u * libm::erf(u));
+        }
+        rho * half * sum / s
+    }
+}
+
+/// The needle as an [`Engine`].
+#[derive(Clone, Debug)]
+pub struct Needle {
+    /// Parameters.
+    pub params: NeedleParams,
+    v: [f64; 2],
+    omega: f64,
+    theta: f64,
+    /// Time at which `theta` was last updated.
+    theta_time: f64,
+    time: f64,
+    next_event: f64,
+    events: u64,
+    collisions: u64,
+    newton_iterations: u64,
+    rng: Stream,
+    dt: f64,
+    transient: f64,
+    next_sample: f64,
+    /// Grid samples of `v^2, omega^2, v^2 omega^2, vx, vy, omega`.
+    series: GridSeries,
+    component_hist: Histogram,
+    omega_hist: Histogram,
+}
+
+/// Stationary averages of a needle run.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct NeedleSummary {
+    /// Simulated time.
+    pub time: f64,
+    /// Collisions.
+    pub collisions: u64,
+    /// Grid samples.
+    pub samples: u64,
+    /// `T_tr = M <|v1|^2> / 2`.
+    pub translational_temperature: Estimate,
+    /// `T_rot = I <omega^2>`.
+    pub rotational_temperature: Estimate,
+    /// `T_tr / T_B`.
+    pub translational_ratio: Estimate,
+    /// `T_rot / T_B`.
+    pub rotational_ratio: Estimate,
+    /// `R = <v^2 omega^2> / (<v^2> <omega^2>)` (Eq. 30).
+    pub correlation: Estimate,
+    /// Histogram of the velocity components `v1x` and `v1y` (both pushed).
+    pub component_histogram: Histogram,
+    /// Histogram of `omega`.
+    pub omega_histogram: Histogram,
+    /// Standard deviation of the best-fit (maximum-likelihood, zero-mean) Gaussian of one
+    /// velocity component: `sqrt(<|v1|^2>/2)`.
+    pub component_sigma: f64,
+    /// Standard deviation of the best-fit Gaussian of `omega`: `sqrt(<omega^2>)`.
+    pub omega_sigma: f64,
+    /// Mean Newton-Raphson iterations per collision (paper method).
+    pub newton_iterations_per_collision: f64,
+}
+
+impl Needle {
+    /// A new needle; its random stream is `stream(seed, [DYNAMICS])`.
+    pub fn new(cfg: &NeedleConfig, seed: u64) -> Result<Self, BathError> {
+        let params = NeedleParams::new(cfg)?;
+        let mean_speed = params.mean_speed();
+        let collision_time = 1.0 / (params.rho * params.length * mean_speed);
+        let dt = cfg.sample_interval.unwrap_or(collision_time);
+        let slow = (params.mass / params.bath_mass)
+            .max(12.0 * params.inertia / (params.bath_mass * params.length * params.length));
+        let transient = cfg
+            .transient
+            .unwrap_or(100.0 * (1.0 + slow) * collision_time / (1.0 + params.restitution));
+        let sv = (params.bath_temperature / params.mass).sqrt() * cfg.histogram_width;
+        let sw = (params.bath_temperature / params.inertia).sqrt() * cfg.histogram_width;
+        let mut n = Self {
+            v: cfg.initial_velocity,
+            omega: cfg.initial_angular_velocity,
+            theta: cfg.initial_angle.rem_euclid(TAU),
+            theta_time: 0.0,
+            time: 0.0,
+            next_event: 0.0,
+            events: 0,
+            collisions: 0,
+            newton_iterations: 0,
+            rng: stream(seed, &[DYNAMICS]),
+            dt,
+            transient,
+            next_sample: transient,
+            series: GridSeries::new(6, 64),
+            component_hist: Histogram::new(-sv, sv, cfg.histogram_bins),
+            omega_hist: Histogram::new(-sw, sw, cfg.histogram_bins),
+            params,
+        };
+        n.next_event = n.draw_next_event(0.0);
+        Ok(n)
+    }
+
+    /// Centre-of-mass velocity.
+    pub fn velocity(&self) -> [f64; 2] {
+        self.v
+    }
+    /// Start of the averaging window.
+    pub fn transient(&self) -> f64 {
+        self.transient
+    }
+    /// Angular velocity.
+    pub fn angular_velocity(&self) -> f64 {
+        self.omega
+    }
+    /// Orientation at the current time, in `[0, 2 pi)`.
+    pub fn angle(&self) -> f64 {
+        (self.theta + self.omega * (self.time - self.theta_time)).rem_euclid(TAU)
+    }
+
+    fn bound_speed(&self) -> f64 {
+        (self.v[0] * self.v[0] + self.v[1] * self.v[1]).sqrt()
+            + 0.5 * self.omega.abs() * self.params.length
+    }
+
+    /// Time of the next candidate (thinning) or collision (paper), from time `t`.
+    fn draw_next_event(&mut self, t: f64) -> f64 {
+        let e: f64 = self.rng.sample(Exp1);
+        match self.params.method {
+            NeedleMethod::Thinning => {
+                let p = &self.params;
+                t + e / (p.rho * p.length * (self.bound_speed() + p.bath.mean_speed()))
+            }
+            NeedleMethod::Paper => {
+                let theta_t = self.theta + self.omega * (t - self.theta_time);
+                let (tau, it) = self.params.collision_time(self.v, self.omega, theta_t, e);
+                self.newton_iterations += u64::from(it);
+                t + tau
+            }
+        }
+    }
+
+    /// Processes the event at time `te` (the orientation is brought to `te`); returns
+    /// whether a collision happened.
+    fn event(&mut self, te: f64) -> bool {
+        let theta = (self.theta + self.omega * (te - self.theta_time)).rem_euclid(TAU);
+        self.theta = theta;
+        self.theta_time = te;
+        let (sn, cs) = theta.sin_cos();
+        let vn = self.v[1] * cs - self.v[0] * sn; // Eq. 20
+        let p = &self.params;
+        let half = 0.5 * p.length;
+        let (x, vb) = match p.method {
+            NeedleMethod::Thinning => {
+                let x = half * (2.0 * self.rng.random::<f64>() - 1.0);
+                let u = vn + self.omega * x;
+                let bound = self.bound_speed();
+                let vb = if self.rng.random::<f64>() * (bound + p.bath.mean_speed()) < bound {
+                    p.bath.sample(&mut self.rng)
+                } else {
+                    p.bath.sample_speed_weighted(&mut self.rng)
+                };
+                if self.rng.random::<f64>() * (bound + vb.abs()) >= (vb - u).abs() {
+                    return false;
+                }
+                (x, vb)
+            }
+            NeedleMethod::Paper => {
+                // Eq. 25: phi(vn + omega x) is convex in x, so its maximum is at an end.
+                let fmax = p
+                    .local_flux(vn - self.omega * half)
+                    .max(p.local_flux(vn + self.omega * half));
+                let x = loop {
+                    let x = half * (2.0 * self.rng.random::<f64>() - 1.0);
+                    if self.rng.random::<f64>() * fmax <= p.local_flux(vn + self.omega * x) {
+                        break x;
+                    }
+                };
+                let u = vn + self.omega * x;
+                // Eq. 26 (fluxes per unit density; rho cancels).
+                let s = p.bath.sqrt_a();
+                let plus = gaussian_h(s * u);
+                let minus = gaussian_h(-s * u);
+                let side = if self.rng.random::<f64>() * (plus + minus) < plus {
+                    Side::Right
+                } else {
+                    Side::Left
+                };
+                (x, p.bath.sample_colliding(side, u, &mut self.rng))
+            }
+        };
+        // Eqs. 27-29.
+        let gn = vn + self.omega * x - vb;
+        let dp =
+            -(1.0 + p.restitution) * gn / (1.0 / p.bath_mass + 1.0 / p.mass + x * x / p.inertia);
+        let n = [-sn, cs];
+        self.v[0] += n[0] * dp / p.mass;
+        self.v[1] += n[1] * dp / p.mass;
+        self.omega += x * dp / p.inertia;
+        true
+    }
+
+    #[inline]
+    fn sample_grid(&mut self, upto: f64, inclusive: bool) {
+        while self.next_sample < upto || (inclusive && self.next_sample == upto) {
+            let v2 = self.v[0] * self.v[0] + self.v[1] * self.v[1];
+            let w2 = self.omega * self.omega;
+            self.series
+                .push(&[v2, w2, v2 * w2, self.v[0], self.v[1], self.omega]);
+            self.component_hist.push(self.v[0]);
+            self.component_hist.push(self.v[1]);
+            self.omega_hist.push(self.omega);
+            self.next_sample += self.dt;
+        }
+    }
+
+    fn step(&mut self) -> Result<(), EngineError> {
+        let te = self.next_event;
+        self.sample_grid(te, false);
+        self.time = te;
+        self.events += 1;
+        if self.event(te) {
+            self.collisions += 1;
+            if !(self.v[0].is_finite() && self.v[1].is_finite() && self.omega.is_finite()) {
+                return Err(EngineError::Numerical(format!(
+                    "needle state not finite at t = {te}"
+                )));
+            }
+        }
+        self.next_event = self.draw_next_event(te);
+        Ok(())
+    }
+
+    /// Runs until `collisions` more collisions have happened, averaging on the grid.
+    pub fn run_collisions(&mut self, collisions: u64) -> Result<(), EngineError> {
+        let target = self.collisions + collisions;
+        while self.collisions < target {
+            self.step()?;
+        }
+        Ok(())
+    }
+
+    /// Stationary averages so far.
+    pub fn summary(&self) -> NeedleSummary {
+        let p = &self.params;
+        let tt = self.series.estimate(0).scaled(0.5 * p.mass);
+        let tr = self.series.estimate(1).scaled(p.inertia);
+        let v2 = self.series.estimate(0).mean;
+        let w2 = self.series.estimate(1).mean;
+        NeedleSummary {
+            time: self.time,
+            collisions: self.collisions,
+            samples: self.series.samples(),
+            translational_ratio: tt.scaled(1.0 / p.bath_temperature),
+            rotational_ratio: tr.scaled(1.0 / p.bath_temperature),
+            translational_temperature: tt,
+            rotational_temperature: tr,
+            correlation: self.series.estimate_fn(|q| q[2] / (q[0] * q[1])),
+            component_histogram: self.component_hist.clone(),
+            omega_histogram: self.omega_hist.clone(),
+            component_sigma: (0.5 * v2).sqrt(),
+            omega_sigma: w2.sqrt(),
+            newton_iterations_per_collision: self.newton_iterations as f64
+                / self.collisions.max(1) as f64,
+        }
+    }
+}
+
+impl Engine for Needle {
+    fn name(&self) -> &'static str {
+        "intruder"
+    }
+    fn time(&self) -> f64 {
+        self.time
+    }
+    fn events(&self) -> u64 {
+        self.events
+    }
+    fn collisions(&self) -> u64 {
+        self.collisions
+    }
+    fn particle_count(&self) -> usize {
+        1
+    }
+    fn advance(&mut self, until: f64, max_events: u64) -> Result<Progress, EngineError> {
+        let mut budget = max_events;
+        while self.next_event <= until {
+            if budget == 0 {
+                return Ok(Progress::BudgetExhausted);
+            }
+            budget -= 1;
+            self.step()?;
+        }
+        self.sample_grid(until, true);
+        self.time = until;
+        Ok(Progress::Reached)
+    }
+    fn scalars(&mut self) -> Vec<Scalar> {
+        let s = self.summary();
+        vec![
+            ("velocity_x".into(), self.v[0]),
+            ("velocity_y".into(), self.v[1]),
+            ("angular_velocity".into(), self.omega),
+            ("angle".into(), self.angle()),
+            ("kinetic_energy".into(), self.kinetic_energy()),
+            ("collisions".into(), self.collisions as f64),
+            ("samples".into(), s.samples as f64),
+            (
+                "translational_temperature".into(),
+                s.translational_temperature.mean,
+            ),
+            (
+                "translational_temperature_error".into(),
+                s.translational_temperature.error,
+            ),
+            (
+                "rotational_temperature".into(),
+                s.rotational_temperature.mean,
+            ),
+            (
+                "rotational_temperature_error".into(),
+                s.rotational_temperature.error,
+            ),
+            ("correlation_r".into(), s.correlation.mean),
+            ("correlation_r_error".into(), s.correlation.error),
+        ]
+    }
+    fn kinetic_energy(&mut self) -> f64 {
+        let p = &self.params;
+        0.5 * p.mass * (self.v[0] * self.v[0] + self.v[1] * self.v[1])
+            + 0.5 * p.inertia * self.omega * self.omega
+    }
+}
+
+/// A uniform angle in `[0, 2 pi)` (for randomised initial orientations).
+pub fn random_angle(rng: &mut Stream) -> f64 {
+    2.0 * PI * open01(rng)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Eq. 22 (a = L = 1) reproduced by the general closed form.
+    #[test]
+    fn general_flux_reduces_to_eq_22() {
+        let erf = libm::erf;
+        for &(vn, w) in &[(0.3f64, 0.7f64), (-1.2, 2.5), (2.0, -0.4)] {
+            let e22 = (vn * vn / (2.0 * w) + w / 8.0 + vn / 2.0 + 1.0 / (4.0 * w))
+                * erf(vn + w / 2.0)
+                + (vn * vn / (2.0 * w) + w / 8.0 - vn / 2.0 + 1.0 / (4.0 * w)) * erf(-vn + w / 2.0)
+                + (-vn * vn - w * w / 4.0).exp() / (4.0 * PI.sqrt())
+                    * ((vn * w).exp() * (1.0 - 2.0 * vn / w)
+                        + (-vn * w).exp() * (1.0 + 2.0 * vn / w));
+            let ours = total_flux(1.0, 1.0, 1.0, vn, w);
+            assert!(
+                (ours - e22).abs() < 1e-13 * e22,
+                "{vn} {w}: {ours} vs {e22}"
+            );
+        }
+    }
+
+    #[test]
+    fn small_omega_branch_is_continuous() {
+        let a: f64 = 1.7;
+        let l = 0.8;
+        let w = 0.05 / (l * a.sqrt());
+        let lo = total_flux(1.3, a, l, 0.4, w * (1.0 - 1e-9));
+        let hi = total_flux(1.3, a, l, 0.4, w * (1.0 + 1e-9));
+        assert!((lo - hi).abs() < 1e-11 * lo, "{lo} {hi}");
+    }
+}
