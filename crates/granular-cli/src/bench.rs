@@ -7,6 +7,18 @@ use std::time::Instant;
 
 #[derive(Subcommand)]
 pub enum BenchCommand {
+    /// Gillespie intruder engine: collisions per second on one core.
+    Intruder {
+        /// Only this case (1d-gaussian, 1d-power-law, needle, 1d-gaussian-direct, needle-paper).
+        #[arg(long)]
+        case: Option<String>,
+        /// Collisions per case.
+        #[arg(long, default_value_t = 5_000_000)]
+        collisions: u64,
+        /// One JSON object per case on standard output.
+        #[arg(long)]
+        json: bool,
+    },
     /// DSMC engine: 2D and 3D at N = 10^5, 10^6, 10^7, with 1 and 2 threads.
     Dsmc {
         /// Only this dimension (2 or 3).
@@ -56,6 +68,31 @@ const CASES: &[(usize, usize, f64)] = &[
 
 pub fn run(cmd: BenchCommand) -> Result<(), String> {
     match cmd {
+        BenchCommand::Intruder {
+            case,
+            collisions,
+            json,
+        } => {
+            let cases: Vec<String> = match case {
+                Some(c) => vec![c],
+                None => granular::intruder::bench::CASES
+                    .iter()
+                    .map(|c| c.to_string())
+                    .collect(),
+            };
+            for c in cases {
+                let r = granular::intruder::bench::measure_collision_rate(&c, collisions, 1)?;
+                if json {
+                    println!("{}", serde_json::to_string(&r).unwrap_or_default());
+                } else {
+                    println!(
+                        "intruder {:<20} {:.3e} collisions/s ({} collisions in {:.2} s)",
+                        r.case, r.collisions_per_second, r.collisions, r.seconds
+                    );
+                }
+            }
+            Ok(())
+        }
         BenchCommand::Dsmc {
             dimension,
             n,
