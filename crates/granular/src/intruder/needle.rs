@@ -356,7 +356,7 @@ pub struct Needle {
     transient: f64,
     next_sample: f64,
     /// Grid samples of `v^2, omega^2, v^2 omega^2, vx, vy, omega`.
-    series: GridSeries,
+    series: GridSeries<6>,
     component_hist: Histogram,
     omega_hist: Histogram,
 }
@@ -421,7 +421,7 @@ impl Needle {
             dt,
             transient,
             next_sample: transient,
-            series: GridSeries::new(6, 64),
+            series: GridSeries::new(64),
             component_hist: Histogram::new(-sv, sv, cfg.histogram_bins),
             omega_hist: Histogram::new(-sw, sw, cfg.histogram_bins),
             params,
@@ -535,7 +535,7 @@ impl Needle {
             let v2 = self.v[0] * self.v[0] + self.v[1] * self.v[1];
             let w2 = self.omega * self.omega;
             self.series
-                .push(&[v2, w2, v2 * w2, self.v[0], self.v[1], self.omega]);
+                .push([v2, w2, v2 * w2, self.v[0], self.v[1], self.omega]);
             self.component_hist.push(self.v[0]);
             self.component_hist.push(self.v[1]);
             self.omega_hist.push(self.omega);

@@ -26,7 +26,7 @@ use rand_distr::Exp1;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::bath::{Bath, BathConfig, BathDistribution, BathError, Side};
+use super::bath::{Bath, BathConfig, BathDistribution, BathError, Gaussian, Side};
 use super::observables::{Estimate, GridSeries, hist_push};
 use super::theory;
 use crate::engine::{Engine, EngineError, Progress, Scalar};
@@ -188,24 +188,30 @@ impl Intruder1dParams {
 
     /// Draws the time to the next candidate event from `t` and returns it (absolute time).
     #[inline]
-    fn next_candidate(&self, v1: f64, t: f64, rng: &mut Stream) -> f64 {
+    fn next_candidate<B: BathDistribution>(
+        &self,
+        bath: &B,
+        v1: f64,
+        t: f64,
+        rng: &mut Stream,
+    ) -> f64 {
         let e: f64 = rng.sample(Exp1);
         match self.method {
             Method1d::Thinning => t + e / (self.rho * (v1.abs() + self.mean_speed)),
-            Method1d::Direct => t + e / (self.rho * self.bath.flux(v1)), // Eq. 10
+            Method1d::Direct => t + e / (self.rho * bath.flux(v1)), // Eq. 10
         }
     }
 
     /// Processes the candidate event; returns the new velocity if a collision happened.
     #[inline]
-    fn event(&self, v1: f64, rng: &mut Stream) -> Option<f64> {
+    fn event<B: BathDistribution>(&self, bath: &B, v1: f64, rng: &mut Stream) -> Option<f64> {
         let v = match self.method {
             Method1d::Thinning => {
                 let av1 = v1.abs();
                 let v = if rng.random::<f64>() * (av1 + self.mean_speed) < av1 {
-                    self.bath.sample(rng)
+                    bath.sample(rng)
                 } else {
-                    self.bath.sample_speed_weighted(rng)
+                    bath.sample_speed_weighted(rng)
                 };
                 if rng.random::<f64>() * (av1 + v.abs()) >= (v - v1).abs() {
                     return None;
@@ -213,14 +219,14 @@ impl Intruder1dParams {
                 v
             }
             Method1d::Direct => {
-                let plus = self.bath.flux_plus(v1);
-                let minus = self.bath.flux_minus(v1);
+                let plus = bath.flux_plus(v1);
+                let minus = bath.flux_minus(v1);
                 let side = if rng.random::<f64>() * (plus + minus) < plus {
                     Side::Right // Eq. 11
                 } else {
                     Side::Left
                 };
-                self.bath.sample_colliding(side, v1, rng) // Eqs. 12-13
+                bath.sample_colliding(side, v1, rng) // Eqs. 12-13
             }
         };
         Some(v1 + self.kick * (v - v1)) // Eq. 17
@@ -242,7 +248,7 @@ pub struct Intruder1d {
     transient: f64,
     next_sample: f64,
     /// Grid samples of `v1, v1^2, v1^4`.
-    series: GridSeries,
+    series: GridSeries<3>,
     histogram: Histogram,
     inv_bin_width: f64,
 }
@@ -296,7 +302,7 @@ impl Intruder1d {
         let hmax = cfg
             .histogram_max
             .unwrap_or(6.0 * (params.bath_temperature / params.mass).sqrt());
-        let next_event = params.next_candidate(v1, 0.0, &mut rng);
+        let next_event = params.next_candidate(&params.bath, v1, 0.0, &mut rng);
         Self {
             v1,
             time: 0.0,
@@ -307,7 +313,7 @@ impl Intruder1d {
             dt,
             transient,
             next_sample: transient,
-            series: GridSeries::new(3, 64),
+            series: GridSeries::new(64),
             histogram: Histogram::new(-hmax, hmax, cfg.histogram_bins),
             inv_bin_width: cfg.histogram_bins as f64 / (2.0 * hmax),
             params,
@@ -334,43 +340,90 @@ impl Intruder1d {
         while self.next_sample < upto || (inclusive && self.next_sample == upto) {
             let v = self.v1;
             let v2 = v * v;
-            self.series.push(&[v, v2, v2 * v2]);
+            self.series.push([v, v2, v2 * v2]);
             hist_push(&mut self.histogram, self.inv_bin_width, v);
             self.next_sample += self.dt;
         }
     }
 
-    /// Advances to `until` without any averaging (used by ensembles).
-    pub fn evolve_to(&mut self, until: f64) {
+    /// The event loop, monomorphised for the bath type. Stops before the first event
+    /// after `until`, after `max_events` events or when the collision count reaches
+    /// `max_collisions`; grid sampling only when `sample`.
+    #[inline]
+    fn drive<B: BathDistribution>(
+        &mut self,
+        bath: &B,
+        until: f64,
+        max_events: u64,
+        max_collisions: u64,
+        sample: bool,
+    ) -> Result<Progress, EngineError> {
+        let mut budget = max_events;
         while self.next_event <= until {
-            self.time = self.next_event;
+            if budget == 0 || self.collisions >= max_collisions {
+                return Ok(Progress::BudgetExhausted);
+            }
+            budget -= 1;
+            let te = self.next_event;
+            if sample {
+                self.sample_grid(te, false);
+            }
+            self.time = te;
             self.events += 1;
-            if let Some(v) = self.params.event(self.v1, &mut self.rng) {
+            if let Some(v) = self.params.event(bath, self.v1, &mut self.rng) {
+                if !v.is_finite() {
+                    return Err(EngineError::Numerical(format!(
+                        "intruder velocity became {v} at t = {te}"
+                    )));
+                }
                 self.v1 = v;
                 self.collisions += 1;
             }
-            self.next_event = self
-                .params
-                .next_candidate(self.v1, self.time, &mut self.rng);
+            self.next_event = self.params.next_candidate(bath, self.v1, te, &mut self.rng);
+        }
+        if sample {
+            self.sample_grid(until, true);
         }
         self.time = until;
+        Ok(Progress::Reached)
+    }
+
+    /// Runs [`Self::drive`] with the bath moved out of `params` (so the loop is
+    /// specialised to the bath type without cloning it).
+    fn drive_dispatch(
+        &mut self,
+        until: f64,
+        max_events: u64,
+        max_collisions: u64,
+        sample: bool,
+    ) -> Result<Progress, EngineError> {
+        let placeholder = Bath::Gaussian(match Gaussian::new(1.0) {
+            Ok(g) => g,
+            Err(e) => return Err(EngineError::Numerical(e.to_string())),
+        });
+        let bath = std::mem::replace(&mut self.params.bath, placeholder);
+        let r = match &bath {
+            Bath::Gaussian(b) => self.drive(b, until, max_events, max_collisions, sample),
+            Bath::PowerLaw(b) => self.drive(b, until, max_events, max_collisions, sample),
+            Bath::Tabulated(b) => self.drive(b.as_ref(), until, max_events, max_collisions, sample),
+        };
+        self.params.bath = bath;
+        r
+    }
+
+    /// Advances to `until` without any averaging (used by ensembles).
+    pub fn evolve_to(&mut self, until: f64) {
+        // Errors only signal a non-finite velocity, impossible for finite parameters; the
+        // state is left at the failing event in that case.
+        let _ = self.drive_dispatch(until, u64::MAX, u64::MAX, false);
     }
 
     /// Runs until `collisions` more collisions have happened (then stops right after the
     /// last one), averaging on the grid.
     pub fn run_collisions(&mut self, collisions: u64) {
         let target = self.collisions + collisions;
-        while self.collisions < target {
-            let te = self.next_event;
-            self.sample_grid(te, false);
-            self.time = te;
-            self.events += 1;
-            if let Some(v) = self.params.event(self.v1, &mut self.rng) {
-                self.v1 = v;
-                self.collisions += 1;
-            }
-            self.next_event = self.params.next_candidate(self.v1, te, &mut self.rng);
-        }
+        // Stops before the next event; the time is that of the last collision.
+        let _ = self.drive_dispatch(f64::INFINITY, u64::MAX, target, true);
     }
 
     /// The stationary averages so far.
@@ -413,31 +466,7 @@ impl Engine for Intruder1d {
         1
     }
     fn advance(&mut self, until: f64, max_events: u64) -> Result<Progress, EngineError> {
-        let mut budget = max_events;
-        while self.next_event <= until {
-            if budget == 0 {
-                return Ok(Progress::BudgetExhausted);
-            }
-            budget -= 1;
-            let te = self.next_event;
-            self.sample_grid(te, false);
-            self.time = te;
-            self.events += 1;
-            if let Some(v) = self.params.event(self.v1, &mut self.rng) {
-                self.v1 = v;
-                self.collisions += 1;
-            }
-            if !self.v1.is_finite() {
-                return Err(EngineError::Numerical(format!(
-                    "intruder velocity became {} at t = {te}",
-                    self.v1
-                )));
-            }
-            self.next_event = self.params.next_candidate(self.v1, te, &mut self.rng);
-        }
-        self.sample_grid(until, true);
-        self.time = until;
-        Ok(Progress::Reached)
+        self.drive_dispatch(until, max_events, u64::MAX, true)
     }
     fn scalars(&mut self) -> Vec<Scalar> {
         let s = self.summary();
