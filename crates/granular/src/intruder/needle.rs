@@ -690,6 +690,23 @@ mod tests {
     }
 
     #[test]
+    fn config_round_trips_and_rejects_unknown_fields() {
+        let c = NeedleConfig {
+            moment_of_inertia: Some(0.2),
+            method: NeedleMethod::Paper,
+            ..Default::default()
+        };
+        let text = toml::to_string(&c).unwrap();
+        assert_eq!(toml::from_str::<NeedleConfig>(&text).unwrap(), c);
+        assert!(toml::from_str::<NeedleConfig>("lenght = 2.0").is_err());
+        let bad = NeedleConfig {
+            length: -1.0,
+            ..Default::default()
+        };
+        assert!(Needle::new(&bad, 1).is_err());
+    }
+
+    #[test]
     fn small_omega_branch_is_continuous() {
         let a: f64 = 1.7;
         let l = 0.8;

@@ -522,6 +522,9 @@ pub struct EnsembleResult {
     pub temperature: Vec<Estimate>,
     /// `<v1>(t)` with its error over independent walkers.
     pub mean_velocity: Vec<Estimate>,
+    /// The walkers' velocities, `velocities[k][w]` at output time `k` (independent
+    /// samples of `F(v1, t_k)`).
+    pub velocities: Vec<Vec<f64>>,
 }
 
 /// Runs `walkers` independent intruders (walker `w` uses the streams
@@ -578,6 +581,7 @@ pub fn run_ensemble(
         histograms: Vec::new(),
         temperature: Vec::new(),
         mean_velocity: Vec::new(),
+        velocities: Vec::new(),
     };
     for k in 0..times.len() {
         let mut h = Histogram::new(-hmax, hmax, cfg.histogram_bins);
@@ -588,6 +592,9 @@ pub fn run_ensemble(
             s2.push(params.mass * v * v);
         }
         result.histograms.push(h);
+        result
+            .velocities
+            .push(per_walker.iter().map(|p| p[k]).collect());
         result.mean_velocity.push(Estimate {
             mean: s1.mean(),
             error: s1.standard_error(),
@@ -633,6 +640,8 @@ mod tests {
         let c: Intruder1dConfig =
             toml::from_str("mass = 2.0\n[bath]\nkind = \"power-law\"\ntemperature = 1.0").unwrap();
         assert_eq!(c.mass, 2.0);
+        let text = toml::to_string(&c).unwrap();
+        assert_eq!(toml::from_str::<Intruder1dConfig>(&text).unwrap(), c);
         let bad = Intruder1dConfig {
             restitution: 1.5,
             ..Default::default()
