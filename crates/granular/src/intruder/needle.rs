@@ -28,7 +28,7 @@
 //! `g.n = v_n + omega x - v` (relative normal velocity at the impact point),
 //! `v1' = v1 + n Delta p / M`, `omega' = omega + x Delta p / I`.
 
-use std::f64::consts::{PI, TAU};
+use std::f64::consts::TAU;
 
 use rand_distr::Exp1;
 use serde::{Deserialize, Serialize};
@@ -36,7 +36,7 @@ use serde::{Deserialize, Serialize};
 use super::bath::{BathDistribution, BathError, FRAC_1_SQRT_PI, Gaussian, Side, gaussian_h};
 use super::observables::{Estimate, GridSeries};
 use crate::engine::{Engine, EngineError, Progress, Scalar};
-use crate::random::{DYNAMICS, RngExt, Stream, open01, stream};
+use crate::random::{DYNAMICS, RngExt, Stream, stream};
 use crate::stats::Histogram;
 
 /// Which exact event sampler drives the needle.
@@ -661,14 +661,10 @@ impl Engine for Needle {
     }
 }
 
-/// A uniform angle in `[0, 2 pi)` (for randomised initial orientations).
-pub fn random_angle(rng: &mut Stream) -> f64 {
-    2.0 * PI * open01(rng)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::f64::consts::PI;
 
     /// Eq. 22 (a = L = 1) reproduced by the general closed form.
     #[test]

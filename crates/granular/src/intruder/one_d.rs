@@ -30,7 +30,7 @@ use super::bath::{Bath, BathConfig, BathDistribution, BathError, Gaussian, Side}
 use super::observables::{Estimate, GridSeries, hist_push};
 use super::theory;
 use crate::engine::{Engine, EngineError, Progress, Scalar};
-use crate::random::{DYNAMICS, INITIAL_STATE, MEMBER, RngExt, Stream, open01, stream};
+use crate::random::{DYNAMICS, INITIAL_STATE, MEMBER, RngExt, Stream, stream};
 use crate::stats::{Histogram, RunningStats};
 
 /// Which exact event sampler drives the 1D intruder.
@@ -605,12 +605,6 @@ pub fn run_ensemble(
         });
     }
     Ok(result)
-}
-
-/// A uniform deviate for callers that need one from the intruder's conventions.
-#[doc(hidden)]
-pub fn uniform(rng: &mut Stream) -> f64 {
-    open01(rng)
 }
 
 #[cfg(test)]
