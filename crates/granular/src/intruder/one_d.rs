@@ -14,7 +14,7 @@
 //!   collision kernel of Eq. 8 (total rate Eq. 7; the side is the sign of `v1 - v`, so the
 //!   side and the bath velocity are jointly distributed as Eqs. 11-13). Rejected candidates
 //!   leave the state unchanged and `v1` is constant between accepted events, so the bound
-//!   stays valid. Acceptance `phi(v1)/Lambda`: 1 at `v1 = 0`, >= 0.65 for the Gaussian.
+//!   stays valid. Acceptance `phi(v1)/Lambda`: 1 at `v1 = 0`, >= 0.648 for the Gaussian (minimum at sqrt(a)|v1| = 0.66).
 //!
 //! After a collision with a bath particle of velocity `v`:
 //! `v1' = v1 + (1 + alpha) m/(m + M) (v - v1)` (Eq. 17 with the bath mass `m` kept).
