@@ -351,6 +351,10 @@ pub struct Needle {
     events: u64,
     collisions: u64,
     newton_iterations: u64,
+    /// Cached `U = |v1| + |omega| L/2` and `1/(rho L (U + <|v|>))` (thinning), updated at
+    /// every collision.
+    bound: f64,
+    inv_rate: f64,
     rng: Stream,
     dt: f64,
     transient: f64,
@@ -417,6 +421,8 @@ impl Needle {
             events: 0,
             collisions: 0,
             newton_iterations: 0,
+            bound: 0.0,
+            inv_rate: 0.0,
             rng: stream(seed, &[DYNAMICS]),
             dt,
             transient,
@@ -426,6 +432,7 @@ impl Needle {
             omega_hist: Histogram::new(-sw, sw, cfg.histogram_bins),
             params,
         };
+        n.refresh_bound();
         n.next_event = n.draw_next_event(0.0);
         Ok(n)
     }
@@ -447,6 +454,12 @@ impl Needle {
         (self.theta + self.omega * (self.time - self.theta_time)).rem_euclid(TAU)
     }
 
+    fn refresh_bound(&mut self) {
+        let p = &self.params;
+        self.bound = self.bound_speed();
+        self.inv_rate = 1.0 / (p.rho * p.length * (self.bound + p.bath.mean_speed()));
+    }
+
     fn bound_speed(&self) -> f64 {
         (self.v[0] * self.v[0] + self.v[1] * self.v[1]).sqrt()
             + 0.5 * self.omega.abs() * self.params.length
@@ -456,10 +469,7 @@ impl Needle {
     fn draw_next_event(&mut self, t: f64) -> f64 {
         let e: f64 = self.rng.sample(Exp1);
         match self.params.method {
-            NeedleMethod::Thinning => {
-                let p = &self.params;
-                t + e / (p.rho * p.length * (self.bound_speed() + p.bath.mean_speed()))
-            }
+            NeedleMethod::Thinning => t + e * self.inv_rate,
             NeedleMethod::Paper => {
                 let theta_t = self.theta + self.omega * (t - self.theta_time);
                 let (tau, it) = self.params.collision_time(self.v, self.omega, theta_t, e);
@@ -483,7 +493,7 @@ impl Needle {
             NeedleMethod::Thinning => {
                 let x = half * (2.0 * self.rng.random::<f64>() - 1.0);
                 let u = vn + self.omega * x;
-                let bound = self.bound_speed();
+                let bound = self.bound;
                 let vb = if self.rng.random::<f64>() * (bound + p.bath.mean_speed()) < bound {
                     p.bath.sample(&mut self.rng)
                 } else {
@@ -526,6 +536,7 @@ impl Needle {
         self.v[0] += n[0] * dp / p.mass;
         self.v[1] += n[1] * dp / p.mass;
         self.omega += x * dp / p.inertia;
+        self.refresh_bound();
         true
     }
 

@@ -186,19 +186,13 @@ impl Intruder1dParams {
         1.0 / (self.kick * self.rho * self.mean_speed)
     }
 
-    /// Draws the time to the next candidate event from `t` and returns it (absolute time).
+    /// `1/rate` of candidate events at intruder velocity `v1`: `1/(rho (|v1| + <|v|>))`
+    /// (thinning) or `1/phi(v1)` (Eq. 10). Constant between collisions.
     #[inline]
-    fn next_candidate<B: BathDistribution>(
-        &self,
-        bath: &B,
-        v1: f64,
-        t: f64,
-        rng: &mut Stream,
-    ) -> f64 {
-        let e: f64 = rng.sample(Exp1);
+    fn inverse_rate<B: BathDistribution>(&self, bath: &B, v1: f64) -> f64 {
         match self.method {
-            Method1d::Thinning => t + e / (self.rho * (v1.abs() + self.mean_speed)),
-            Method1d::Direct => t + e / (self.rho * bath.flux(v1)), // Eq. 10
+            Method1d::Thinning => 1.0 / (self.rho * (v1.abs() + self.mean_speed)),
+            Method1d::Direct => 1.0 / (self.rho * bath.flux(v1)),
         }
     }
 
@@ -302,7 +296,8 @@ impl Intruder1d {
         let hmax = cfg
             .histogram_max
             .unwrap_or(6.0 * (params.bath_temperature / params.mass).sqrt());
-        let next_event = params.next_candidate(&params.bath, v1, 0.0, &mut rng);
+        let e: f64 = rng.sample(Exp1);
+        let next_event = e * params.inverse_rate(&params.bath, v1);
         Self {
             v1,
             time: 0.0,
@@ -359,6 +354,7 @@ impl Intruder1d {
         sample: bool,
     ) -> Result<Progress, EngineError> {
         let mut budget = max_events;
+        let mut inv_rate = self.params.inverse_rate(bath, self.v1);
         while self.next_event <= until {
             if budget == 0 || self.collisions >= max_collisions {
                 return Ok(Progress::BudgetExhausted);
@@ -378,8 +374,10 @@ impl Intruder1d {
                 }
                 self.v1 = v;
                 self.collisions += 1;
+                inv_rate = self.params.inverse_rate(bath, v);
             }
-            self.next_event = self.params.next_candidate(bath, self.v1, te, &mut self.rng);
+            let e: f64 = self.rng.sample(Exp1);
+            self.next_event = te + e * inv_rate; // Eq. 10 (or the thinning rate)
         }
         if sample {
             self.sample_grid(until, true);
