@@ -491,15 +491,26 @@ fn power_law_bath_with_mass_ratio_alpha_gives_eq_19() {
         .unwrap();
         let c = chi_square_test(&res.histograms[0], |v| bath.cdf(v));
         assert!(c.p_value > P_MIN, "alpha {alpha}: {c:?}");
-        // Stationary time average: T = alpha T_B (heavy tail: <v^4> is infinite, so only
-        // the temperature is checked, with a long run).
+        // v1^2 has a tail P(v1^2 > y) ~ y^(-3/2): its variance is infinite, so the
+        // temperature itself has no valid standard error. Check instead the truncated
+        // moment <min(v1^2, 9/a)> over independent walkers (bounded, so the error is valid)
+        // against the exact value under Eq. 19, and the time-averaged temperature of a
+        // stationary run only to 5 percent.
+        let cap = 9.0 / bath.a;
+        let mut st = granular::stats::RunningStats::new();
+        for &v in &res.velocities[0] {
+            st.push((v * v).min(cap));
+        }
+        let want = 2.0 * half_line(|u| (u * u).min(cap) * bath.density(u));
+        let e = Estimate {
+            mean: st.mean(),
+            error: st.standard_error(),
+        };
+        assert_within(e, want, &format!("truncated <v^2>, alpha {alpha}"));
         let mut e = Intruder1d::new(&cfg, 70 + i as u64).unwrap();
         e.run_collisions(3_000_000);
-        assert_within(
-            e.summary().temperature_ratio,
-            alpha,
-            &format!("power law alpha {alpha}"),
-        );
+        let t = e.summary().temperature_ratio.mean;
+        assert!((t / alpha - 1.0).abs() < 0.05, "T/T_B = {t}, want {alpha}");
     }
 }
 

@@ -141,6 +141,7 @@ pub struct Gaussian {
     /// The paper's `a` (inverse squared velocity).
     pub a: f64,
     s: f64,
+    inv_s: f64,
 }
 
 impl Gaussian {
@@ -149,7 +150,11 @@ impl Gaussian {
         if !(a > 0.0 && a.is_finite()) {
             return Err(BathError::Parameter(format!("a must be positive, got {a}")));
         }
-        Ok(Self { a, s: a.sqrt() })
+        Ok(Self {
+            a,
+            s: a.sqrt(),
+            inv_s: 1.0 / a.sqrt(),
+        })
     }
 
     /// Gaussian of temperature `t_b` for bath particles of mass `m` (`a = m/(2 T_B)`).
@@ -301,20 +306,20 @@ impl BathDistribution for Gaussian {
     }
     #[inline]
     fn sample(&self, rng: &mut Stream) -> f64 {
-        rng.sample::<f64, _>(StandardNormal) * FRAC_1_SQRT_2 / self.s
+        rng.sample::<f64, _>(StandardNormal) * (FRAC_1_SQRT_2 * self.inv_s)
     }
     #[inline]
     fn sample_speed_weighted(&self, rng: &mut Stream) -> f64 {
         // |v| f(v) ∝ |v| exp(-a v^2): a v^2 ~ Exp(1), symmetric sign.
         let e: f64 = rng.sample(Exp1);
-        let r = e.sqrt() / self.s;
+        let r = e.sqrt() * self.inv_s;
         if rng.random::<bool>() { r } else { -r }
     }
     #[inline]
     fn sample_colliding(&self, side: Side, v1: f64, rng: &mut Stream) -> f64 {
         match side {
-            Side::Right => v1 - sample_w_gaussian(self.s * v1, rng) / self.s,
-            Side::Left => v1 + sample_w_gaussian(-self.s * v1, rng) / self.s,
+            Side::Right => v1 - sample_w_gaussian(self.s * v1, rng) * self.inv_s,
+            Side::Left => v1 + sample_w_gaussian(-self.s * v1, rng) * self.inv_s,
         }
     }
 }
@@ -334,6 +339,7 @@ pub struct PowerLaw {
     /// The paper's `a` in Eq. 19.
     pub a: f64,
     s: f64,
+    inv_s: f64,
 }
 
 /// `sqrt(2)/pi`, the normalisation of `1/(1+y^4)`.
@@ -433,7 +439,11 @@ impl PowerLaw {
         if !(a > 0.0 && a.is_finite()) {
             return Err(BathError::Parameter(format!("a must be positive, got {a}")));
         }
-        Ok(Self { a, s: a.sqrt() })
+        Ok(Self {
+            a,
+            s: a.sqrt(),
+            inv_s: 1.0 / a.sqrt(),
+        })
     }
     /// Power law of temperature `T_B = m <v^2> = m / a`.
     pub fn with_temperature(t_b: f64, m: f64) -> Result<Self, BathError> {
@@ -484,14 +494,14 @@ impl BathDistribution for PowerLaw {
             let y = (PI * (rng.random::<f64>() - 0.5)).tan();
             let y2 = y * y;
             if rng.random::<f64>() * K * (1.0 + y2 * y2) <= 1.0 + y2 {
-                return y / self.s;
+                return y * self.inv_s;
             }
         }
     }
     fn sample_speed_weighted(&self, rng: &mut Stream) -> f64 {
         // |y|/(1+y^4) dy = (1/2) dz/(1+z^2) with z = y^2: z = tan(pi U / 2).
         let z = (0.5 * PI * open01(rng)).tan();
-        let r = z.sqrt() / self.s;
+        let r = z.sqrt() * self.inv_s;
         if rng.random::<bool>() { r } else { -r }
     }
     fn sample_colliding(&self, side: Side, v1: f64, rng: &mut Stream) -> f64 {

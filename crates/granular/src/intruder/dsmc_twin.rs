@@ -59,7 +59,7 @@ pub struct DsmcTwin {
     rng: Stream,
     dt: f64,
     next_sample: f64,
-    series: GridSeries,
+    series: GridSeries<3>,
     histogram: Histogram,
     inv_bin_width: f64,
 }
@@ -103,7 +103,7 @@ impl DsmcTwin {
             rng: stream(seed, &[DYNAMICS]),
             dt,
             next_sample: transient,
-            series: GridSeries::new(3, 64),
+            series: GridSeries::new(64),
             histogram: Histogram::new(-hmax, hmax, cfg.intruder.histogram_bins),
             inv_bin_width: cfg.intruder.histogram_bins as f64 / (2.0 * hmax),
         })
@@ -119,7 +119,7 @@ impl DsmcTwin {
             let t = self.time + e / self.omega_max;
             while self.next_sample < t {
                 let v = self.v1;
-                self.series.push(&[v, v * v, v * v * v * v]);
+                self.series.push([v, v * v, v * v * v * v]);
                 hist_push(&mut self.histogram, self.inv_bin_width, v);
                 self.next_sample += self.dt;
             }

@@ -9,7 +9,7 @@
 //! * [`dsmc_twin`]: the DSMC version of the 1D intruder (section 4);
 //! * [`theory`]: exact results (Eq. 18, the power-law case `M/m = alpha`);
 //! * [`figures`]: the data of the paper's figures as tables;
-//! * [`bench`]: collision-rate measurement.
+//! * [`mod@bench`]: collision-rate measurement.
 //!
 //! Units: `k_B = 1`; a temperature is `mass * <v_component^2>`. The bath mass `m`
 //! (default 1) and the bath density `rho` set the collision rate.

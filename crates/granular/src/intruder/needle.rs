@@ -28,7 +28,7 @@
 //! `g.n = v_n + omega x - v` (relative normal velocity at the impact point),
 //! `v1' = v1 + n Delta p / M`, `omega' = omega + x Delta p / I`.
 
-use std::f64::consts::{PI, TAU};
+use std::f64::consts::TAU;
 
 use rand_distr::Exp1;
 use serde::{Deserialize, Serialize};
@@ -36,7 +36,7 @@ use serde::{Deserialize, Serialize};
 use super::bath::{BathDistribution, BathError, FRAC_1_SQRT_PI, Gaussian, Side, gaussian_h};
 use super::observables::{Estimate, GridSeries};
 use crate::engine::{Engine, EngineError, Progress, Scalar};
-use crate::random::{DYNAMICS, RngExt, Stream, open01, stream};
+use crate::random::{DYNAMICS, RngExt, Stream, stream};
 use crate::stats::Histogram;
 
 /// Which exact event sampler drives the needle.
@@ -351,12 +351,16 @@ pub struct Needle {
     events: u64,
     collisions: u64,
     newton_iterations: u64,
+    /// Cached `U = |v1| + |omega| L/2` and `1/(rho L (U + <|v|>))` (thinning), updated at
+    /// every collision.
+    bound: f64,
+    inv_rate: f64,
     rng: Stream,
     dt: f64,
     transient: f64,
     next_sample: f64,
     /// Grid samples of `v^2, omega^2, v^2 omega^2, vx, vy, omega`.
-    series: GridSeries,
+    series: GridSeries<6>,
     component_hist: Histogram,
     omega_hist: Histogram,
 }
@@ -417,15 +421,18 @@ impl Needle {
             events: 0,
             collisions: 0,
             newton_iterations: 0,
+            bound: 0.0,
+            inv_rate: 0.0,
             rng: stream(seed, &[DYNAMICS]),
             dt,
             transient,
             next_sample: transient,
-            series: GridSeries::new(6, 64),
+            series: GridSeries::new(64),
             component_hist: Histogram::new(-sv, sv, cfg.histogram_bins),
             omega_hist: Histogram::new(-sw, sw, cfg.histogram_bins),
             params,
         };
+        n.refresh_bound();
         n.next_event = n.draw_next_event(0.0);
         Ok(n)
     }
@@ -447,6 +454,12 @@ impl Needle {
         (self.theta + self.omega * (self.time - self.theta_time)).rem_euclid(TAU)
     }
 
+    fn refresh_bound(&mut self) {
+        let p = &self.params;
+        self.bound = self.bound_speed();
+        self.inv_rate = 1.0 / (p.rho * p.length * (self.bound + p.bath.mean_speed()));
+    }
+
     fn bound_speed(&self) -> f64 {
         (self.v[0] * self.v[0] + self.v[1] * self.v[1]).sqrt()
             + 0.5 * self.omega.abs() * self.params.length
@@ -456,10 +469,7 @@ impl Needle {
     fn draw_next_event(&mut self, t: f64) -> f64 {
         let e: f64 = self.rng.sample(Exp1);
         match self.params.method {
-            NeedleMethod::Thinning => {
-                let p = &self.params;
-                t + e / (p.rho * p.length * (self.bound_speed() + p.bath.mean_speed()))
-            }
+            NeedleMethod::Thinning => t + e * self.inv_rate,
             NeedleMethod::Paper => {
                 let theta_t = self.theta + self.omega * (t - self.theta_time);
                 let (tau, it) = self.params.collision_time(self.v, self.omega, theta_t, e);
@@ -483,7 +493,7 @@ impl Needle {
             NeedleMethod::Thinning => {
                 let x = half * (2.0 * self.rng.random::<f64>() - 1.0);
                 let u = vn + self.omega * x;
-                let bound = self.bound_speed();
+                let bound = self.bound;
                 let vb = if self.rng.random::<f64>() * (bound + p.bath.mean_speed()) < bound {
                     p.bath.sample(&mut self.rng)
                 } else {
@@ -526,6 +536,7 @@ impl Needle {
         self.v[0] += n[0] * dp / p.mass;
         self.v[1] += n[1] * dp / p.mass;
         self.omega += x * dp / p.inertia;
+        self.refresh_bound();
         true
     }
 
@@ -535,7 +546,7 @@ impl Needle {
             let v2 = self.v[0] * self.v[0] + self.v[1] * self.v[1];
             let w2 = self.omega * self.omega;
             self.series
-                .push(&[v2, w2, v2 * w2, self.v[0], self.v[1], self.omega]);
+                .push([v2, w2, v2 * w2, self.v[0], self.v[1], self.omega]);
             self.component_hist.push(self.v[0]);
             self.component_hist.push(self.v[1]);
             self.omega_hist.push(self.omega);
@@ -661,14 +672,10 @@ impl Engine for Needle {
     }
 }
 
-/// A uniform angle in `[0, 2 pi)` (for randomised initial orientations).
-pub fn random_angle(rng: &mut Stream) -> f64 {
-    2.0 * PI * open01(rng)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::f64::consts::PI;
 
     /// Eq. 22 (a = L = 1) reproduced by the general closed form.
     #[test]
@@ -687,6 +694,23 @@ mod tests {
                 "{vn} {w}: {ours} vs {e22}"
             );
         }
+    }
+
+    #[test]
+    fn config_round_trips_and_rejects_unknown_fields() {
+        let c = NeedleConfig {
+            moment_of_inertia: Some(0.2),
+            method: NeedleMethod::Paper,
+            ..Default::default()
+        };
+        let text = toml::to_string(&c).unwrap();
+        assert_eq!(toml::from_str::<NeedleConfig>(&text).unwrap(), c);
+        assert!(toml::from_str::<NeedleConfig>("lenght = 2.0").is_err());
+        let bad = NeedleConfig {
+            length: -1.0,
+            ..Default::default()
+        };
+        assert!(Needle::new(&bad, 1).is_err());
     }
 
     #[test]

@@ -30,53 +30,58 @@ impl Estimate {
 /// Number of batches used for batch-means errors.
 pub const BATCHES: usize = 32;
 
-/// Accumulates `n` quantities sampled on a fixed time grid, in blocks of `block_len`
+/// Accumulates `N` quantities sampled on a fixed time grid, in blocks of `block_len`
 /// consecutive samples; the block means are the input of the batch-means error estimate
-/// (`crate::stats::batch_means`), so the memory is `n * samples / block_len`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct GridSeries {
-    n: usize,
-    block_len: usize,
-    in_block: usize,
-    sums: Vec<f64>,
-    /// Block means, `n` per block, block-major.
-    blocks: Vec<f64>,
-    /// Sum of all samples, per quantity (for the overall mean).
-    totals: Vec<f64>,
+/// (`crate::stats::batch_means`), so the memory is `N * samples / block_len`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GridSeries<const N: usize> {
+    block_len: u32,
+    in_block: u32,
+    sums: [f64; N],
+    /// Block means, block-major.
+    blocks: Vec<[f64; N]>,
+    /// Sum of the completed blocks' sums (for the overall mean).
+    totals: [f64; N],
     count: u64,
 }
 
-impl GridSeries {
-    /// `n` quantities, blocks of `block_len` samples.
-    pub fn new(n: usize, block_len: usize) -> Self {
+impl<const N: usize> GridSeries<N> {
+    /// Blocks of `block_len` samples.
+    pub fn new(block_len: u32) -> Self {
         Self {
-            n,
             block_len: block_len.max(1),
             in_block: 0,
-            sums: vec![0.0; n],
+            sums: [0.0; N],
             blocks: Vec::new(),
-            totals: vec![0.0; n],
+            totals: [0.0; N],
             count: 0,
         }
     }
 
-    /// Adds one grid sample (`values.len() == n`).
+    /// Adds one grid sample.
     #[inline]
-    pub fn push(&mut self, values: &[f64]) {
-        for (s, &x) in self.sums.iter_mut().zip(values) {
+    pub fn push(&mut self, values: [f64; N]) {
+        for (s, x) in self.sums.iter_mut().zip(values) {
             *s += x;
         }
         self.in_block += 1;
         self.count += 1;
         if self.in_block == self.block_len {
-            let inv = 1.0 / self.block_len as f64;
-            for (s, t) in self.sums.iter_mut().zip(self.totals.iter_mut()) {
-                self.blocks.push(*s * inv);
-                *t += *s;
-                *s = 0.0;
-            }
-            self.in_block = 0;
+            self.close_block();
         }
+    }
+
+    #[cold]
+    fn close_block(&mut self) {
+        let inv = 1.0 / f64::from(self.block_len);
+        let mut means = [0.0; N];
+        for ((m, t), s) in means.iter_mut().zip(&mut self.totals).zip(&mut self.sums) {
+            *m = *s * inv;
+            *t += *s;
+            *s = 0.0;
+        }
+        self.blocks.push(means);
+        self.in_block = 0;
     }
 
     /// Number of samples.
@@ -95,12 +100,7 @@ impl GridSeries {
 
     /// Block means of quantity `q`.
     pub fn block_means(&self, q: usize) -> Vec<f64> {
-        self.blocks
-            .iter()
-            .skip(q)
-            .step_by(self.n)
-            .copied()
-            .collect()
+        self.blocks.iter().map(|b| b[q]).collect()
     }
 
     /// Mean of quantity `q` over all samples and its batch-means standard error (NaN error
@@ -120,9 +120,12 @@ impl GridSeries {
 
     /// Estimate of `g(means of the quantities)` from per-batch values of `g` (batch means
     /// of a smooth function; its bias is of order 1/(samples per batch)).
-    pub fn estimate_fn(&self, g: impl Fn(&[f64]) -> f64) -> Estimate {
-        let nblocks = self.blocks.len() / self.n.max(1);
-        let overall: Vec<f64> = (0..self.n).map(|q| self.mean(q)).collect();
+    pub fn estimate_fn(&self, g: impl Fn(&[f64; N]) -> f64) -> Estimate {
+        let nblocks = self.blocks.len();
+        let mut overall = [0.0; N];
+        for (q, o) in overall.iter_mut().enumerate() {
+            *o = self.mean(q);
+        }
         let mean = g(&overall);
         if nblocks < 2 {
             return Estimate {
@@ -133,15 +136,11 @@ impl GridSeries {
         let batches = BATCHES.min(nblocks);
         let per = nblocks / batches;
         let mut st = RunningStats::new();
-        let mut buf = vec![0.0; self.n];
         for b in 0..batches {
-            buf.iter_mut().for_each(|x| *x = 0.0);
-            for k in b * per..(b + 1) * per {
-                for (b, x) in buf
-                    .iter_mut()
-                    .zip(&self.blocks[k * self.n..(k + 1) * self.n])
-                {
-                    *b += x;
+            let mut buf = [0.0; N];
+            for block in &self.blocks[b * per..(b + 1) * per] {
+                for (x, y) in buf.iter_mut().zip(block) {
+                    *x += y;
                 }
             }
             buf.iter_mut().for_each(|x| *x /= per as f64);

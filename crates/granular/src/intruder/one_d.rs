@@ -14,7 +14,7 @@
 //!   collision kernel of Eq. 8 (total rate Eq. 7; the side is the sign of `v1 - v`, so the
 //!   side and the bath velocity are jointly distributed as Eqs. 11-13). Rejected candidates
 //!   leave the state unchanged and `v1` is constant between accepted events, so the bound
-//!   stays valid. Acceptance `phi(v1)/Lambda`: 1 at `v1 = 0`, >= 0.65 for the Gaussian.
+//!   stays valid. Acceptance `phi(v1)/Lambda`: 1 at `v1 = 0`, >= 0.648 for the Gaussian (minimum at sqrt(a)|v1| = 0.66).
 //!
 //! After a collision with a bath particle of velocity `v`:
 //! `v1' = v1 + (1 + alpha) m/(m + M) (v - v1)` (Eq. 17 with the bath mass `m` kept).
@@ -26,11 +26,11 @@ use rand_distr::Exp1;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::bath::{Bath, BathConfig, BathDistribution, BathError, Side};
+use super::bath::{Bath, BathConfig, BathDistribution, BathError, Gaussian, Side};
 use super::observables::{Estimate, GridSeries, hist_push};
 use super::theory;
 use crate::engine::{Engine, EngineError, Progress, Scalar};
-use crate::random::{DYNAMICS, INITIAL_STATE, MEMBER, RngExt, Stream, open01, stream};
+use crate::random::{DYNAMICS, INITIAL_STATE, MEMBER, RngExt, Stream, stream};
 use crate::stats::{Histogram, RunningStats};
 
 /// Which exact event sampler drives the 1D intruder.
@@ -186,26 +186,26 @@ impl Intruder1dParams {
         1.0 / (self.kick * self.rho * self.mean_speed)
     }
 
-    /// Draws the time to the next candidate event from `t` and returns it (absolute time).
+    /// `1/rate` of candidate events at intruder velocity `v1`: `1/(rho (|v1| + <|v|>))`
+    /// (thinning) or `1/phi(v1)` (Eq. 10). Constant between collisions.
     #[inline]
-    fn next_candidate(&self, v1: f64, t: f64, rng: &mut Stream) -> f64 {
-        let e: f64 = rng.sample(Exp1);
+    fn inverse_rate<B: BathDistribution>(&self, bath: &B, v1: f64) -> f64 {
         match self.method {
-            Method1d::Thinning => t + e / (self.rho * (v1.abs() + self.mean_speed)),
-            Method1d::Direct => t + e / (self.rho * self.bath.flux(v1)), // Eq. 10
+            Method1d::Thinning => 1.0 / (self.rho * (v1.abs() + self.mean_speed)),
+            Method1d::Direct => 1.0 / (self.rho * bath.flux(v1)),
         }
     }
 
     /// Processes the candidate event; returns the new velocity if a collision happened.
     #[inline]
-    fn event(&self, v1: f64, rng: &mut Stream) -> Option<f64> {
+    fn event<B: BathDistribution>(&self, bath: &B, v1: f64, rng: &mut Stream) -> Option<f64> {
         let v = match self.method {
             Method1d::Thinning => {
                 let av1 = v1.abs();
                 let v = if rng.random::<f64>() * (av1 + self.mean_speed) < av1 {
-                    self.bath.sample(rng)
+                    bath.sample(rng)
                 } else {
-                    self.bath.sample_speed_weighted(rng)
+                    bath.sample_speed_weighted(rng)
                 };
                 if rng.random::<f64>() * (av1 + v.abs()) >= (v - v1).abs() {
                     return None;
@@ -213,14 +213,14 @@ impl Intruder1dParams {
                 v
             }
             Method1d::Direct => {
-                let plus = self.bath.flux_plus(v1);
-                let minus = self.bath.flux_minus(v1);
+                let plus = bath.flux_plus(v1);
+                let minus = bath.flux_minus(v1);
                 let side = if rng.random::<f64>() * (plus + minus) < plus {
                     Side::Right // Eq. 11
                 } else {
                     Side::Left
                 };
-                self.bath.sample_colliding(side, v1, rng) // Eqs. 12-13
+                bath.sample_colliding(side, v1, rng) // Eqs. 12-13
             }
         };
         Some(v1 + self.kick * (v - v1)) // Eq. 17
@@ -242,7 +242,7 @@ pub struct Intruder1d {
     transient: f64,
     next_sample: f64,
     /// Grid samples of `v1, v1^2, v1^4`.
-    series: GridSeries,
+    series: GridSeries<3>,
     histogram: Histogram,
     inv_bin_width: f64,
 }
@@ -296,7 +296,8 @@ impl Intruder1d {
         let hmax = cfg
             .histogram_max
             .unwrap_or(6.0 * (params.bath_temperature / params.mass).sqrt());
-        let next_event = params.next_candidate(v1, 0.0, &mut rng);
+        let e: f64 = rng.sample(Exp1);
+        let next_event = e * params.inverse_rate(&params.bath, v1);
         Self {
             v1,
             time: 0.0,
@@ -307,7 +308,7 @@ impl Intruder1d {
             dt,
             transient,
             next_sample: transient,
-            series: GridSeries::new(3, 64),
+            series: GridSeries::new(64),
             histogram: Histogram::new(-hmax, hmax, cfg.histogram_bins),
             inv_bin_width: cfg.histogram_bins as f64 / (2.0 * hmax),
             params,
@@ -334,43 +335,93 @@ impl Intruder1d {
         while self.next_sample < upto || (inclusive && self.next_sample == upto) {
             let v = self.v1;
             let v2 = v * v;
-            self.series.push(&[v, v2, v2 * v2]);
+            self.series.push([v, v2, v2 * v2]);
             hist_push(&mut self.histogram, self.inv_bin_width, v);
             self.next_sample += self.dt;
         }
     }
 
-    /// Advances to `until` without any averaging (used by ensembles).
-    pub fn evolve_to(&mut self, until: f64) {
+    /// The event loop, monomorphised for the bath type. Stops before the first event
+    /// after `until`, after `max_events` events or when the collision count reaches
+    /// `max_collisions`; grid sampling only when `sample`.
+    #[inline]
+    fn drive<B: BathDistribution>(
+        &mut self,
+        bath: &B,
+        until: f64,
+        max_events: u64,
+        max_collisions: u64,
+        sample: bool,
+    ) -> Result<Progress, EngineError> {
+        let mut budget = max_events;
+        let mut inv_rate = self.params.inverse_rate(bath, self.v1);
         while self.next_event <= until {
-            self.time = self.next_event;
+            if budget == 0 || self.collisions >= max_collisions {
+                return Ok(Progress::BudgetExhausted);
+            }
+            budget -= 1;
+            let te = self.next_event;
+            if sample {
+                self.sample_grid(te, false);
+            }
+            self.time = te;
             self.events += 1;
-            if let Some(v) = self.params.event(self.v1, &mut self.rng) {
+            if let Some(v) = self.params.event(bath, self.v1, &mut self.rng) {
+                if !v.is_finite() {
+                    return Err(EngineError::Numerical(format!(
+                        "intruder velocity became {v} at t = {te}"
+                    )));
+                }
                 self.v1 = v;
                 self.collisions += 1;
+                inv_rate = self.params.inverse_rate(bath, v);
             }
-            self.next_event = self
-                .params
-                .next_candidate(self.v1, self.time, &mut self.rng);
+            let e: f64 = self.rng.sample(Exp1);
+            self.next_event = te + e * inv_rate; // Eq. 10 (or the thinning rate)
+        }
+        if sample {
+            self.sample_grid(until, true);
         }
         self.time = until;
+        Ok(Progress::Reached)
+    }
+
+    /// Runs [`Self::drive`] with the bath moved out of `params` (so the loop is
+    /// specialised to the bath type without cloning it).
+    fn drive_dispatch(
+        &mut self,
+        until: f64,
+        max_events: u64,
+        max_collisions: u64,
+        sample: bool,
+    ) -> Result<Progress, EngineError> {
+        let placeholder = Bath::Gaussian(match Gaussian::new(1.0) {
+            Ok(g) => g,
+            Err(e) => return Err(EngineError::Numerical(e.to_string())),
+        });
+        let bath = std::mem::replace(&mut self.params.bath, placeholder);
+        let r = match &bath {
+            Bath::Gaussian(b) => self.drive(b, until, max_events, max_collisions, sample),
+            Bath::PowerLaw(b) => self.drive(b, until, max_events, max_collisions, sample),
+            Bath::Tabulated(b) => self.drive(b.as_ref(), until, max_events, max_collisions, sample),
+        };
+        self.params.bath = bath;
+        r
+    }
+
+    /// Advances to `until` without any averaging (used by ensembles).
+    pub fn evolve_to(&mut self, until: f64) {
+        // Errors only signal a non-finite velocity, impossible for finite parameters; the
+        // state is left at the failing event in that case.
+        let _ = self.drive_dispatch(until, u64::MAX, u64::MAX, false);
     }
 
     /// Runs until `collisions` more collisions have happened (then stops right after the
     /// last one), averaging on the grid.
     pub fn run_collisions(&mut self, collisions: u64) {
         let target = self.collisions + collisions;
-        while self.collisions < target {
-            let te = self.next_event;
-            self.sample_grid(te, false);
-            self.time = te;
-            self.events += 1;
-            if let Some(v) = self.params.event(self.v1, &mut self.rng) {
-                self.v1 = v;
-                self.collisions += 1;
-            }
-            self.next_event = self.params.next_candidate(self.v1, te, &mut self.rng);
-        }
+        // Stops before the next event; the time is that of the last collision.
+        let _ = self.drive_dispatch(f64::INFINITY, u64::MAX, target, true);
     }
 
     /// The stationary averages so far.
@@ -413,31 +464,7 @@ impl Engine for Intruder1d {
         1
     }
     fn advance(&mut self, until: f64, max_events: u64) -> Result<Progress, EngineError> {
-        let mut budget = max_events;
-        while self.next_event <= until {
-            if budget == 0 {
-                return Ok(Progress::BudgetExhausted);
-            }
-            budget -= 1;
-            let te = self.next_event;
-            self.sample_grid(te, false);
-            self.time = te;
-            self.events += 1;
-            if let Some(v) = self.params.event(self.v1, &mut self.rng) {
-                self.v1 = v;
-                self.collisions += 1;
-            }
-            if !self.v1.is_finite() {
-                return Err(EngineError::Numerical(format!(
-                    "intruder velocity became {} at t = {te}",
-                    self.v1
-                )));
-            }
-            self.next_event = self.params.next_candidate(self.v1, te, &mut self.rng);
-        }
-        self.sample_grid(until, true);
-        self.time = until;
-        Ok(Progress::Reached)
+        self.drive_dispatch(until, max_events, u64::MAX, true)
     }
     fn scalars(&mut self) -> Vec<Scalar> {
         let s = self.summary();
@@ -493,6 +520,9 @@ pub struct EnsembleResult {
     pub temperature: Vec<Estimate>,
     /// `<v1>(t)` with its error over independent walkers.
     pub mean_velocity: Vec<Estimate>,
+    /// The walkers' velocities, `velocities[k][w]` at output time `k` (independent
+    /// samples of `F(v1, t_k)`).
+    pub velocities: Vec<Vec<f64>>,
 }
 
 /// Runs `walkers` independent intruders (walker `w` uses the streams
@@ -549,6 +579,7 @@ pub fn run_ensemble(
         histograms: Vec::new(),
         temperature: Vec::new(),
         mean_velocity: Vec::new(),
+        velocities: Vec::new(),
     };
     for k in 0..times.len() {
         let mut h = Histogram::new(-hmax, hmax, cfg.histogram_bins);
@@ -559,6 +590,9 @@ pub fn run_ensemble(
             s2.push(params.mass * v * v);
         }
         result.histograms.push(h);
+        result
+            .velocities
+            .push(per_walker.iter().map(|p| p[k]).collect());
         result.mean_velocity.push(Estimate {
             mean: s1.mean(),
             error: s1.standard_error(),
@@ -569,12 +603,6 @@ pub fn run_ensemble(
         });
     }
     Ok(result)
-}
-
-/// A uniform deviate for callers that need one from the intruder's conventions.
-#[doc(hidden)]
-pub fn uniform(rng: &mut Stream) -> f64 {
-    open01(rng)
 }
 
 #[cfg(test)]
@@ -604,6 +632,8 @@ mod tests {
         let c: Intruder1dConfig =
             toml::from_str("mass = 2.0\n[bath]\nkind = \"power-law\"\ntemperature = 1.0").unwrap();
         assert_eq!(c.mass, 2.0);
+        let text = toml::to_string(&c).unwrap();
+        assert_eq!(toml::from_str::<Intruder1dConfig>(&text).unwrap(), c);
         let bad = Intruder1dConfig {
             restitution: 1.5,
             ..Default::default()
