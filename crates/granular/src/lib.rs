@@ -17,6 +17,7 @@ pub mod edmd;
 pub mod engine;
 pub mod intruder;
 pub mod output;
+pub mod quadrature;
 pub mod random;
 pub mod run;
 pub mod scenario;

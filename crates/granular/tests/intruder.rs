@@ -20,28 +20,7 @@ use granular::stats::{Histogram, chi_square_test};
 const Z: f64 = 4.0;
 const P_MIN: f64 = 1e-4;
 
-/// Composite 8-point Gauss-Legendre on `[lo, hi]` with `panels` panels.
-fn gauss_legendre(f: impl Fn(f64) -> f64, lo: f64, hi: f64, panels: usize) -> f64 {
-    const GL: [(f64, f64); 8] = [
-        (-0.960_289_856_497_536_3, 0.101_228_536_290_376_26),
-        (-0.796_666_477_413_626_7, 0.222_381_034_453_374_47),
-        (-0.525_532_409_916_329, 0.313_706_645_877_887_3),
-        (-0.183_434_642_495_649_8, 0.362_683_783_378_362),
-        (0.183_434_642_495_649_8, 0.362_683_783_378_362),
-        (0.525_532_409_916_329, 0.313_706_645_877_887_3),
-        (0.796_666_477_413_626_7, 0.222_381_034_453_374_47),
-        (0.960_289_856_497_536_3, 0.101_228_536_290_376_26),
-    ];
-    let h = (hi - lo) / panels as f64;
-    let mut s = 0.0;
-    for p in 0..panels {
-        let mid = lo + (p as f64 + 0.5) * h;
-        for (x, w) in GL {
-            s += w * f(mid + 0.5 * h * x);
-        }
-    }
-    0.5 * h * s
-}
+use granular::quadrature::gauss_legendre;
 
 /// `int_0^inf g(u) du` by the substitution `u = t/(1-t)`.
 fn half_line(g: impl Fn(f64) -> f64) -> f64 {

@@ -28,6 +28,7 @@
 //! `g.n = v_n + omega x - v` (relative normal velocity at the impact point),
 //! `v1' = v1 + n Delta p / M`, `omega' = omega + x Delta p / I`.
 
+use crate::quadrature::gauss_legendre;
 use std::f64::consts::TAU;
 
 use rand_distr::Exp1;
@@ -226,20 +227,15 @@ impl NeedleParams {
         let speed = (v[0] * v[0] + v[1] * v[1]).sqrt();
         let rate = omega.abs() * (1.0 + speed * self.bath.sqrt_a());
         let panels = ((t1 - t0) * rate / 0.5).ceil().clamp(1.0, 1e7) as usize;
-        let h = (t1 - t0) / panels as f64;
-        let mut sum = 0.0;
-        for p in 0..panels {
-            let mid = t0 + (p as f64 + 0.5) * h;
-            let mut s = 0.0;
-            for (x, w) in GL8 {
-                let t = mid + 0.5 * h * x;
-                let th = theta0 + omega * t;
-                let (sn, cs) = th.sin_cos();
-                s += w * self.total_flux(v[1] * cs - v[0] * sn, omega);
-            }
-            sum += 0.5 * h * s;
-        }
-        sum
+        gauss_legendre(
+            |t| {
+                let (sn, cs) = (theta0 + omega * t).sin_cos();
+                self.total_flux(v[1] * cs - v[0] * sn, omega)
+            },
+            t0,
+            t1,
+            panels,
+        )
     }
 
     /// Solves Eq. 23, `int_0^tau Phi = target`, by Newton-Raphson (Eq. 24, initial guess
@@ -286,18 +282,6 @@ impl NeedleParams {
         self.bath.mean_speed()
     }
 }
-
-/// 8-point Gauss-Legendre nodes and weights on `[-1, 1]`.
-const GL8: [(f64, f64); 8] = [
-    (-0.960_289_856_497_536_3, 0.101_228_536_290_376_26),
-    (-0.796_666_477_413_626_7, 0.222_381_034_453_374_47),
-    (-0.525_532_409_916_329, 0.313_706_645_877_887_3),
-    (-0.183_434_642_495_649_8, 0.362_683_783_378_362),
-    (0.183_434_642_495_649_8, 0.362_683_783_378_362),
-    (0.525_532_409_916_329, 0.313_706_645_877_887_3),
-    (0.796_666_477_413_626_7, 0.222_381_034_453_374_47),
-    (0.960_289_856_497_536_3, 0.101_228_536_290_376_26),
-];
 
 /// `Psi(u) = (u^2/2 + 1/(4a)) erf(sqrt(a) u) + u exp(-a u^2)/(2 sqrt(pi a))`, the
 /// antiderivative of `phi(u)/rho` (Eq. 16).
