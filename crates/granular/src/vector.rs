@@ -33,30 +33,6 @@ pub(crate) mod serde_array {
     }
 }
 
-/// Serde support for `Vec<[T; D]>` with a const-generic `D`.
-pub(crate) mod serde_vec_array {
-    use serde::{Deserialize, Deserializer, Serialize, Serializer, de::Error};
-    pub fn serialize<S: Serializer, T: Serialize, const D: usize>(
-        a: &[[T; D]],
-        s: S,
-    ) -> Result<S::Ok, S::Error> {
-        let flat: Vec<&[T]> = a.iter().map(|x| x.as_slice()).collect();
-        flat.serialize(s)
-    }
-    pub fn deserialize<'de, De: Deserializer<'de>, T: Deserialize<'de>, const D: usize>(
-        d: De,
-    ) -> Result<Vec<[T; D]>, De::Error> {
-        let v = Vec::<Vec<T>>::deserialize(d)?;
-        v.into_iter()
-            .map(|x| {
-                let n = x.len();
-                x.try_into()
-                    .map_err(|_| De::Error::custom(format!("expected {D} components, found {n}")))
-            })
-            .collect()
-    }
-}
-
 impl<const D: usize> Default for Vector<D> {
     fn default() -> Self {
         Self::zero()

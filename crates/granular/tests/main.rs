@@ -2,6 +2,7 @@
 
 mod dsmc;
 mod edmd;
+mod edmd_reference;
 mod engines;
 mod intruder;
 mod problems;

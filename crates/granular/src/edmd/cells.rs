@@ -1,6 +1,7 @@
 //! The cell grid: the box is cut into cells at least one contact distance wide, so that a
-//! grain can only touch grains in its own or a neighbouring cell. Each cell holds a doubly
-//! linked list of its grains (O(1) moves when a grain crosses a cell boundary).
+//! grain can only touch grains in its own or a neighbouring cell. Each cell holds a singly
+//! linked list of its grains (4 bytes per grain; cells hold about one grain, so unlinking
+//! by walking the list is as fast as a doubly linked list and half the memory).
 //!
 //! Hand-written: neighbour search is, with the event queue, the core of the engine's speed.
 
@@ -22,12 +23,12 @@ pub struct CellGrid<const D: usize> {
     /// Whether each axis wraps around.
     #[serde(with = "crate::vector::serde_array")]
     periodic: [bool; D],
+    /// First grain of each cell (flat index, axis 0 fastest).
     head: Vec<u32>,
+    /// Next grain in the same cell.
     next: Vec<u32>,
-    prev: Vec<u32>,
-    /// Cell coordinates of each particle.
-    #[serde(with = "crate::vector::serde_vec_array")]
-    pub coords: Vec<[u32; D]>,
+    /// Flat cell index of each grain.
+    cell: Vec<u32>,
 }
 
 impl<const D: usize> CellGrid<D> {
@@ -75,15 +76,13 @@ impl<const D: usize> CellGrid<D> {
             periodic,
             head: vec![NONE; ncells],
             next: vec![NONE; n],
-            prev: vec![NONE; n],
-            coords: vec![[0; D]; n],
+            cell: vec![0; n],
         }
     }
 
-    /// Heap memory in bytes (cell heads, lists and coordinates).
+    /// Heap memory in bytes (cell heads, lists and cell indices).
     pub fn memory_bytes(&self) -> usize {
-        (self.head.capacity() + self.next.capacity() + self.prev.capacity()) * 4
-            + self.coords.capacity() * 4 * D
+        (self.head.capacity() + self.next.capacity() + self.cell.capacity()) * 4
     }
 
     /// The cell coordinates containing `x` (clamped into the grid).
@@ -96,8 +95,9 @@ impl<const D: usize> CellGrid<D> {
         c
     }
 
+    /// Flat index of cell coordinates `c` (axis 0 fastest).
     #[inline(always)]
-    fn flat(&self, c: &[u32; D]) -> usize {
+    pub fn flat(&self, c: &[u32; D]) -> usize {
         let mut idx = 0usize;
         for k in (0..D).rev() {
             idx = idx * self.counts[k] + c[k] as usize;
@@ -105,38 +105,54 @@ impl<const D: usize> CellGrid<D> {
         idx
     }
 
+    /// Cell coordinates of grain `i`.
+    #[inline(always)]
+    pub fn coords(&self, i: usize) -> [u32; D] {
+        let mut f = self.cell[i] as usize;
+        let mut c = [0u32; D];
+        for (k, ck) in c.iter_mut().enumerate() {
+            if k + 1 == D {
+                *ck = f as u32;
+            } else {
+                *ck = (f % self.counts[k]) as u32;
+                f /= self.counts[k];
+            }
+        }
+        c
+    }
+
     /// Puts particle `i` into cell `c`.
     pub fn insert(&mut self, i: usize, c: [u32; D]) {
         let f = self.flat(&c);
-        let h = self.head[f];
-        self.next[i] = h;
-        self.prev[i] = NONE;
-        if h != NONE {
-            self.prev[h as usize] = i as u32;
-        }
+        self.next[i] = self.head[f];
         self.head[f] = i as u32;
-        self.coords[i] = c;
+        self.cell[i] = f as u32;
     }
 
     /// Takes particle `i` out of its cell.
     pub fn remove(&mut self, i: usize) {
-        let (p, n) = (self.prev[i], self.next[i]);
-        if p != NONE {
-            self.next[p as usize] = n;
-        } else {
-            let f = self.flat(&self.coords[i]);
-            self.head[f] = n;
+        let f = self.cell[i] as usize;
+        let mut p = self.head[f];
+        if p == i as u32 {
+            self.head[f] = self.next[i];
+            return;
         }
-        if n != NONE {
-            self.prev[n as usize] = p;
+        while p != NONE {
+            let n = self.next[p as usize];
+            if n == i as u32 {
+                self.next[p as usize] = self.next[i];
+                return;
+            }
+            p = n;
         }
+        debug_assert!(false, "grain {i} not found in its cell");
     }
 
     /// Moves particle `i` one cell along `axis` in direction `step` (+1 or -1), wrapping on
     /// periodic axes. Returns whether the particle wrapped around the box.
     pub fn shift(&mut self, i: usize, axis: usize, step: i32) -> bool {
+        let mut c = self.coords(i);
         self.remove(i);
-        let mut c = self.coords[i];
         let n = self.counts[axis] as i64;
         let mut v = c[axis] as i64 + step as i64;
         let mut wrapped = false;
@@ -152,29 +168,67 @@ impl<const D: usize> CellGrid<D> {
         wrapped
     }
 
+    /// The grains in cell order (cell by cell, axis 0 fastest): the order in which the
+    /// engine stores them after a spatial reordering.
+    pub fn cell_order(&self) -> Vec<u32> {
+        let mut order = Vec::with_capacity(self.next.len());
+        for &h in &self.head {
+            let mut j = h;
+            while j != NONE {
+                order.push(j);
+                j = self.next[j as usize];
+            }
+        }
+        order
+    }
+
+    /// Relabels the grains: grain `i` becomes `new_of_old[i]`. Each cell's list is rebuilt
+    /// in increasing new label.
+    pub fn relabel(&mut self, new_of_old: &[u32]) {
+        let n = self.cell.len();
+        let mut cell = vec![0u32; n];
+        for (i, &new) in new_of_old.iter().enumerate() {
+            cell[new as usize] = self.cell[i];
+        }
+        self.head.fill(NONE);
+        for i in (0..n).rev() {
+            let f = cell[i] as usize;
+            self.next[i] = self.head[f];
+            self.head[f] = i as u32;
+        }
+        self.cell = cell;
+    }
+
     /// Calls `f(j)` for every particle in the cells neighbouring (and including) cell `c`.
     #[inline(always)]
     pub fn for_each_neighbour(&self, c: &[u32; D], mut f: impl FnMut(usize)) {
         // Offsets per axis: -1, 0, +1, clipped at walls, wrapped on periodic axes; a
         // single-cell axis contributes only 0.
-        let mut ranges = [[0i64; 3]; D];
+        let mut ranges = [[0usize; 3]; D];
         let mut lens = [0usize; D];
         for k in 0..D {
-            let n = self.counts[k] as i64;
-            let ck = c[k] as i64;
+            let n = self.counts[k];
+            let ck = c[k] as usize;
+            if n == 1 {
+                ranges[k][0] = 0;
+                lens[k] = 1;
+                continue;
+            }
             let mut m = 0;
-            for off in -1i64..=1 {
-                if n == 1 && off != 0 {
-                    continue;
-                }
-                let mut v = ck + off;
-                if v < 0 || v >= n {
-                    if !self.periodic[k] {
-                        continue;
-                    }
-                    v = v.rem_euclid(n);
-                }
-                ranges[k][m] = v;
+            if ck > 0 {
+                ranges[k][m] = ck - 1;
+                m += 1;
+            } else if self.periodic[k] {
+                ranges[k][m] = n - 1;
+                m += 1;
+            }
+            ranges[k][m] = ck;
+            m += 1;
+            if ck + 1 < n {
+                ranges[k][m] = ck + 1;
+                m += 1;
+            } else if self.periodic[k] {
+                ranges[k][m] = 0;
                 m += 1;
             }
             lens[k] = m;
@@ -183,7 +237,7 @@ impl<const D: usize> CellGrid<D> {
         loop {
             let mut flat = 0usize;
             for k in (0..D).rev() {
-                flat = flat * self.counts[k] + ranges[k][idx[k]] as usize;
+                flat = flat * self.counts[k] + ranges[k][idx[k]];
             }
             let mut j = self.head[flat];
             while j != NONE {

@@ -26,17 +26,17 @@ use crate::stats::Histogram;
 use crate::vector::Vector;
 use serde::{Deserialize, Serialize};
 
-/// What a particle's scheduled event is.
+/// What a particle's scheduled event is (the public, decoded form of [`Scheduled`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum EventKind {
     /// Nothing will ever happen to this particle (it is at rest, without gravity).
     Nothing,
     /// Collision with particle `partner`, valid while its counter equals `partner_counter`.
     Pair {
-        /// The other particle.
+        /// The other particle (grain id).
         partner: u32,
         /// The partner's collision counter when the event was predicted.
-        partner_counter: u64,
+        partner_counter: u32,
     },
     /// Collision with the wall at the low (`upper = false`) or high end of `axis`.
     Wall {
@@ -52,6 +52,56 @@ pub enum EventKind {
         /// Whether the particle moves up (`+1`) or down (`-1`) the axis.
         upward: bool,
     },
+}
+
+/// First code of the non-pair events in [`Scheduled::code`]; grain indices stay below it.
+const FIRST_SPECIAL: u32 = u32::MAX - 15;
+/// Code of "nothing scheduled".
+const NOTHING: u32 = u32::MAX;
+/// Wall codes: `WALL + 2 axis + upper`.
+const WALL: u32 = FIRST_SPECIAL;
+/// Cell-crossing codes: `CROSSING + 2 axis + upward`.
+const CROSSING: u32 = FIRST_SPECIAL + 6;
+
+/// A scheduled event in 8 bytes: a partner index (or a code above every index for walls,
+/// cell crossings and "nothing") and the partner's collision counter at prediction time.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+struct Scheduled {
+    code: u32,
+    partner_counter: u32,
+}
+
+impl Scheduled {
+    const NOTHING: Scheduled = Scheduled {
+        code: NOTHING,
+        partner_counter: 0,
+    };
+}
+
+/// The state of one grain that every prediction reads, in one record (48 bytes for disks,
+/// one 64-byte cache line for spheres): position and velocity valid at the grain's own
+/// clock `time`, its collision counter, and its kind (radius, mass, species).
+#[derive(Clone, Copy, Debug, Serialize, Deserialize)]
+struct Grain<const D: usize> {
+    pos: Vector<D>,
+    vel: Vector<D>,
+    time: f64,
+    /// Collisions so far (wrapping): a pair event is stale when its partner's counter
+    /// changed. A stale event would be taken for valid only after exactly 2^32 collisions
+    /// of the partner before the event time, which the event order excludes.
+    counter: u32,
+    kind: u32,
+}
+
+/// One collision in the optional collision log ([`Edmd::record_collisions`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CollisionRecord {
+    /// Absolute time of the collision.
+    pub time: f64,
+    /// Grain id.
+    pub i: u32,
+    /// Partner grain id, or `None` for a wall.
+    pub j: Option<u32>,
 }
 
 /// Everything that defines the grains at the start of a run.
@@ -94,6 +144,10 @@ pub struct EdmdOptions {
     pub collapse_ratio: f64,
     /// Histogram bins of the impact parameter `b / σ` of pair collisions.
     pub impact_bins: usize,
+    /// Events between two shifts of the time origin, each followed by a spatial
+    /// reordering of the grains; `None`: `8 N + 1024` (about six collisions per grain).
+    #[serde(default)]
+    pub reorder_interval: Option<u64>,
 }
 
 impl Default for EdmdOptions {
@@ -102,6 +156,7 @@ impl Default for EdmdOptions {
             gravity: Vec::new(),
             collapse_ratio: 1e-6,
             impact_bins: 20,
+            reorder_interval: None,
         }
     }
 }
@@ -146,6 +201,18 @@ struct CollapseWatch {
 const COLLAPSE_WINDOW: u64 = 1 << 16;
 
 /// Event-driven molecular dynamics of hard disks (`D = 2`) or spheres (`D = 3`).
+///
+/// Memory layout (what `granular bench edmd` reports as bytes per particle): one
+/// [`Grain`] record per grain (48 bytes in 2D, 64 in 3D), an 8-byte scheduled event, the
+/// last partner (4), the event queue (16), the cell grid (about 12) and the id maps (8);
+/// radii and masses live in a table of grain kinds (distinct `(radius, mass, species)`),
+/// and the TC model's last-collision times are kept only when the model is on.
+///
+/// Grains are stored in cell order and re-sorted every few collisions per grain (spatial
+/// reordering), so that a prediction reads neighbours that are close in memory: this
+/// keeps the rate at 10^6 grains within a factor of two of the rate at 10^4. Grain *ids*
+/// (the order of the input [`ParticleSet`], of snapshots and of every public accessor)
+/// never change; internal indices ("slots") do.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Edmd<const D: usize> {
     bx: SimulationBox<D>,
@@ -156,17 +223,18 @@ pub struct Edmd<const D: usize> {
     /// `r_i(t) = radius[i] * (1 + growth * t)` on the internal clock.
     growth: f64,
     options: EdmdOptions,
-    // Per-particle state (structure of arrays, 32-bit indices).
-    pos: Vec<Vector<D>>,
-    vel: Vec<Vector<D>>,
-    time: Vec<f64>,
-    counter: Vec<u64>,
-    radius: Vec<f64>,
-    mass: Vec<f64>,
-    species: Vec<u32>,
-    last_collision: Vec<f64>,
+    grains: Vec<Grain<D>>,
+    event: Vec<Scheduled>,
     last_partner: Vec<u32>,
-    event: Vec<EventKind>,
+    /// Time of each grain's last collision (TC model only; empty otherwise).
+    last_collision: Vec<f64>,
+    /// Grain id of each slot.
+    id: Vec<u32>,
+    /// Slot of each grain id.
+    slot: Vec<u32>,
+    kind_radius: Vec<f64>,
+    kind_mass: Vec<f64>,
+    kind_species: Vec<u32>,
     queue: EventQueue,
     cells: CellGrid<D>,
     species_names: Vec<String>,
@@ -180,6 +248,9 @@ pub struct Edmd<const D: usize> {
     collapse: CollapseWatch,
     max_radius: f64,
     min_radius: f64,
+    /// Collision log (tests and diagnostics), not checkpointed.
+    #[serde(skip)]
+    log: Option<Vec<CollisionRecord>>,
 }
 
 impl<const D: usize> Edmd<D> {
@@ -205,6 +276,10 @@ impl<const D: usize> Edmd<D> {
         radius_scale: f64,
     ) -> Self {
         let n = particles.len();
+        assert!(
+            (n as u64) < FIRST_SPECIAL as u64,
+            "the event-driven engine holds at most {FIRST_SPECIAL} grains"
+        );
         let mut gravity = Vector::zero();
         for (k, g) in options.gravity.iter().enumerate().take(D) {
             gravity[k] = *g;
@@ -216,24 +291,53 @@ impl<const D: usize> Edmd<D> {
             .iter()
             .cloned()
             .fold(f64::INFINITY, f64::min);
+        // Grain kinds: distinct (radius, mass, species), numbered by first appearance.
+        let mut kinds: std::collections::HashMap<(u64, u64, u32), u32> = Default::default();
+        let (mut kind_radius, mut kind_mass, mut kind_species) = (vec![], vec![], vec![]);
+        let mut grains = Vec::with_capacity(n);
+        for i in 0..n {
+            let (r, m) = (particles.radii[i], particles.masses[i]);
+            let s = particles.species.get(i).copied().unwrap_or(0);
+            let kind = *kinds
+                .entry((r.to_bits(), m.to_bits(), s))
+                .or_insert_with(|| {
+                    kind_radius.push(r);
+                    kind_mass.push(m);
+                    kind_species.push(s);
+                    (kind_radius.len() - 1) as u32
+                });
+            let mut x = particles.positions[i];
+            bx.wrap(&mut x);
+            grains.push(Grain {
+                pos: x,
+                vel: particles.velocities[i],
+                time: 0.0,
+                counter: 0,
+                kind,
+            });
+        }
         let cells = CellGrid::new(&bx, 2.0 * max_radius * radius_scale * (1.0 + 1e-9), n);
         let impact = Histogram::new(0.0, 1.0 + 1e-12, options.impact_bins.max(1));
+        let last_collision = if law.contact_duration > 0.0 {
+            vec![f64::NEG_INFINITY; n]
+        } else {
+            Vec::new()
+        };
         let mut engine = Self {
             law,
             gravity,
             has_gravity,
             growth,
             options,
-            pos: particles.positions,
-            vel: particles.velocities,
-            time: vec![0.0; n],
-            counter: vec![0; n],
-            radius: particles.radii,
-            mass: particles.masses,
-            species: particles.species,
-            last_collision: vec![f64::NEG_INFINITY; n],
+            grains,
+            event: vec![Scheduled::NOTHING; n],
             last_partner: vec![NONE; n],
-            event: vec![EventKind::Nothing; n],
+            last_collision,
+            id: (0..n as u32).collect(),
+            slot: (0..n as u32).collect(),
+            kind_radius,
+            kind_mass,
+            kind_species,
             queue: EventQueue::new(n),
             cells,
             species_names: particles.species_names,
@@ -247,14 +351,13 @@ impl<const D: usize> Edmd<D> {
             max_radius,
             min_radius,
             bx,
+            log: None,
         };
         for i in 0..n {
-            let mut x = engine.pos[i];
-            engine.bx.wrap(&mut x);
-            engine.pos[i] = x;
-            let c = engine.cells.coords_of(&x.0);
+            let c = engine.cells.coords_of(&engine.grains[i].pos.0);
             engine.cells.insert(i, c);
         }
+        engine.reorder();
         for i in 0..n {
             engine.predict(i);
         }
@@ -273,6 +376,9 @@ impl<const D: usize> Edmd<D> {
 
     /// Replaces the collision law (takes effect from the next collision).
     pub fn set_collision_law(&mut self, law: CollisionLaw) {
+        if law.contact_duration > 0.0 && self.last_collision.is_empty() {
+            self.last_collision = vec![f64::NEG_INFINITY; self.len()];
+        }
         self.law = law;
     }
 
@@ -292,24 +398,36 @@ impl<const D: usize> Edmd<D> {
         self.impact = Histogram::new(0.0, 1.0 + 1e-12, bins);
     }
 
+    /// Starts (or stops, with `false`) recording every collision in a log, in the order
+    /// processed ([`Edmd::collision_log`]). For tests and diagnostics: it grows without
+    /// bound.
+    pub fn record_collisions(&mut self, on: bool) {
+        self.log = if on { Some(Vec::new()) } else { None };
+    }
+
+    /// The collisions recorded since [`Edmd::record_collisions`] was switched on.
+    pub fn collision_log(&self) -> &[CollisionRecord] {
+        self.log.as_deref().unwrap_or(&[])
+    }
+
     /// Number of grains.
     pub fn len(&self) -> usize {
-        self.pos.len()
+        self.grains.len()
     }
 
     /// Whether there are no grains.
     pub fn is_empty(&self) -> bool {
-        self.pos.is_empty()
+        self.grains.is_empty()
     }
 
-    /// Masses of the grains.
-    pub fn masses(&self) -> &[f64] {
-        &self.mass
+    /// Masses of the grains, by id.
+    pub fn masses(&self) -> Vec<f64> {
+        self.by_id(|e, s| e.mass(s))
     }
 
-    /// Species of the grains.
-    pub fn species(&self) -> &[u32] {
-        &self.species
+    /// Species of the grains, by id.
+    pub fn species(&self) -> Vec<u32> {
+        self.by_id(|e, s| e.kind_species[e.grains[s].kind as usize])
     }
 
     /// Species names.
@@ -317,49 +435,86 @@ impl<const D: usize> Edmd<D> {
         &self.species_names
     }
 
-    /// Current radius of grain `i` (differs from the initial one only during compression).
+    /// The scheduled event of grain `id` (partners as grain ids).
+    pub fn scheduled_event(&self, id: usize) -> EventKind {
+        let e = self.event[self.slot[id] as usize];
+        match e.code {
+            NOTHING => EventKind::Nothing,
+            c if c >= CROSSING => EventKind::CellCrossing {
+                axis: ((c - CROSSING) / 2) as u8,
+                upward: (c - CROSSING) % 2 == 1,
+            },
+            c if c >= WALL => EventKind::Wall {
+                axis: ((c - WALL) / 2) as u8,
+                upper: (c - WALL) % 2 == 1,
+            },
+            c => EventKind::Pair {
+                partner: self.id[c as usize],
+                partner_counter: e.partner_counter,
+            },
+        }
+    }
+
+    /// `f(self, slot)` for every grain, in id order.
+    fn by_id<T>(&self, f: impl Fn(&Self, usize) -> T) -> Vec<T> {
+        self.slot.iter().map(|&s| f(self, s as usize)).collect()
+    }
+
     #[inline(always)]
-    fn radius_now(&self, i: usize) -> f64 {
+    fn mass(&self, s: usize) -> f64 {
+        self.kind_mass[self.grains[s].kind as usize]
+    }
+
+    #[inline(always)]
+    fn base_radius(&self, s: usize) -> f64 {
+        self.kind_radius[self.grains[s].kind as usize]
+    }
+
+    /// Current radius of slot `s` (differs from the initial one only during compression).
+    #[inline(always)]
+    fn radius_now(&self, s: usize) -> f64 {
         if self.growth == 0.0 {
-            self.radius[i]
+            self.base_radius(s)
         } else {
-            self.radius[i] * (1.0 + self.growth * self.now)
+            self.base_radius(s) * (1.0 + self.growth * self.now)
         }
     }
 
-    /// Radii at the current time.
+    /// Radii at the current time, by id.
     pub fn radii(&self) -> Vec<f64> {
-        (0..self.len()).map(|i| self.radius_now(i)).collect()
+        self.by_id(|e, s| e.radius_now(s))
     }
 
-    /// Position of grain `i` at the current time (not stored: observing never perturbs the
-    /// trajectory).
-    #[inline(always)]
-    pub fn position(&self, i: usize) -> Vector<D> {
-        let dt = self.now - self.time[i];
-        let mut x = self.pos[i].add_scaled(dt, &self.vel[i]);
-        if self.has_gravity {
-            x = x.add_scaled(0.5 * dt * dt, &self.gravity);
-        }
+    /// Position of grain `id` at the current time (not stored: observing never perturbs
+    /// the trajectory).
+    pub fn position(&self, id: usize) -> Vector<D> {
+        let mut x = self.position_raw(self.slot[id] as usize);
         self.bx.wrap(&mut x);
         x
     }
 
-    /// Velocity of grain `i` at the current time.
+    /// Velocity of grain `id` at the current time.
+    pub fn velocity(&self, id: usize) -> Vector<D> {
+        self.velocity_slot(self.slot[id] as usize)
+    }
+
     #[inline(always)]
-    pub fn velocity(&self, i: usize) -> Vector<D> {
+    fn velocity_slot(&self, s: usize) -> Vector<D> {
+        let g = &self.grains[s];
         if self.has_gravity {
-            self.vel[i].add_scaled(self.now - self.time[i], &self.gravity)
+            g.vel.add_scaled(self.now - g.time, &self.gravity)
         } else {
-            self.vel[i]
+            g.vel
         }
     }
 
-    /// Unwrapped position at the current time (may lie outside the box by round-off).
+    /// Unwrapped position of slot `s` at the current time (may lie outside the box by
+    /// round-off).
     #[inline(always)]
-    fn position_raw(&self, i: usize) -> Vector<D> {
-        let dt = self.now - self.time[i];
-        let x = self.pos[i].add_scaled(dt, &self.vel[i]);
+    fn position_raw(&self, s: usize) -> Vector<D> {
+        let g = &self.grains[s];
+        let dt = self.now - g.time;
+        let x = g.pos.add_scaled(dt, &g.vel);
         if self.has_gravity {
             x.add_scaled(0.5 * dt * dt, &self.gravity)
         } else {
@@ -367,31 +522,33 @@ impl<const D: usize> Edmd<D> {
         }
     }
 
-    /// Brings grain `i`'s stored state to the current time.
+    /// Brings slot `s`'s stored state to the current time.
     #[inline(always)]
-    fn advance_particle(&mut self, i: usize) {
-        let dt = self.now - self.time[i];
+    fn advance_particle(&mut self, s: usize) {
+        let dt = self.now - self.grains[s].time;
         if dt != 0.0 {
-            let x = self.position_raw(i);
-            let v = self.velocity(i);
-            self.pos[i] = x;
-            self.vel[i] = v;
+            let x = self.position_raw(s);
+            let v = self.velocity_slot(s);
+            let g = &mut self.grains[s];
+            g.pos = x;
+            g.vel = v;
         }
-        self.time[i] = self.now;
+        self.grains[s].time = self.now;
     }
 
-    /// Predicts grain `i`'s earliest event from its state at the current time (which must
-    /// be stored, `time[i] == now`) and puts it in the queue.
+    /// Predicts slot `i`'s earliest event from its state at the current time (which must
+    /// be stored, `time == now`) and puts it in the queue.
     fn predict(&mut self, i: usize) {
-        debug_assert_eq!(self.time[i], self.now);
-        let xi = self.pos[i];
-        let vi = self.vel[i];
+        debug_assert_eq!(self.grains[i].time, self.now);
+        let Grain {
+            pos: xi, vel: vi, ..
+        } = self.grains[i];
         let ri = self.radius_now(i);
-        let rate_i = self.radius[i] * self.growth;
+        let rate_i = self.base_radius(i) * self.growth;
         let half_g = self.gravity * 0.5;
         let mut best = f64::INFINITY;
-        let mut kind = EventKind::Nothing;
-        let coords = self.cells.coords[i];
+        let mut code = NOTHING;
+        let coords = self.cells.coords(i);
         for k in 0..D {
             let n = self.cells.counts[k];
             let periodic = self.bx.is_periodic(k);
@@ -409,10 +566,7 @@ impl<const D: usize> Edmd<D> {
                     && t < best
                 {
                     best = t;
-                    kind = EventKind::CellCrossing {
-                        axis: k as u8,
-                        upward: true,
-                    };
+                    code = CROSSING + 2 * k as u32 + 1;
                 }
             }
             if periodic || ck > 0 {
@@ -421,10 +575,7 @@ impl<const D: usize> Edmd<D> {
                     && t < best
                 {
                     best = t;
-                    kind = EventKind::CellCrossing {
-                        axis: k as u8,
-                        upward: false,
-                    };
+                    code = CROSSING + 2 * k as u32;
                 }
             }
             if !periodic {
@@ -433,39 +584,41 @@ impl<const D: usize> Edmd<D> {
                     && t < best
                 {
                     best = t;
-                    kind = EventKind::Wall {
-                        axis: k as u8,
-                        upper: true,
-                    };
+                    code = WALL + 2 * k as u32 + 1;
                 }
                 if let Some(t) = downward_crossing(xi[k] - ri, v - rate_i, a)
                     && t < best
                 {
                     best = t;
-                    kind = EventKind::Wall {
-                        axis: k as u8,
-                        upper: false,
-                    };
+                    code = WALL + 2 * k as u32;
                 }
             }
         }
         let partner_of_i = self.last_partner[i];
         let mut best_pair = best;
         let mut partner = NONE;
+        let now = self.now;
         self.cells.for_each_neighbour(&coords, |j| {
             if j == i || (partner_of_i == j as u32 && self.last_partner[j] == i as u32) {
                 return;
             }
-            let xj = self.position_raw(j);
-            let vj = self.velocity(j);
+            let g = &self.grains[j];
+            let dt = now - g.time;
+            let mut xj = g.pos.add_scaled(dt, &g.vel);
+            let mut vj = g.vel;
+            if self.has_gravity {
+                xj = xj.add_scaled(0.5 * dt * dt, &self.gravity);
+                vj = vj.add_scaled(dt, &self.gravity);
+            }
             let dx = self.bx.separation(&xi, &xj);
             let dv = vj - vi;
+            let rj = self.kind_radius[g.kind as usize];
             let (sigma, sigma_rate) = if self.growth == 0.0 {
-                (ri + self.radius[j], 0.0)
+                (ri + rj, 0.0)
             } else {
                 (
-                    ri + self.radius_now(j),
-                    rate_i + self.radius[j] * self.growth,
+                    ri + rj * (1.0 + self.growth * now),
+                    rate_i + rj * self.growth,
                 )
             };
             if let Some(t) = pair_contact_time(
@@ -480,77 +633,88 @@ impl<const D: usize> Edmd<D> {
                 partner = j as u32;
             }
         });
+        let mut partner_counter = 0;
         if partner != NONE {
             best = best_pair;
-            kind = EventKind::Pair {
-                partner,
-                partner_counter: self.counter[partner as usize],
-            };
+            code = partner;
+            partner_counter = self.grains[partner as usize].counter;
         }
-        self.event[i] = kind;
-        self.queue.update(i, self.now + best);
+        self.event[i] = Scheduled {
+            code,
+            partner_counter,
+        };
+        self.queue.update(i, now + best);
     }
 
-    /// Processes the earliest event. The clock must already be at its time.
+    /// Processes the earliest event, of slot `i`. The clock must already be at its time.
     fn process(&mut self, i: usize) -> Result<(), EngineError> {
         self.totals.events += 1;
         self.events_since_rebase += 1;
-        match self.event[i] {
-            EventKind::Nothing => {
-                return Err(EngineError::Numerical(format!(
-                    "particle {i} scheduled an empty event at a finite time"
-                )));
-            }
-            EventKind::Pair {
-                partner,
-                partner_counter,
-            } => {
-                let j = partner as usize;
-                self.advance_particle(i);
-                if self.counter[j] != partner_counter {
-                    self.predict(i);
-                    return Ok(());
-                }
-                self.advance_particle(j);
-                self.collide_pair(i, j);
+        let Scheduled {
+            code,
+            partner_counter,
+        } = self.event[i];
+        if code < FIRST_SPECIAL {
+            let j = code as usize;
+            self.advance_particle(i);
+            if self.grains[j].counter != partner_counter {
                 self.predict(i);
-                self.predict(j);
+                return Ok(());
             }
-            EventKind::Wall { axis, upper } => {
-                self.advance_particle(i);
-                self.collide_wall(i, axis as usize, upper);
-                self.predict(i);
+            self.advance_particle(j);
+            self.collide_pair(i, j);
+            self.predict(i);
+            self.predict(j);
+        } else if code >= CROSSING && code != NOTHING {
+            self.advance_particle(i);
+            let k = ((code - CROSSING) / 2) as usize;
+            let upward = (code - CROSSING) % 2 == 1;
+            if self.cells.shift(i, k, if upward { 1 } else { -1 }) {
+                let l = self.bx.lengths[k];
+                self.grains[i].pos[k] += if upward { -l } else { l };
             }
-            EventKind::CellCrossing { axis, upward } => {
-                self.advance_particle(i);
-                let k = axis as usize;
-                if self.cells.shift(i, k, if upward { 1 } else { -1 }) {
-                    let l = self.bx.lengths[k];
-                    self.pos[i][k] += if upward { -l } else { l };
-                }
-                self.predict(i);
-            }
+            self.predict(i);
+        } else if code != NOTHING {
+            self.advance_particle(i);
+            self.collide_wall(i, ((code - WALL) / 2) as usize, (code - WALL) % 2 == 1);
+            self.predict(i);
+        } else {
+            return Err(EngineError::Numerical(format!(
+                "particle {} scheduled an empty event at a finite time",
+                self.id[i]
+            )));
         }
         Ok(())
     }
 
+    /// The restitution for a collision now of slots `a` (and `b`) under the TC model.
+    #[inline(always)]
+    fn effective_restitution(&self, coefficient: f64, a: usize, b: Option<usize>) -> f64 {
+        if self.last_collision.is_empty() {
+            return coefficient;
+        }
+        let la = self.last_collision[a];
+        match b {
+            Some(b) => self
+                .law
+                .effective(coefficient, self.now, &[la, self.last_collision[b]]),
+            None => self.law.effective(coefficient, self.now, &[la]),
+        }
+    }
+
     /// Resolves a pair collision (Eq. 11 of the hard-disk seed), both grains at `now`.
     fn collide_pair(&mut self, i: usize, j: usize) {
-        let dx = self.bx.separation(&self.pos[i], &self.pos[j]);
-        let dv = self.vel[j] - self.vel[i];
+        let dx = self.bx.separation(&self.grains[i].pos, &self.grains[j].pos);
+        let dv = self.grains[j].vel - self.grains[i].vel;
         let d2 = dx.norm_squared();
         let b = dx.dot(&dv);
         let d = d2.sqrt();
-        let (mi, mj) = (self.mass[i], self.mass[j]);
+        let (mi, mj) = (self.mass(i), self.mass(j));
         let mu = mi * mj / (mi + mj);
         // Normal relative velocity u_n (negative when approaching) and its change.
         let un = b / d;
         let du = if self.growth == 0.0 {
-            let xi = self.law.effective(
-                self.law.restitution,
-                self.now,
-                &[self.last_collision[i], self.last_collision[j]],
-            );
+            let xi = self.effective_restitution(self.law.restitution, i, Some(j));
             if xi == 1.0 && self.law.restitution != 1.0 {
                 self.totals.tc_elastic_collisions += 1;
             }
@@ -558,12 +722,12 @@ impl<const D: usize> Edmd<D> {
         } else {
             // Lubachevsky-Stillinger: elastic reflection in the frame of the growing
             // surfaces, so that they separate at least as fast as they grow.
-            let rate = (self.radius[i] + self.radius[j]) * self.growth;
+            let rate = (self.base_radius(i) + self.base_radius(j)) * self.growth;
             2.0 * (rate - un)
         };
         let n = dx * (1.0 / d);
-        self.vel[i] = self.vel[i].add_scaled(-mu / mi * du, &n);
-        self.vel[j] = self.vel[j].add_scaled(mu / mj * du, &n);
+        self.grains[i].vel = self.grains[i].vel.add_scaled(-mu / mi * du, &n);
+        self.grains[j].vel = self.grains[j].vel.add_scaled(mu / mj * du, &n);
         let un_after = un + du;
         self.totals.dissipated_energy += 0.5 * mu * (un * un - un_after * un_after);
         self.totals.virial += mu * du * d;
@@ -573,25 +737,31 @@ impl<const D: usize> Edmd<D> {
             let cos2 = (b * b / (d2 * dv2)).min(1.0);
             self.impact.push((1.0 - cos2).sqrt());
         }
-        self.counter[i] += 1;
-        self.counter[j] += 1;
-        self.last_collision[i] = self.now;
-        self.last_collision[j] = self.now;
+        self.grains[i].counter = self.grains[i].counter.wrapping_add(1);
+        self.grains[j].counter = self.grains[j].counter.wrapping_add(1);
+        if !self.last_collision.is_empty() {
+            self.last_collision[i] = self.now;
+            self.last_collision[j] = self.now;
+        }
         self.last_partner[i] = j as u32;
         self.last_partner[j] = i as u32;
+        if let Some(log) = &mut self.log {
+            log.push(CollisionRecord {
+                time: self.origin + self.now,
+                i: self.id[i],
+                j: Some(self.id[j]),
+            });
+        }
     }
 
     /// Resolves a wall collision (Eqs. 3-4 of the hard-disk seed).
     fn collide_wall(&mut self, i: usize, axis: usize, upper: bool) {
-        let v = self.vel[i];
-        let k0 = 0.5 * self.mass[i] * v.norm_squared();
+        let v = self.grains[i].vel;
+        let m = self.mass(i);
+        let k0 = 0.5 * m * v.norm_squared();
         let mut v_new = v;
         if self.growth == 0.0 {
-            let e = self.law.effective(
-                self.law.wall_restitution,
-                self.now,
-                &[self.last_collision[i]],
-            );
+            let e = self.effective_restitution(self.law.wall_restitution, i, None);
             let et = if e == 1.0 && self.law.wall_restitution != 1.0 {
                 self.totals.tc_elastic_collisions += 1;
                 1.0
@@ -602,32 +772,44 @@ impl<const D: usize> Edmd<D> {
                 v_new[k] = if k == axis { -e * v[k] } else { et * v[k] };
             }
         } else {
-            let rate = self.radius[i] * self.growth;
+            let rate = self.base_radius(i) * self.growth;
             v_new[axis] = if upper {
                 -v[axis] - 2.0 * rate
             } else {
                 -v[axis] + 2.0 * rate
             };
         }
-        self.vel[i] = v_new;
-        self.totals.wall_impulse += self.mass[i] * (v[axis] - v_new[axis]).abs();
-        self.totals.dissipated_energy += k0 - 0.5 * self.mass[i] * v_new.norm_squared();
+        self.grains[i].vel = v_new;
+        self.totals.wall_impulse += m * (v[axis] - v_new[axis]).abs();
+        self.totals.dissipated_energy += k0 - 0.5 * m * v_new.norm_squared();
         self.totals.wall_collisions += 1;
-        self.counter[i] += 1;
-        self.last_collision[i] = self.now;
+        self.grains[i].counter = self.grains[i].counter.wrapping_add(1);
+        if !self.last_collision.is_empty() {
+            self.last_collision[i] = self.now;
+        }
         self.last_partner[i] = NONE;
+        if let Some(log) = &mut self.log {
+            log.push(CollisionRecord {
+                time: self.origin + self.now,
+                i: self.id[i],
+                j: None,
+            });
+        }
     }
 
     /// Moves the time origin to the current time: all grains are advanced to `now`, and
-    /// every stored time is shifted, so that times stay small numbers.
+    /// every stored time is shifted, so that times stay small numbers. Then re-sorts the
+    /// grains in cell order.
     fn rebase(&mut self) {
         if self.growth != 0.0 || self.now == 0.0 {
             return;
         }
         for i in 0..self.len() {
             self.advance_particle(i);
-            self.time[i] = 0.0;
-            self.last_collision[i] -= self.now;
+            self.grains[i].time = 0.0;
+        }
+        for t in &mut self.last_collision {
+            *t -= self.now;
         }
         self.queue.shift(self.now);
         self.collapse.window_start_time -= self.now;
@@ -635,20 +817,75 @@ impl<const D: usize> Edmd<D> {
         self.origin += self.now;
         self.now = 0.0;
         self.events_since_rebase = 0;
+        self.reorder();
+    }
+
+    /// Spatial reordering: stores the grains in cell order, so that the grains a
+    /// prediction visits are close in memory. Only slots change; every event, counter and
+    /// clock moves with its grain, so the trajectory is the same.
+    fn reorder(&mut self) {
+        let order = self.cells.cell_order();
+        let n = self.len();
+        if order.len() != n {
+            return;
+        }
+        let mut new_of_old = vec![0u32; n];
+        for (new, &old) in order.iter().enumerate() {
+            new_of_old[old as usize] = new as u32;
+        }
+        let map = |x: u32| {
+            if x < FIRST_SPECIAL {
+                new_of_old[x as usize]
+            } else {
+                x
+            }
+        };
+        let grains = order.iter().map(|&o| self.grains[o as usize]).collect();
+        self.grains = grains;
+        let event = order
+            .iter()
+            .map(|&o| {
+                let e = self.event[o as usize];
+                Scheduled {
+                    code: map(e.code),
+                    partner_counter: e.partner_counter,
+                }
+            })
+            .collect();
+        self.event = event;
+        let last_partner = order
+            .iter()
+            .map(|&o| map(self.last_partner[o as usize]))
+            .collect();
+        self.last_partner = last_partner;
+        if !self.last_collision.is_empty() {
+            let lc = order
+                .iter()
+                .map(|&o| self.last_collision[o as usize])
+                .collect();
+            self.last_collision = lc;
+        }
+        let id: Vec<u32> = order.iter().map(|&o| self.id[o as usize]).collect();
+        for (s, &g) in id.iter().enumerate() {
+            self.slot[g as usize] = s as u32;
+        }
+        self.id = id;
+        self.queue.relabel(&new_of_old);
+        self.cells.relabel(&new_of_old);
     }
 
     /// Total kinetic energy, `Σ m v² / 2`.
     pub fn kinetic_energy_now(&self) -> f64 {
         (0..self.len())
-            .map(|i| 0.5 * self.mass[i] * self.velocity(i).norm_squared())
+            .map(|s| 0.5 * self.mass(s) * self.velocity_slot(s).norm_squared())
             .sum()
     }
 
     /// Total momentum.
     pub fn momentum(&self) -> Vector<D> {
         let mut p = Vector::zero();
-        for i in 0..self.len() {
-            p = p.add_scaled(self.mass[i], &self.velocity(i));
+        for s in 0..self.len() {
+            p = p.add_scaled(self.mass(s), &self.velocity_slot(s));
         }
         p
     }
@@ -665,7 +902,7 @@ impl<const D: usize> Edmd<D> {
                     worst = worst.max(ri - xi[k]).max(xi[k] + ri - self.bx.lengths[k]);
                 }
             }
-            self.cells.for_each_neighbour(&self.cells.coords[i], |j| {
+            self.cells.for_each_neighbour(&self.cells.coords(i), |j| {
                 if j > i {
                     let d = self.bx.separation(&xi, &self.position_raw(j)).norm();
                     worst = worst.max(ri + self.radius_now(j) - d);
@@ -696,7 +933,7 @@ impl<const D: usize> Edmd<D> {
         if self.law.is_elastic() || self.growth != 0.0 {
             return Ok(());
         }
-        let total_mass: f64 = self.mass.iter().sum();
+        let total_mass: f64 = (0..self.len()).map(|s| self.mass(s)).sum();
         let v_typ = (2.0 * self.kinetic_energy_now() / total_mass).sqrt();
         if v_typ == 0.0 {
             return Ok(());
@@ -732,12 +969,17 @@ impl<const D: usize> Edmd<D> {
         for i in 0..self.len() {
             self.advance_particle(i);
         }
-        for i in 0..self.len() {
-            self.radius[i] = self.radius_now(i);
+        let scale = 1.0 + self.growth * self.now;
+        for r in &mut self.kind_radius {
+            *r *= scale;
         }
         self.growth = 0.0;
-        self.max_radius = self.radius.iter().cloned().fold(0.0, f64::max);
-        self.min_radius = self.radius.iter().cloned().fold(f64::INFINITY, f64::min);
+        self.max_radius = self.kind_radius.iter().cloned().fold(0.0, f64::max);
+        self.min_radius = self
+            .kind_radius
+            .iter()
+            .cloned()
+            .fold(f64::INFINITY, f64::min);
         for i in 0..self.len() {
             self.predict(i);
         }
@@ -747,44 +989,44 @@ impl<const D: usize> Edmd<D> {
     pub(crate) fn scale_velocities(&mut self, factor: f64) {
         for i in 0..self.len() {
             self.advance_particle(i);
-            self.vel[i] = self.vel[i] * factor;
-            self.counter[i] += 1;
+            let g = &mut self.grains[i];
+            g.vel = g.vel * factor;
+            g.counter = g.counter.wrapping_add(1);
         }
         for i in 0..self.len() {
             self.predict(i);
         }
     }
 
-    /// Takes the grains out of the engine (positions and velocities at the current time).
+    /// Takes the grains out of the engine (positions and velocities at the current time),
+    /// in id order.
     pub fn particle_set(&self) -> ParticleSet<D> {
         ParticleSet {
             positions: (0..self.len()).map(|i| self.position(i)).collect(),
             velocities: (0..self.len()).map(|i| self.velocity(i)).collect(),
             radii: self.radii(),
-            masses: self.mass.clone(),
-            species: self.species.clone(),
+            masses: self.masses(),
+            species: self.species(),
             species_names: self.species_names.clone(),
         }
     }
 
     /// Heap memory held by the engine's per-particle and per-cell arrays, in bytes
-    /// (positions, velocities, clocks, counters, radii, masses, species, TC times,
-    /// partners, events, queue and cell lists): what `granular bench edmd` reports per
-    /// particle.
+    /// (grain records, events, partners, TC times, id maps, kinds, queue and cell lists):
+    /// what `granular bench edmd` reports per particle.
     pub fn memory_bytes(&self) -> usize {
         fn bytes<T>(v: &Vec<T>) -> usize {
             v.capacity() * std::mem::size_of::<T>()
         }
-        bytes(&self.pos)
-            + bytes(&self.vel)
-            + bytes(&self.time)
-            + bytes(&self.counter)
-            + bytes(&self.radius)
-            + bytes(&self.mass)
-            + bytes(&self.species)
-            + bytes(&self.last_collision)
-            + bytes(&self.last_partner)
+        bytes(&self.grains)
             + bytes(&self.event)
+            + bytes(&self.last_partner)
+            + bytes(&self.last_collision)
+            + bytes(&self.id)
+            + bytes(&self.slot)
+            + bytes(&self.kind_radius)
+            + bytes(&self.kind_mass)
+            + bytes(&self.kind_species)
             + self.queue.memory_bytes()
             + self.cells.memory_bytes()
     }
@@ -793,9 +1035,9 @@ impl<const D: usize> Edmd<D> {
     pub fn species_kinetic_energy(&self) -> Vec<(f64, usize)> {
         let mut out = vec![(0.0, 0usize); self.species_names.len().max(1)];
         for i in 0..self.len() {
-            let s = self.species[i] as usize;
+            let s = self.kind_species[self.grains[i].kind as usize] as usize;
             if s < out.len() {
-                out[s].0 += 0.5 * self.mass[i] * self.velocity(i).norm_squared();
+                out[s].0 += 0.5 * self.mass(i) * self.velocity_slot(i).norm_squared();
                 out[s].1 += 1;
             }
         }
@@ -825,7 +1067,11 @@ impl<const D: usize> Engine for Edmd<D> {
     }
 
     fn advance(&mut self, until: f64, max_events: u64) -> Result<Progress, EngineError> {
-        if self.events_since_rebase >= 8 * self.len() as u64 + 1024 {
+        let interval = self
+            .options
+            .reorder_interval
+            .unwrap_or(8 * self.len() as u64 + 1024);
+        if self.events_since_rebase >= interval {
             self.rebase();
         }
         let until = until - self.origin;
@@ -840,8 +1086,8 @@ impl<const D: usize> Engine for Edmd<D> {
             }
             if t < self.now {
                 return Err(EngineError::Numerical(format!(
-                    "event of particle {i} scheduled at {t:e}, before the current time {:e}",
-                    self.now
+                    "event of particle {} scheduled at {t:e}, before the current time {:e}",
+                    self.id[i], self.now
                 )));
             }
             self.now = t;
@@ -944,8 +1190,8 @@ impl<const D: usize> Engine for Edmd<D> {
             positions,
             velocities,
             radii: self.radii(),
-            masses: self.mass.clone(),
-            species: self.species.clone(),
+            masses: self.masses(),
+            species: self.species(),
             species_names: self.species_names.clone(),
         })
     }

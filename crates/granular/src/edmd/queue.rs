@@ -117,6 +117,23 @@ impl EventQueue {
         self.slot[item as usize] = pos as u32;
     }
 
+    /// Relabels the particles: particle `i` becomes `new_of_old[i]` (the heap order is
+    /// unchanged, since the keys are).
+    pub fn relabel(&mut self, new_of_old: &[u32]) {
+        let n = self.keys.len();
+        let mut keys = vec![0.0; n];
+        let mut slot = vec![0u32; n];
+        for (i, &j) in new_of_old.iter().enumerate() {
+            keys[j as usize] = self.keys[i];
+            slot[j as usize] = self.slot[i];
+        }
+        for h in &mut self.heap {
+            *h = new_of_old[*h as usize];
+        }
+        self.keys = keys;
+        self.slot = slot;
+    }
+
     /// Heap memory in bytes.
     pub fn memory_bytes(&self) -> usize {
         self.heap.capacity() * 4 + self.slot.capacity() * 4 + self.keys.capacity() * 8

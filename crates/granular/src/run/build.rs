@@ -257,7 +257,7 @@ fn check_overlaps<const D: usize>(
     }
     for i in 0..n {
         let mut bad = None;
-        grid.for_each_neighbour(&grid.coords[i], |j| {
+        grid.for_each_neighbour(&grid.coords(i), |j| {
             if j > i && bad.is_none() {
                 let d = bx.separation(&set.positions[i], &set.positions[j]).norm();
                 let sigma = set.radii[i] + set.radii[j];
@@ -284,6 +284,7 @@ fn build_edmd<const D: usize>(scenario: &Scenario) -> Result<Edmd<D>, BuildError
         gravity: scenario.gravity.clone(),
         collapse_ratio: scenario.edmd.collapse_ratio,
         impact_bins: scenario.edmd.impact_bins,
+        ..EdmdOptions::default()
     };
     Ok(Edmd::new(bx, set, scenario.collisions.law(), options))
 }
