@@ -361,6 +361,7 @@ impl<const D: usize> Edmd<D> {
         for i in 0..n {
             engine.predict(i);
         }
+        engine.queue.rebuild(engine.now);
         engine
     }
 
@@ -811,7 +812,7 @@ impl<const D: usize> Edmd<D> {
         for t in &mut self.last_collision {
             *t -= self.now;
         }
-        self.queue.shift(self.now);
+        self.queue.shift(self.now, 0.0);
         self.collapse.window_start_time -= self.now;
         self.last.time -= self.now;
         self.origin += self.now;
@@ -870,7 +871,7 @@ impl<const D: usize> Edmd<D> {
             self.slot[g as usize] = s as u32;
         }
         self.id = id;
-        self.queue.relabel(&new_of_old);
+        self.queue.relabel(&new_of_old, self.now);
         self.cells.relabel(&new_of_old);
     }
 
@@ -983,6 +984,7 @@ impl<const D: usize> Edmd<D> {
         for i in 0..self.len() {
             self.predict(i);
         }
+        self.queue.rebuild(self.now);
     }
 
     /// Multiplies all velocities by `factor` (thermostat used during compression).
@@ -996,6 +998,7 @@ impl<const D: usize> Edmd<D> {
         for i in 0..self.len() {
             self.predict(i);
         }
+        self.queue.rebuild(self.now);
     }
 
     /// Takes the grains out of the engine (positions and velocities at the current time),

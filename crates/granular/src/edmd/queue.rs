@@ -1,47 +1,140 @@
-//! The event queue: an indexed binary min-heap holding exactly one entry per particle (the
-//! earliest event predicted for it), keyed by event time.
+//! The event queue: a calendar queue (Paul, J. Comput. Phys. 221, 615 (2007)) holding
+//! exactly one entry per particle (the earliest event predicted for it), keyed by event
+//! time.
+//!
+//! Time is cut into buckets of equal width. Events of the current bucket sit in a small
+//! binary heap (about a dozen entries), events of the next `nb - 1` buckets in unsorted
+//! doubly linked lists, one per bucket, and later events in an overflow list that is
+//! sorted into buckets once per turn of the calendar. Insertion and removal are O(1); the
+//! minimum is the top of the small heap. A binary heap over all N particles costs
+//! `log2 N` cache misses per update at N = 10^6; this costs about two.
 //!
 //! Hand-written rather than taken from a crate because it is the core of the engine's
-//! speed: with one entry per particle the heap never grows, an update is a sift in place
-//! (no allocation, no stale entries piling up), and the positions array gives O(log N)
-//! decrease/increase-key, which `std::collections::BinaryHeap` cannot do.
+//! speed and needs decrease/increase-key on particle indices, which no general-purpose
+//! priority queue offers.
+//!
+//! The bucket width adapts to the dynamics: [`EventQueue::rebuild`] (called by the engine
+//! every few collisions per particle) sets it from the mean time to the pending events.
 
 use serde::{Deserialize, Serialize};
 
-/// Indexed min-heap over particle indices `0..n`, ordered by `keys[i]`.
+/// `prev` of a particle whose entry is in the current-bucket heap (`next` then holds its
+/// heap position).
+const IN_HEAP: u32 = u32::MAX;
+/// `prev` of a particle with no finite event (key `+inf`): it is in no list.
+const PARKED: u32 = u32::MAX - 1;
+
+/// Calendar queue over particle indices `0..n`, ordered by `keys[i]`.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct EventQueue {
-    heap: Vec<u32>,
-    slot: Vec<u32>,
+    /// Event time of each particle (`+inf`: none).
     keys: Vec<f64>,
+    /// Circular doubly linked lists; indices `n..n + nb` are the bucket sentinels and
+    /// `n + nb` the overflow sentinel.
+    next: Vec<u32>,
+    prev: Vec<u32>,
+    /// Particles of the current bucket, a binary min-heap by key.
+    heap: Vec<u32>,
+    n: usize,
+    /// Number of buckets (a power of two).
+    nb: usize,
+    width: f64,
+    inv_width: f64,
+    /// Time of the start of bucket 0.
+    origin: f64,
+    /// Absolute index of the current bucket.
+    current: i64,
+    /// Particles in bucket lists or in the overflow list.
+    linked: usize,
 }
 
 impl EventQueue {
     /// A queue of `n` particles, all with key `+inf`.
     pub fn new(n: usize) -> Self {
-        Self {
-            heap: (0..n as u32).collect(),
-            slot: (0..n as u32).collect(),
+        let nb = (n / 4).next_power_of_two().max(16);
+        let mut q = Self {
             keys: vec![f64::INFINITY; n],
+            next: vec![0; n + nb + 1],
+            prev: vec![PARKED; n + nb + 1],
+            heap: Vec::new(),
+            n,
+            nb,
+            width: 1.0,
+            inv_width: 1.0,
+            origin: 0.0,
+            current: 0,
+            linked: 0,
+        };
+        q.reset_lists();
+        q
+    }
+
+    fn reset_lists(&mut self) {
+        for s in self.n..self.n + self.nb + 1 {
+            self.next[s] = s as u32;
+            self.prev[s] = s as u32;
         }
+        for i in 0..self.n {
+            self.prev[i] = PARKED;
+        }
+        // The heap holds about a dozen entries; drop any capacity left from a transient.
+        self.heap = Vec::with_capacity(64);
+        self.linked = 0;
     }
 
-    /// Number of entries.
+    /// Number of particles.
     pub fn len(&self) -> usize {
-        self.heap.len()
+        self.n
     }
 
-    /// Whether the queue is empty.
+    /// Whether the queue holds no particles.
     pub fn is_empty(&self) -> bool {
-        self.heap.is_empty()
+        self.n == 0
     }
 
-    /// The particle with the earliest event and its time.
-    #[inline(always)]
-    pub fn min(&self) -> Option<(usize, f64)> {
-        self.heap
-            .first()
-            .map(|&i| (i as usize, self.keys[i as usize]))
+    /// The particle with the earliest finite event and its time (`None`: none is finite).
+    #[inline]
+    pub fn min(&mut self) -> Option<(usize, f64)> {
+        let mut scanned = 0;
+        loop {
+            if let Some(&top) = self.heap.first() {
+                return Some((top as usize, self.keys[top as usize]));
+            }
+            if self.linked == 0 {
+                return None;
+            }
+            if scanned >= self.nb {
+                // A whole turn of empty buckets: every event is in the overflow list.
+                // Jump to the earliest.
+                let mut earliest = i64::MAX;
+                let sentinel = self.n + self.nb;
+                let mut i = self.next[sentinel] as usize;
+                while i != sentinel {
+                    earliest = earliest.min(self.bucket_of(self.keys[i]));
+                    i = self.next[i] as usize;
+                }
+                self.current = earliest - 1;
+                self.sort_overflow();
+                scanned = 0;
+                continue;
+            }
+            self.current += 1;
+            scanned += 1;
+            let slot = self.current.rem_euclid(self.nb as i64) as usize;
+            if slot == 0 {
+                self.sort_overflow();
+            }
+            let sentinel = self.n + slot;
+            let mut i = self.next[sentinel] as usize;
+            while i != sentinel {
+                let after = self.next[i] as usize;
+                self.linked -= 1;
+                self.heap_push(i);
+                i = after;
+            }
+            self.next[sentinel] = sentinel as u32;
+            self.prev[sentinel] = sentinel as u32;
+        }
     }
 
     /// The key of particle `i`.
@@ -50,49 +143,177 @@ impl EventQueue {
         self.keys[i]
     }
 
-    /// Sets the key of particle `i` and restores the heap order.
+    /// Sets the key of particle `i`.
     #[inline]
     pub fn update(&mut self, i: usize, key: f64) {
-        let old = self.keys[i];
+        self.remove(i);
         self.keys[i] = key;
-        let pos = self.slot[i] as usize;
-        if key < old {
-            self.sift_up(pos);
+        self.insert(i);
+    }
+
+    /// Subtracts `dt` from every key (time-origin shift) and rebuilds the calendar at the
+    /// shifted current time `now`.
+    pub fn shift(&mut self, dt: f64, now: f64) {
+        for k in &mut self.keys {
+            *k -= dt;
+        }
+        self.rebuild(now);
+    }
+
+    /// Re-sorts every particle with the bucket width adapted to the pending events: the
+    /// calendar spans four times their mean distance from `now`, so that a bucket holds
+    /// about 16 events and few fall in the overflow list.
+    pub fn rebuild(&mut self, now: f64) {
+        let (mut sum, mut count) = (0.0, 0usize);
+        for &k in &self.keys {
+            if k.is_finite() {
+                sum += (k - now).max(0.0);
+                count += 1;
+            }
+        }
+        let mean = if count > 0 { sum / count as f64 } else { 0.0 };
+        self.width = if mean > 0.0 && mean.is_finite() {
+            4.0 * mean / self.nb as f64
         } else {
-            self.sift_down(pos);
+            1.0
+        };
+        self.inv_width = 1.0 / self.width;
+        self.origin = now;
+        self.current = 0;
+        self.reset_lists();
+        for i in 0..self.n {
+            self.insert(i);
         }
     }
 
-    /// Subtracts `dt` from every key (time-origin shift; the order is preserved up to ties).
-    pub fn shift(&mut self, dt: f64) {
-        for k in &mut self.keys {
-            *k -= dt;
+    /// Relabels the particles: particle `i` becomes `new_of_old[i]`; rebuilds the
+    /// calendar at the current time `now`.
+    pub fn relabel(&mut self, new_of_old: &[u32], now: f64) {
+        let mut keys = vec![0.0; self.n];
+        for (i, &j) in new_of_old.iter().enumerate() {
+            keys[j as usize] = self.keys[i];
+        }
+        self.keys = keys;
+        self.rebuild(now);
+    }
+
+    /// Heap memory in bytes.
+    pub fn memory_bytes(&self) -> usize {
+        self.keys.capacity() * 8
+            + (self.next.capacity() + self.prev.capacity() + self.heap.capacity()) * 4
+    }
+
+    #[inline(always)]
+    fn bucket_of(&self, t: f64) -> i64 {
+        ((t - self.origin) * self.inv_width).floor() as i64
+    }
+
+    #[inline(always)]
+    fn insert(&mut self, i: usize) {
+        let t = self.keys[i];
+        if !t.is_finite() {
+            self.prev[i] = PARKED;
+            return;
+        }
+        let b = self.bucket_of(t);
+        if b <= self.current {
+            self.heap_push(i);
+        } else if b < self.current + self.nb as i64 {
+            self.linked += 1;
+            self.link(self.n + b.rem_euclid(self.nb as i64) as usize, i);
+        } else {
+            self.linked += 1;
+            self.link(self.n + self.nb, i);
         }
     }
 
     #[inline(always)]
-    fn sift_up(&mut self, mut pos: usize) {
+    fn remove(&mut self, i: usize) {
+        match self.prev[i] {
+            PARKED => {}
+            IN_HEAP => self.heap_remove(self.next[i] as usize),
+            p => {
+                let n = self.next[i];
+                self.next[p as usize] = n;
+                self.prev[n as usize] = p;
+                self.linked -= 1;
+                self.prev[i] = PARKED;
+            }
+        }
+    }
+
+    /// Moves the overflow events that now fall within the calendar into their buckets.
+    fn sort_overflow(&mut self) {
+        let sentinel = self.n + self.nb;
+        let mut i = self.next[sentinel] as usize;
+        self.next[sentinel] = sentinel as u32;
+        self.prev[sentinel] = sentinel as u32;
+        while i != sentinel {
+            let after = self.next[i] as usize;
+            self.linked -= 1;
+            self.insert(i);
+            i = after;
+        }
+    }
+
+    #[inline(always)]
+    fn link(&mut self, sentinel: usize, i: usize) {
+        let first = self.next[sentinel];
+        self.next[i] = first;
+        self.prev[i] = sentinel as u32;
+        self.prev[first as usize] = i as u32;
+        self.next[sentinel] = i as u32;
+    }
+
+    #[inline(always)]
+    fn heap_push(&mut self, i: usize) {
+        self.prev[i] = IN_HEAP;
+        self.heap.push(i as u32);
+        self.sift_up(self.heap.len() - 1);
+    }
+
+    #[inline(always)]
+    fn heap_remove(&mut self, pos: usize) {
+        let item = self.heap[pos] as usize;
+        self.prev[item] = PARKED;
+        let last = self.heap.pop().unwrap_or(0);
+        if pos < self.heap.len() {
+            self.heap[pos] = last;
+            self.next[last as usize] = pos as u32;
+            let pos = self.sift_up(pos);
+            self.sift_down(pos);
+        }
+    }
+
+    #[inline(always)]
+    fn less(&self, a: u32, b: u32) -> bool {
+        // Ties broken by index, so that the order never depends on the heap's history.
+        let (ka, kb) = (self.keys[a as usize], self.keys[b as usize]);
+        ka < kb || (ka == kb && a < b)
+    }
+
+    #[inline(always)]
+    fn sift_up(&mut self, mut pos: usize) -> usize {
         let item = self.heap[pos];
-        let key = self.keys[item as usize];
         while pos > 0 {
             let parent = (pos - 1) / 2;
             let p = self.heap[parent];
-            if self.keys[p as usize] <= key {
+            if !self.less(item, p) {
                 break;
             }
             self.heap[pos] = p;
-            self.slot[p as usize] = pos as u32;
+            self.next[p as usize] = pos as u32;
             pos = parent;
         }
         self.heap[pos] = item;
-        self.slot[item as usize] = pos as u32;
+        self.next[item as usize] = pos as u32;
+        pos
     }
 
     #[inline(always)]
     fn sift_down(&mut self, mut pos: usize) {
         let n = self.heap.len();
         let item = self.heap[pos];
-        let key = self.keys[item as usize];
         loop {
             let left = 2 * pos + 1;
             if left >= n {
@@ -100,43 +321,19 @@ impl EventQueue {
             }
             let right = left + 1;
             let mut child = left;
-            if right < n
-                && self.keys[self.heap[right] as usize] < self.keys[self.heap[left] as usize]
-            {
+            if right < n && self.less(self.heap[right], self.heap[left]) {
                 child = right;
             }
             let c = self.heap[child];
-            if self.keys[c as usize] >= key {
+            if !self.less(c, item) {
                 break;
             }
             self.heap[pos] = c;
-            self.slot[c as usize] = pos as u32;
+            self.next[c as usize] = pos as u32;
             pos = child;
         }
         self.heap[pos] = item;
-        self.slot[item as usize] = pos as u32;
-    }
-
-    /// Relabels the particles: particle `i` becomes `new_of_old[i]` (the heap order is
-    /// unchanged, since the keys are).
-    pub fn relabel(&mut self, new_of_old: &[u32]) {
-        let n = self.keys.len();
-        let mut keys = vec![0.0; n];
-        let mut slot = vec![0u32; n];
-        for (i, &j) in new_of_old.iter().enumerate() {
-            keys[j as usize] = self.keys[i];
-            slot[j as usize] = self.slot[i];
-        }
-        for h in &mut self.heap {
-            *h = new_of_old[*h as usize];
-        }
-        self.keys = keys;
-        self.slot = slot;
-    }
-
-    /// Heap memory in bytes.
-    pub fn memory_bytes(&self) -> usize {
-        self.heap.capacity() * 4 + self.slot.capacity() * 4 + self.keys.capacity() * 8
+        self.next[item as usize] = pos as u32;
     }
 }
 
@@ -145,25 +342,46 @@ mod tests {
     use super::*;
     use crate::random::{RngExt, stream};
 
+    /// Random updates (earlier, later, infinite keys) interleaved with processing the
+    /// minimum and moving time forward, as the engine does, checked against a brute-force
+    /// minimum.
     #[test]
     fn always_returns_the_minimum() {
         let mut rng = stream(3, &[0]);
         let n = 257;
         let mut q = EventQueue::new(n);
         let mut keys = vec![f64::INFINITY; n];
-        for step in 0..20_000 {
+        let mut now = 0.0;
+        for step in 0..50_000 {
             let i = rng.random_range(0..n);
-            let k = if step % 7 == 0 {
-                f64::INFINITY
-            } else {
-                rng.random::<f64>()
+            let k = match step % 11 {
+                0 => f64::INFINITY,
+                // Far future: overflow list.
+                1 => now + 1e3 * rng.random::<f64>(),
+                _ => now + rng.random::<f64>() * rng.random::<f64>() * 3.0,
             };
             q.update(i, k);
             keys[i] = k;
-            let (m, km) = q.min().unwrap();
+            if step % 3 == 0
+                && let Some((m, km)) = q.min()
+            {
+                // Process the minimum: time moves to it, the particle gets a later event.
+                now = km;
+                let next = now + rng.random::<f64>();
+                q.update(m, next);
+                keys[m] = next;
+            }
+            if step % 5000 == 0 {
+                q.rebuild(now);
+            }
             let best = keys.iter().cloned().fold(f64::INFINITY, f64::min);
-            assert_eq!(km, best);
-            assert_eq!(keys[m], best);
+            match q.min() {
+                Some((m, km)) => {
+                    assert_eq!(km, best, "step {step}");
+                    assert_eq!(keys[m], best);
+                }
+                None => assert!(best.is_infinite()),
+            }
         }
     }
 }
