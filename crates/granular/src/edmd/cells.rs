@@ -199,6 +199,14 @@ impl<const D: usize> CellGrid<D> {
         self.cell = cell;
     }
 
+    /// Appends to `out` every particle in the cells neighbouring (and including) cell
+    /// `c`. Gathering the candidates first, then testing them, lets the processor fetch
+    /// their records in parallel instead of one list link at a time.
+    #[inline(always)]
+    pub fn gather_neighbours(&self, c: &[u32; D], out: &mut Vec<u32>) {
+        self.for_each_neighbour(c, |j| out.push(j as u32));
+    }
+
     /// Calls `f(j)` for every particle in the cells neighbouring (and including) cell `c`.
     #[inline(always)]
     pub fn for_each_neighbour(&self, c: &[u32; D], mut f: impl FnMut(usize)) {

@@ -251,6 +251,9 @@ pub struct Edmd<const D: usize> {
     /// Collision log (tests and diagnostics), not checkpointed.
     #[serde(skip)]
     log: Option<Vec<CollisionRecord>>,
+    /// Scratch list of neighbour candidates of one prediction.
+    #[serde(skip)]
+    candidates: Vec<u32>,
 }
 
 impl<const D: usize> Edmd<D> {
@@ -352,6 +355,7 @@ impl<const D: usize> Edmd<D> {
             min_radius,
             bx,
             log: None,
+            candidates: Vec::new(),
         };
         for i in 0..n {
             let c = engine.cells.coords_of(&engine.grains[i].pos.0);
@@ -599,9 +603,13 @@ impl<const D: usize> Edmd<D> {
         let mut best_pair = best;
         let mut partner = NONE;
         let now = self.now;
-        self.cells.for_each_neighbour(&coords, |j| {
+        let mut candidates = std::mem::take(&mut self.candidates);
+        candidates.clear();
+        self.cells.gather_neighbours(&coords, &mut candidates);
+        for &j in &candidates {
+            let j = j as usize;
             if j == i || (partner_of_i == j as u32 && self.last_partner[j] == i as u32) {
-                return;
+                continue;
             }
             let g = &self.grains[j];
             let dt = now - g.time;
@@ -633,7 +641,8 @@ impl<const D: usize> Edmd<D> {
                 best_pair = t;
                 partner = j as u32;
             }
-        });
+        }
+        self.candidates = candidates;
         let mut partner_counter = 0;
         if partner != NONE {
             best = best_pair;
