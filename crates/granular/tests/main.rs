@@ -4,5 +4,6 @@ mod dsmc;
 mod edmd;
 mod engines;
 mod intruder;
+mod observables;
 mod problems;
 mod spine;
