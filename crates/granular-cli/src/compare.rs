@@ -312,7 +312,11 @@ fn impact(runs: &[RunFiles], out: &Path, made: &mut Vec<PathBuf>) -> Result<(), 
         let unit = t0.unwrap_or(1.0);
         let name = if t0.is_some() { "t/t0" } else { "t" };
         // From 0, so that a flat histogram looks flat next to one with a grazing excess.
-        let top = dens.iter().cloned().filter(|v| v.is_finite()).fold(1.25, f64::max);
+        let top = dens
+            .iter()
+            .cloned()
+            .filter(|v| v.is_finite())
+            .fold(1.25, f64::max);
         let mut plot = LinePlot::new(format!("Impact parameters: {}", run.label))
             .x_label("impact parameter b / sigma")
             .y_label("probability density")
