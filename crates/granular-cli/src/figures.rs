@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 type Table = (Vec<String>, Vec<Vec<String>>);
 
 /// Reads a CSV file (lines starting with `#` are comments) into header and rows.
-fn read_csv(path: &Path) -> Result<Table, String> {
+pub(crate) fn read_csv(path: &Path) -> Result<Table, String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let mut reader = csv::ReaderBuilder::new()
         .comment(Some(b'#'))
@@ -34,7 +34,7 @@ fn read_csv(path: &Path) -> Result<Table, String> {
     Ok((header, rows))
 }
 
-fn column(t: &Table, name: &str) -> Option<Vec<f64>> {
+pub(crate) fn column(t: &Table, name: &str) -> Option<Vec<f64>> {
     let i = t.0.iter().position(|h| h == name)?;
     Some(
         t.1.iter()
@@ -245,6 +245,8 @@ fn plot_run(dir: &Path, animate: bool) -> Result<Vec<PathBuf>, String> {
             }
         }
     }
+    // Impact histograms at several times, S(k), density maps (opt-in [output] keys).
+    made.extend(crate::compare::observables(dir, &out)?);
     Ok(made)
 }
 

@@ -4,6 +4,7 @@
 //! terminal, and reports errors. All physics and file formats live in the library.
 
 mod bench;
+mod compare;
 mod figures;
 mod plot;
 
@@ -71,6 +72,16 @@ enum Command {
         /// Also write an animation of the snapshots (GIF; MP4 too when ffmpeg is present).
         #[arg(long)]
         animate: bool,
+    },
+    /// Overlay finished runs (e.g. EDMD and DSMC of one scenario): energy with Haff's law,
+    /// impact-parameter histograms, S(k), density maps.
+    Compare {
+        /// Run directories (the first one sets Haff's t0).
+        #[arg(required = true)]
+        dirs: Vec<PathBuf>,
+        /// Directory for the figures (PNG and SVG).
+        #[arg(long)]
+        out: PathBuf,
     },
     /// Continue an interrupted run from its last checkpoint.
     Resume {
@@ -152,6 +163,14 @@ fn dispatch(cli: Cli) -> Result<(), String> {
             finish(run, &dir, quiet)
         }
         Command::Bench { engine } => bench::run(engine),
+        Command::Compare { dirs, out } => {
+            let files = compare::compare(&dirs, &out)?;
+            for f in &files {
+                println!("{}", f.display());
+            }
+            eprintln!("{}: {} figure files", out.display(), files.len());
+            Ok(())
+        }
         Command::Plot { dir, animate } => {
             let files = figures::plot(&dir, animate)?;
             for f in &files {

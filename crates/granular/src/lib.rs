@@ -16,6 +16,7 @@ pub mod dsmc;
 pub mod edmd;
 pub mod engine;
 pub mod intruder;
+pub mod observables;
 pub mod output;
 pub mod quadrature;
 pub mod random;

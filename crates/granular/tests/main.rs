@@ -5,5 +5,6 @@ mod edmd;
 mod edmd_reference;
 mod engines;
 mod intruder;
+mod observables;
 mod problems;
 mod spine;

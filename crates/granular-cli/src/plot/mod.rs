@@ -18,6 +18,7 @@
 mod animation;
 mod chart;
 mod colour;
+mod heatmap;
 mod histogram;
 mod line;
 mod snapshot;
@@ -25,6 +26,7 @@ mod snapshot;
 pub use animation::Animation;
 pub use chart::LegendPosition;
 pub use colour::{Colour, PALETTE, viridis};
+pub use heatmap::{HeatMaps, HeatPanel};
 pub use histogram::{HistogramPlot, maxwell_speed_density};
 pub use line::{LinePlot, Series, SeriesStyle};
 pub use snapshot::{ColourBy, PictureStyle, SnapshotPicture};

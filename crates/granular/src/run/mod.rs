@@ -9,11 +9,13 @@
 //! | `speed_histograms.csv` | initial and pooled equilibrium speed histograms per species |
 //! | `velocity_histograms.csv` | pooled equilibrium velocity-component histograms per species |
 //! | `impact_parameter.csv` | histogram of `b / σ` of all pair collisions |
+//! | `impact_histograms.npz`, `structure_factor.npz`, `density_maps.npz` | opt-in observables at output times ([`observers`]) |
 //! | `summary.json` | engine, version, seed, timings, final observables, goodness of fit |
 //! | `checkpoint.msgpack` | full state at the last checkpoint (removed when the run ends) |
 //! | `log.txt` | what happened, with wall-clock times |
 
 mod build;
+pub mod observers;
 pub mod sweep;
 
 pub use crate::output::npz::{read_snapshot, write_snapshot};
@@ -110,6 +112,9 @@ pub struct RunState {
     pub histograms: Option<SpeedHistograms>,
     /// Last output's scalars.
     pub last_scalars: Vec<Scalar>,
+    /// Opt-in observables recorded so far (impact histograms, `S(k)`, density maps).
+    #[serde(default)]
+    pub observables: observers::ObservablesState,
 }
 
 /// What the caller sees while a run progresses.
@@ -214,6 +219,7 @@ impl Run {
                 columns: Vec::new(),
                 histograms: None,
                 last_scalars: Vec::new(),
+                observables: Default::default(),
             },
             scenario,
             engine,
@@ -405,6 +411,7 @@ impl Run {
             .find(|s| s.0 == "collisions_per_particle")
             .map_or(0.0, |s| s.1);
         self.state.last_scalars = scalars;
+        self.record_observables(first)?;
         let every = self.scenario.output.snapshot_every;
         if first || (every > 0 && self.state.outputs % every == 0) {
             self.write_snapshot()?;

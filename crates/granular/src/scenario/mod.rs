@@ -7,6 +7,7 @@
 //! typed [`Scenario`] (serde, unknown keys rejected) → [`Scenario::validate`]. Every error
 //! names the key, the value, the line when it comes from the file, and the fix.
 
+mod observables;
 mod overrides;
 
 pub use overrides::apply_override;
@@ -386,6 +387,27 @@ pub struct OutputSpec {
     /// Wall-clock seconds between checkpoints.
     #[serde(default = "checkpoint")]
     pub checkpoint_seconds: f64,
+    /// Record the impact-parameter histogram of the collisions between observation times
+    /// (`impact_histograms.npz`).
+    #[serde(default)]
+    pub impact_histograms: bool,
+    /// Record the structure factor `S(k)` at observation times (`structure_factor.npz`).
+    #[serde(default)]
+    pub structure_factor: bool,
+    /// Largest integer wave-vector component `|n_k|` of `S(k)` (`k = 2π n / L`).
+    #[serde(default = "sk_max_index")]
+    pub structure_factor_max_index: usize,
+    /// Bins per axis of the density maps (`density_maps.npz`); empty: none.
+    #[serde(default)]
+    pub density_map: Vec<usize>,
+    /// Observation times of the opt-in observables (the first output at or after each);
+    /// empty: every output.
+    #[serde(default)]
+    pub observable_times: Vec<f64>,
+}
+
+fn sk_max_index() -> usize {
+    32
 }
 
 fn output_interval() -> f64 {
@@ -417,6 +439,11 @@ impl Default for OutputSpec {
             equilibration_collisions_per_particle: equilibration(),
             histogram_sample_spacing: sample_spacing(),
             checkpoint_seconds: checkpoint(),
+            impact_histograms: false,
+            structure_factor: false,
+            structure_factor_max_index: sk_max_index(),
+            density_map: Vec::new(),
+            observable_times: Vec::new(),
         }
     }
 }
@@ -945,6 +972,7 @@ impl Scenario {
                 ));
             }
         }
+        self.output.validate_observables(self.dimension)?;
         if self.output.histogram_bins == 0 {
             return Err(ScenarioError::new(
                 "output.histogram_bins",

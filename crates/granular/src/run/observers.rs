@@ -1,0 +1,210 @@
+//! Opt-in spatial and collision observables recorded by the runner at output times, for
+//! every many-particle engine alike (the engines only expose snapshots and their
+//! cumulative impact-parameter histogram; the files are written here):
+//!
+//! | file | content (NumPy arrays) |
+//! |---|---|
+//! | `impact_histograms.npz` | `t_start`, `t_end` (T), `edges` (B+1), `counts`, `density` (T x B): histogram of `b / σ` of the collisions between consecutive observation times |
+//! | `structure_factor.npz` | `times` (T), `k` (K, inverse length), `modes` (K), `s` (T x K): `S(k)` of the density field, radially averaged over shells of `|k|` |
+//! | `density_maps.npz` | `times` (T), `lengths` (D), `density` (T x n_y x n_x, or T x n_z x n_y x n_x): number density per bin |
+//!
+//! `[output]` keys: `impact_histograms`, `structure_factor`, `structure_factor_max_index`,
+//! `density_map`, `observable_times` (see `docs/scenario.md`). These are the observables of
+//! section 3.2 of the DSMC seed: the impact-parameter distribution at several times
+//! (Fig. 2b), `S(k)` (Fig. 3) and the clusters themselves.
+
+use super::{Run, RunError};
+use crate::engine::Engine;
+use crate::observables::{density_map_of, structure_factor_of};
+use crate::output::npz::{NpzArray, NpzData, write_npz};
+use serde::{Deserialize, Serialize};
+
+/// Observables recorded so far (part of the runner state, so checkpoints keep them).
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+pub struct ObservablesState {
+    /// Index of the next entry of `output.observable_times` to wait for.
+    pub next_time: usize,
+    /// Time of the previous observation (start of the next impact-histogram window).
+    pub previous_time: f64,
+    /// Cumulative impact-parameter counts at the previous observation.
+    pub previous_counts: Vec<u64>,
+    /// Bin edges of the impact-parameter histograms.
+    pub impact_edges: Vec<f64>,
+    /// Start of each impact-histogram window.
+    pub impact_t_start: Vec<f64>,
+    /// End of each impact-histogram window.
+    pub impact_t_end: Vec<f64>,
+    /// Counts per window (rows) and bin.
+    pub impact_counts: Vec<Vec<u64>>,
+    /// Observation times of `S(k)`.
+    pub sk_times: Vec<f64>,
+    /// Mean `|k|` per shell.
+    pub sk_k: Vec<f64>,
+    /// Wave vectors per shell.
+    pub sk_modes: Vec<usize>,
+    /// `S(k)` per observation (rows) and shell.
+    pub sk_values: Vec<Vec<f64>>,
+    /// Observation times of the density maps.
+    pub density_times: Vec<f64>,
+    /// Density maps, axis 0 fastest, one per observation.
+    pub density_values: Vec<Vec<f64>>,
+}
+
+impl Run {
+    /// Whether any opt-in observable is switched on.
+    fn observables_enabled(&self) -> bool {
+        let o = &self.scenario.output;
+        o.impact_histograms || o.structure_factor || !o.density_map.is_empty()
+    }
+
+    /// Whether the output at the current time is an observation time: every output when
+    /// `observable_times` is empty, else `t = 0` and the first output at or after each
+    /// listed time.
+    fn observation_due(&mut self, first: bool) -> bool {
+        let times = &self.scenario.output.observable_times;
+        if first || times.is_empty() {
+            return true;
+        }
+        let now = self.engine.time();
+        let st = &mut self.state.observables;
+        let mut due = false;
+        // Tolerance for output times that land on a listed time up to round-off.
+        let eps = 1e-9 * self.scenario.output.interval;
+        while st.next_time < times.len() && times[st.next_time] <= now + eps {
+            st.next_time += 1;
+            due = true;
+        }
+        due
+    }
+
+    /// Records the opt-in observables at an output time and rewrites their files.
+    pub(super) fn record_observables(&mut self, first: bool) -> Result<(), RunError> {
+        if !self.observables_enabled() || !self.observation_due(first) {
+            return Ok(());
+        }
+        let now = self.engine.time();
+        let out = self.scenario.output.clone();
+        let lengths = self.scenario.lengths();
+        if out.impact_histograms
+            && let Some(h) = self.engine.impact_histogram()
+        {
+            let st = &mut self.state.observables;
+            if first || st.previous_counts.len() != h.counts.len() {
+                st.impact_edges = (0..=h.counts.len())
+                    .map(|b| h.min + b as f64 * h.bin_width())
+                    .collect();
+            } else {
+                let row = h
+                    .counts
+                    .iter()
+                    .zip(&st.previous_counts)
+                    .map(|(c, p)| c.saturating_sub(*p))
+                    .collect();
+                st.impact_t_start.push(st.previous_time);
+                st.impact_t_end.push(now);
+                st.impact_counts.push(row);
+            }
+            st.previous_counts = h.counts.clone();
+            st.previous_time = now;
+        }
+        let snapshot = if out.structure_factor || !out.density_map.is_empty() {
+            self.engine.snapshot()
+        } else {
+            None
+        };
+        if let Some(snap) = &snapshot {
+            let st = &mut self.state.observables;
+            if out.structure_factor
+                && let Some(sk) =
+                    structure_factor_of(snap, &lengths, out.structure_factor_max_index)
+            {
+                st.sk_times.push(now);
+                st.sk_k = sk.k;
+                st.sk_modes = sk.count;
+                st.sk_values.push(sk.s);
+            }
+            if !out.density_map.is_empty()
+                && let Some(map) = density_map_of(snap, &lengths, &out.density_map)
+            {
+                st.density_times.push(now);
+                st.density_values.push(map.values);
+            }
+        }
+        self.write_observables()
+    }
+
+    /// Writes the files of the recorded observables (all rows so far).
+    fn write_observables(&self) -> Result<(), RunError> {
+        let out = &self.scenario.output;
+        let st = &self.state.observables;
+        if out.impact_histograms && !st.impact_edges.is_empty() {
+            let bins = st.impact_edges.len() - 1;
+            let rows = st.impact_counts.len();
+            let width = st.impact_edges[1] - st.impact_edges[0];
+            let counts: Vec<f64> = st
+                .impact_counts
+                .iter()
+                .flatten()
+                .map(|&c| c as f64)
+                .collect();
+            let density: Vec<f64> = st
+                .impact_counts
+                .iter()
+                .flat_map(|row| {
+                    let total: u64 = row.iter().sum();
+                    row.iter().map(move |&c| {
+                        if total > 0 {
+                            c as f64 / (total as f64 * width)
+                        } else {
+                            f64::NAN
+                        }
+                    })
+                })
+                .collect();
+            write_npz(
+                self.dir.join("impact_histograms.npz"),
+                &[
+                    ("t_start", NpzArray::f64_1d(st.impact_t_start.clone())),
+                    ("t_end", NpzArray::f64_1d(st.impact_t_end.clone())),
+                    ("edges", NpzArray::f64_1d(st.impact_edges.clone())),
+                    ("counts", NpzArray::f64_2d(counts, rows, bins)?),
+                    ("density", NpzArray::f64_2d(density, rows, bins)?),
+                ],
+            )?;
+        }
+        if out.structure_factor && !st.sk_times.is_empty() {
+            let rows = st.sk_values.len();
+            let shells = st.sk_k.len();
+            write_npz(
+                self.dir.join("structure_factor.npz"),
+                &[
+                    ("times", NpzArray::f64_1d(st.sk_times.clone())),
+                    ("k", NpzArray::f64_1d(st.sk_k.clone())),
+                    (
+                        "modes",
+                        NpzArray::u64_1d(st.sk_modes.iter().map(|&m| m as u64).collect()),
+                    ),
+                    ("s", NpzArray::f64_2d(st.sk_values.concat(), rows, shells)?),
+                ],
+            )?;
+        }
+        if !out.density_map.is_empty() && !st.density_times.is_empty() {
+            // NumPy's C order has the last index fastest: (T, n_y, n_x) for axis 0 fastest.
+            let mut shape = vec![st.density_values.len() as u64];
+            shape.extend(out.density_map.iter().rev().map(|&d| d.max(1) as u64));
+            let density = NpzArray {
+                shape,
+                data: NpzData::F64(st.density_values.concat()),
+            };
+            write_npz(
+                self.dir.join("density_maps.npz"),
+                &[
+                    ("times", NpzArray::f64_1d(st.density_times.clone())),
+                    ("lengths", NpzArray::f64_1d(self.scenario.lengths())),
+                    ("density", density),
+                ],
+            )?;
+        }
+        Ok(())
+    }
+}
