@@ -4,5 +4,6 @@ mod dsmc;
 mod edmd;
 mod engines;
 mod intruder;
+mod intruder_scenario;
 mod problems;
 mod spine;
