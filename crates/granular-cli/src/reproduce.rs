@@ -365,39 +365,47 @@ fn plot_fig7(t: &Table) -> Panels<LinePlot, LinePlot> {
     Panels::new(left, right)
 }
 
-fn histogram(t: &Table, x: &str, p: &str, fit: &str, title: &str, label: &str) -> HistogramPlot {
-    let centres = col(t, x);
+/// A histogram from a table of bin centres, cropped to the bins with data; on a log scale
+/// the reference curve is cut a decade below the smallest non-zero density.
+fn histogram(t: &Table, log: bool, title: &str) -> HistogramPlot {
+    let centres = col(t, "omega");
+    let dens = col(t, "P_omega");
+    let fit = col(t, "gaussian_fit_omega");
     let w = if centres.len() > 1 {
         centres[1] - centres[0]
     } else {
         1.0
     };
-    let mut edges: Vec<f64> = centres.iter().map(|c| c - 0.5 * w).collect();
-    edges.push(centres.last().copied().unwrap_or(0.0) + 0.5 * w);
-    HistogramPlot::new(title, edges, col(t, p))
+    let used: Vec<usize> = (0..dens.len()).filter(|&i| dens[i] > 0.0).collect();
+    let (lo, hi) = match (used.first(), used.last()) {
+        (Some(&a), Some(&b)) => (a, b + 1),
+        _ => (0, dens.len()),
+    };
+    let floor = dens[lo..hi]
+        .iter()
+        .copied()
+        .filter(|d| *d > 0.0)
+        .fold(f64::INFINITY, f64::min)
+        / 10.0;
+    let mut edges: Vec<f64> = centres[lo..hi].iter().map(|c| c - 0.5 * w).collect();
+    edges.push(centres[hi - 1] + 0.5 * w);
+    let (fx, fy): (Vec<f64>, Vec<f64>) = centres[lo..hi]
+        .iter()
+        .zip(&fit[lo..hi])
+        .filter(|(_, y)| !log || **y >= floor)
+        .map(|(x, y)| (*x, *y))
+        .unzip();
+    HistogramPlot::new(title, edges, dens[lo..hi].to_vec())
         .size(HALF.0, HALF.1)
-        .x_label(label)
+        .x_label("angular velocity ω")
         .y_label("probability density")
-        .theory_points("best-fit Gaussian", centres, col(t, fit))
+        .log_y(log)
+        .theory_points("best-fit Gaussian", fx, fy)
 }
 
 fn plot_fig8(t: &Table) -> Panels<HistogramPlot, HistogramPlot> {
-    let left = histogram(
-        t,
-        "omega",
-        "P_omega",
-        "gaussian_fit_omega",
-        "Fig. 8: needle ω, M/m = 0.1, α = 0.1",
-        "angular velocity ω",
-    );
-    let right = histogram(
-        t,
-        "omega",
-        "P_omega",
-        "gaussian_fit_omega",
-        "Fig. 8, logarithmic scale",
-        "angular velocity ω",
+    Panels::new(
+        histogram(t, false, "Fig. 8: needle ω, M/m = 0.1, α = 0.1"),
+        histogram(t, true, "Fig. 8, logarithmic scale"),
     )
-    .log_y(true);
-    Panels::new(left, right)
 }
