@@ -62,6 +62,13 @@ fn load(dir: &Path) -> Result<RunFiles, String> {
     let engine = match scenario.engine {
         EngineKind::Edmd => "EDMD",
         EngineKind::Dsmc => "DSMC",
+        EngineKind::Intruder => {
+            return Err(format!(
+                "{}: `granular compare` overlays cooling runs of the edmd and dsmc engines; \
+                 this is an intruder run (use `granular plot` for it)",
+                dir.display()
+            ));
+        }
     };
     let name = dir
         .file_name()

@@ -6,7 +6,9 @@
 mod bench;
 mod compare;
 mod figures;
+mod intruder_plots;
 mod plot;
+mod reproduce;
 
 use clap::{Parser, Subcommand};
 use granular::run::{ProgressReport, Run, RunError};
@@ -91,6 +93,8 @@ enum Command {
         #[arg(long, short)]
         quiet: bool,
     },
+    /// Reproduce the figures of the Gillespie intruder paper (PNG, SVG and CSV).
+    Reproduce(reproduce::ReproduceArgs),
     /// Measure the speed of an engine on standard cases.
     Bench {
         #[command(subcommand)]
@@ -124,7 +128,35 @@ fn load(path: &Path, seed: Option<u64>, set: &[String]) -> Result<Scenario, Stri
     if let Some(s) = seed {
         overrides.push(format!("seed={s}"));
     }
-    Scenario::from_toml(&text, &overrides).map_err(|e| format!("{}: {e}", path.display()))
+    let mut sc =
+        Scenario::from_toml(&text, &overrides).map_err(|e| format!("{}: {e}", path.display()))?;
+    if let Some(o) = bath_file_override(path, &sc) {
+        overrides.push(o);
+        sc = Scenario::from_toml(&text, &overrides)
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    Ok(sc)
+}
+
+/// A tabulated intruder bath `file` is relative to the scenario file: the override that
+/// makes it absolute (so that validation reads it, and run directories, sweeps and
+/// resumes find it from any working directory), if there is one to make.
+fn bath_file_override(path: &Path, sc: &Scenario) -> Option<String> {
+    use granular::intruder::BathConfig;
+    let cfg = sc.intruder.as_ref()?.one_d()?;
+    let BathConfig::Tabulated { file: Some(f), .. } = &cfg.bath else {
+        return None;
+    };
+    if Path::new(f).is_absolute() {
+        return None;
+    }
+    let base = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let base = std::path::absolute(base).unwrap_or_else(|_| base.to_path_buf());
+    let full = base.join(f).to_string_lossy().into_owned();
+    Some(format!("intruder.bath.file={}", toml::Value::String(full)))
 }
 
 fn dispatch(cli: Cli) -> Result<(), String> {
@@ -150,12 +182,19 @@ fn dispatch(cli: Cli) -> Result<(), String> {
         Command::Check { scenario, set } => {
             let sc = load(&scenario, None, &set)?;
             print!("{}", sc.to_toml());
-            eprintln!(
-                "{}: valid ({} grains, {} species)",
-                scenario.display(),
-                sc.particle_count(),
-                sc.species.len()
-            );
+            match &sc.intruder {
+                Some(i) => eprintln!(
+                    "{}: valid (intruder engine, model {})",
+                    scenario.display(),
+                    i.model()
+                ),
+                None => eprintln!(
+                    "{}: valid ({} grains, {} species)",
+                    scenario.display(),
+                    sc.particle_count(),
+                    sc.species.len()
+                ),
+            }
             Ok(())
         }
         Command::Resume { dir, quiet } => {
@@ -171,6 +210,7 @@ fn dispatch(cli: Cli) -> Result<(), String> {
             eprintln!("{}: {} figure files", out.display(), files.len());
             Ok(())
         }
+        Command::Reproduce(args) => reproduce::run(&args),
         Command::Plot { dir, animate } => {
             let files = figures::plot(&dir, animate)?;
             for f in &files {
@@ -188,6 +228,10 @@ fn dispatch(cli: Cli) -> Result<(), String> {
             let text = std::fs::read_to_string(&scenario)
                 .map_err(|e| format!("{}: {e}", scenario.display()))?;
             let dir = out.unwrap_or_else(|| default_dir(&scenario));
+            let mut set = set;
+            if let Some(o) = bath_file_override(&scenario, &load(&scenario, None, &set)?) {
+                set.push(o);
+            }
             let start = std::time::Instant::now();
             let rows = granular::run::sweep::run_sweep(&dir, &text, &set, threads, &|name, s| {
                 eprintln!(
@@ -260,6 +304,7 @@ fn finish(run: Run, dir: &Path, quiet: bool) -> Result<(), String> {
                 summary.collisions_per_second,
                 summary.stop_reason
             );
+            intruder_plots::report(&summary);
             if let Some(c) = &summary.crater {
                 eprintln!(
                     "  crater: {} of {} `{}` grains moved more than {}",

@@ -277,3 +277,281 @@ fn bad_observable_keys_name_key_value_and_fix() {
         "{err}"
     );
 }
+fn summary_of(dir: &std::path::Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap()
+}
+
+/// `granular run scenarios/intruder-1d.toml` at the paper's statistics (5e5 collisions,
+/// well under a second): the run directory, the summary keys, and T/T_B against
+/// Martin-Piasecki (Eq. 18) within 4 of the run's own batch-means errors.
+#[test]
+fn intruder_run_checks_eq_18() {
+    let out = tmp("intruder-1d");
+    let status = granular()
+        .args(["run", "--quiet", "--out"])
+        .arg(&out)
+        .arg(scenarios().join("intruder-1d.toml"))
+        .status()
+        .unwrap();
+    assert!(status.success());
+    for f in [
+        "scenario.toml",
+        "summary.json",
+        "timeseries.csv",
+        "intruder_histograms.csv",
+        "intruder_histograms.npz",
+        "log.txt",
+    ] {
+        assert!(out.join(f).is_file(), "{f} missing");
+    }
+    let s = summary_of(&out);
+    assert_eq!(s["engine"], "intruder");
+    assert_eq!(s["stop_reason"], "collisions");
+    let b = &s["intruder"];
+    for key in [
+        "model",
+        "samples",
+        "temperature",
+        "temperature_error",
+        "temperature_ratio",
+        "temperature_ratio_error",
+        "kurtosis",
+        "kurtosis_error",
+        "theory_temperature_ratio",
+        "temperature_ratio_z",
+    ] {
+        assert!(
+            b.get(key).is_some(),
+            "summary.json intruder block lacks {key}"
+        );
+    }
+    for key in [
+        "temperature_ratio",
+        "temperature_ratio_error",
+        "martin_piasecki_ratio",
+    ] {
+        assert!(s["final"].get(key).is_some(), "final lacks {key}");
+    }
+    let (alpha, mass) = (0.5, 1.0);
+    let eq18 = (1.0 + alpha) / (2.0 + (1.0 - alpha) / mass);
+    let r = b["temperature_ratio"].as_f64().unwrap();
+    let e = b["temperature_ratio_error"].as_f64().unwrap();
+    assert!(e > 0.0 && e < 0.01, "error {e}");
+    assert!(
+        (r - eq18).abs() <= 4.0 * e,
+        "T/T_B = {r} ± {e}, Eq. 18 = {eq18}"
+    );
+    assert_eq!(b["theory_temperature_ratio"].as_f64().unwrap(), eq18);
+    // The histogram on the time grid holds every grid sample (within its range).
+    let csv = std::fs::read_to_string(out.join("intruder_histograms.csv")).unwrap();
+    let counted: u64 = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(3).unwrap().parse::<u64>().unwrap())
+        .sum();
+    let samples = b["samples"].as_u64().unwrap();
+    assert!(counted <= samples && counted as f64 > 0.999 * samples as f64);
+    let plot = granular().arg("plot").arg(&out).output().unwrap();
+    assert!(
+        plot.status.success(),
+        "{}",
+        String::from_utf8_lossy(&plot.stderr)
+    );
+    assert!(out.join("figures/histogram_velocity.png").is_file());
+    assert!(out.join("figures/running_averages.png").is_file());
+}
+
+#[test]
+fn intruder_needle_run_writes_its_observables() {
+    let out = tmp("intruder-needle");
+    let status = granular()
+        .args(["run", "--quiet", "--out"])
+        .arg(&out)
+        .arg(scenarios().join("intruder-needle.toml"))
+        .args([
+            "--set",
+            "stop.collisions=100000",
+            "--set",
+            "output.interval=500",
+        ])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let b = &summary_of(&out)["intruder"];
+    for key in [
+        "translational_temperature_ratio",
+        "translational_temperature_ratio_error",
+        "rotational_temperature_ratio",
+        "rotational_temperature_ratio_error",
+        "correlation_r",
+        "correlation_r_error",
+    ] {
+        assert!(b[key].as_f64().is_some_and(f64::is_finite), "{key}: {b}");
+    }
+    let csv = std::fs::read_to_string(out.join("intruder_histograms.csv")).unwrap();
+    assert!(csv.contains("\nangular_velocity,") && csv.contains("\nvelocity_component,"));
+}
+
+#[test]
+fn check_reports_bad_intruder_fields() {
+    let cases: [(&[&str], &[&str]); 3] = [
+        (
+            &["--set", "intruder.restitution=1.5"],
+            &["intruder.restitution", "1.5", "[0, 1]"],
+        ),
+        (
+            &["--set", "intruder.bath_density=0"],
+            &["intruder.bath_density", "is 0", "positive"],
+        ),
+        (
+            &["--set", "intruder.model=\"rod\""],
+            &["intruder.model", "\"rod\"", "\"needle\""],
+        ),
+    ];
+    for (args, wanted) in cases {
+        let out = granular()
+            .arg("check")
+            .arg(scenarios().join("intruder-1d.toml"))
+            .args(args)
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2));
+        let err = String::from_utf8_lossy(&out.stderr);
+        for w in wanted {
+            assert!(err.contains(w), "{args:?}: `{w}` not in: {err}");
+        }
+    }
+    // An unknown key in the file: named with its table and line.
+    let dir = tmp("intruder-bad");
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = std::fs::read_to_string(scenarios().join("intruder-1d.toml"))
+        .unwrap()
+        .replace("\nmass = 1.0 ", "\nmasss = 1.0 ");
+    std::fs::write(dir.join("bad.toml"), text).unwrap();
+    let out = granular()
+        .arg("check")
+        .arg(dir.join("bad.toml"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && err.contains("intruder.masss") && err.contains("line"),
+        "{err}"
+    );
+}
+
+/// A tabulated bath file is found relative to the scenario file, from any directory.
+#[test]
+fn intruder_tabulated_bath_file_is_relative_to_the_scenario() {
+    let dir = tmp("intruder-tab");
+    std::fs::create_dir_all(dir.join("sc")).unwrap();
+    std::fs::write(dir.join("sc/bath.dat"), "# v f\n-1 0\n0 1\n1 0\n").unwrap();
+    let text = std::fs::read_to_string(scenarios().join("intruder-1d.toml"))
+        .unwrap()
+        .replace(
+            "bath = { kind = \"gaussian\", temperature = 0.5 }",
+            "bath = { kind = \"tabulated\", file = \"bath.dat\" }",
+        );
+    std::fs::write(dir.join("sc/tab.toml"), text).unwrap();
+    let out = granular()
+        .current_dir(&dir)
+        .args(["run", "--quiet", "sc/tab.toml", "--out", "run", "--set"])
+        .arg("stop.collisions=20000")
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let s = summary_of(&dir.join("run"));
+    // Triangular density on [-1, 1]: <v^2> = 1/6, T_B = m <v^2>.
+    assert!((s["intruder"]["bath_temperature"].as_f64().unwrap() - 1.0 / 6.0).abs() < 1e-12);
+}
+
+#[test]
+fn intruder_sweep_over_restitution() {
+    let dir = tmp("intruder-sweep");
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = std::fs::read_to_string(scenarios().join("intruder-1d.toml")).unwrap()
+        + "\n[sweep]\nkey = \"intruder.restitution\"\nvalues = [0.2, 0.8]\nseeds = 2\nobservable = \"temperature_ratio\"\n";
+    std::fs::write(dir.join("sweep.toml"), text).unwrap();
+    let out = granular()
+        .args(["sweep", "--threads", "2", "--out"])
+        .arg(dir.join("out"))
+        .arg(dir.join("sweep.toml"))
+        .args(["--set", "stop.collisions=50000"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.starts_with("value,temperature_ratio_mean"),
+        "{stdout}"
+    );
+    let rows: Vec<f64> = stdout
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(1).unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(rows.len(), 2);
+    assert!(rows[0] < rows[1], "T/T_B grows with alpha: {rows:?}");
+    let plot = granular()
+        .arg("plot")
+        .arg(dir.join("out"))
+        .output()
+        .unwrap();
+    assert!(
+        plot.status.success(),
+        "{}",
+        String::from_utf8_lossy(&plot.stderr)
+    );
+}
+
+/// `granular reproduce fig3 --quick`: PNG, SVG and CSV with the theory column, and the
+/// table does not depend on the number of threads.
+#[test]
+fn reproduce_fig3_quick() {
+    let (a, b) = (tmp("reproduce-1"), tmp("reproduce-2"));
+    for (dir, threads) in [(&a, "1"), (&b, "2")] {
+        let out = granular()
+            .args([
+                "reproduce",
+                "fig3",
+                "--quick",
+                "--threads",
+                threads,
+                "--out",
+            ])
+            .arg(dir)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        for f in ["fig3.png", "fig3.svg", "fig3.csv"] {
+            assert!(dir.join(f).is_file(), "{f} missing");
+        }
+    }
+    let csv = std::fs::read_to_string(a.join("fig3.csv")).unwrap();
+    assert_eq!(csv, std::fs::read_to_string(b.join("fig3.csv")).unwrap());
+    let header = csv.lines().nth(1).unwrap();
+    assert!(
+        header.starts_with("alpha,T_over_TB,T_over_TB_error,eq18"),
+        "{header}"
+    );
+    assert_eq!(csv.lines().count(), 2 + 11);
+    let png = png::Decoder::new(std::io::BufReader::new(
+        std::fs::File::open(a.join("fig3.png")).unwrap(),
+    ));
+    assert!(png.read_info().unwrap().info().width >= 1000);
+    let bad = granular().args(["reproduce", "fig6"]).output().unwrap();
+    assert!(!bad.status.success());
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("fig7"));
+}

@@ -5,6 +5,7 @@ mod edmd;
 mod edmd_reference;
 mod engines;
 mod intruder;
+mod intruder_scenario;
 mod observables;
 mod problems;
 mod spine;

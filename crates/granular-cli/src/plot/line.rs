@@ -41,6 +41,8 @@ pub struct Series {
     pub style: SeriesStyle,
     /// Colour; `None` takes the next palette colour.
     pub colour: Option<Colour>,
+    /// Theory curves: `Some(true)` dashed, `Some(false)` solid, `None` the cycling pattern.
+    pub dashed: Option<bool>,
 }
 
 impl Series {
@@ -52,6 +54,7 @@ impl Series {
             y_err: None,
             style,
             colour: None,
+            dashed: None,
         }
     }
 
@@ -97,6 +100,13 @@ impl Series {
     /// Sets the colour.
     pub fn with_colour(mut self, colour: Colour) -> Self {
         self.colour = Some(colour);
+        self
+    }
+
+    /// Draws a theory curve dashed (`true`) or solid (`false`) instead of the cycling
+    /// dash pattern.
+    pub fn dashed(mut self, dashed: bool) -> Self {
+        self.dashed = Some(dashed);
         self
     }
 
@@ -510,7 +520,12 @@ impl ChartBody for LinePlot {
             data_index += 1;
         }
         for (s, colour, xy, k) in theories {
-            draw_line(chart, &xy, colour, m.line, dash(k, m), &s.name, m)?;
+            let pattern = match s.dashed {
+                Some(true) => dash(1, m),
+                Some(false) => None,
+                None => dash(k, m),
+            };
+            draw_line(chart, &xy, colour, m.line, pattern, &s.name, m)?;
         }
         Ok(())
     }

@@ -191,6 +191,45 @@ pub(crate) fn save_both<F: Draw>(figure: &F, stem: &Path) -> Result<[PathBuf; 2]
     Ok([png, svg])
 }
 
+/// Two figures side by side in one image (e.g. a distribution and its log-log tail).
+/// Each panel keeps its own size; the image is as wide as both and as tall as the taller.
+pub struct Panels<A, B> {
+    left: A,
+    right: B,
+}
+
+impl<A: Draw, B: Draw> Panels<A, B> {
+    /// `left` and `right` panels.
+    pub fn new(left: A, right: B) -> Self {
+        Self { left, right }
+    }
+
+    /// Writes `stem.png` and `stem.svg`.
+    pub fn save_png_and_svg(&self, stem: impl AsRef<Path>) -> Result<[PathBuf; 2], PlotError> {
+        save_both(self, stem.as_ref())
+    }
+}
+
+impl<A: Draw, B: Draw> Draw for Panels<A, B> {
+    fn size(&self) -> (u32, u32) {
+        let (a, b) = (self.left.size(), self.right.size());
+        (a.0 + b.0, a.1.max(b.1))
+    }
+    fn check(&self) -> Result<(), PlotError> {
+        self.left.check()?;
+        self.right.check()
+    }
+    fn draw_on<DB: DrawingBackend>(
+        &self,
+        area: &DrawingArea<DB, Shift>,
+        vector: bool,
+    ) -> Result<(), PlotError> {
+        let (l, r) = area.split_horizontally(self.left.size().0);
+        self.left.draw_on(&l, vector)?;
+        self.right.draw_on(&r, vector)
+    }
+}
+
 /// Tick label text: plain decimals for ordinary magnitudes, `a×10ⁿ` otherwise.
 pub(crate) fn format_tick(v: f64) -> String {
     if v == 0.0 || !v.is_finite() {

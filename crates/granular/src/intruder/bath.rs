@@ -136,7 +136,7 @@ pub trait BathDistribution {
 // ---------------------------------------------------------------------------------------
 
 /// Gaussian bath `f(v) = sqrt(a/pi) exp(-a v^2)` (Eq. 14), `a = m / (2 T_B)`.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Gaussian {
     /// The paper's `a` (inverse squared velocity).
     pub a: f64,
@@ -334,7 +334,7 @@ impl BathDistribution for Gaussian {
 /// `F(y) = 1/2 + ln((y^2+sqrt2 y+1)/(y^2-sqrt2 y+1))/(4 pi) + (atan(sqrt2 y+1)+atan(sqrt2 y-1))/(2 pi)`,
 /// `int_{-inf}^{y} t f = -atan(1/y^2)/(sqrt(2) pi sqrt(a))`, hence
 /// `phi_+(v1) = [x F(x) + atan(1/x^2)/(sqrt(2) pi)] / sqrt(a)`.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PowerLaw {
     /// The paper's `a` in Eq. 19.
     pub a: f64,
@@ -549,7 +549,7 @@ pub fn sample_linear_product(a0: f64, a1: f64, b0: f64, b1: f64, rng: &mut Strea
 }
 
 /// One orientation of a table: breakpoints, density values and cumulative integrals.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 struct Table {
     v: Vec<f64>,
     f: Vec<f64>,
@@ -672,7 +672,7 @@ impl Table {
 
 /// A bath density given by points `(v_k, f_k)`, linear in between, zero outside
 /// `[v_0, v_n]`, normalised to unit integral. A breakpoint at `v = 0` is inserted if needed.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Tabulated {
     pos: Table,
     /// The mirror image `v -> -v`, used for the "-" side.
@@ -864,8 +864,8 @@ impl Default for BathConfig {
     }
 }
 
-/// One of the supported baths (static dispatch).
-#[derive(Clone, Debug, PartialEq)]
+/// One of the supported baths (static dispatch); serialisable for checkpoints.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Bath {
     /// Eq. 14.
     Gaussian(Gaussian),

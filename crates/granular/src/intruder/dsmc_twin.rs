@@ -23,6 +23,7 @@ use super::bath::BathError;
 use super::observables::{GridSeries, hist_push};
 use super::one_d::{Intruder1dConfig, Intruder1dParams, Intruder1dSummary};
 use super::theory;
+use crate::engine::{Engine, EngineError, Progress, Scalar};
 use crate::random::{DYNAMICS, INITIAL_STATE, RngExt, Stream, stream};
 use crate::stats::Histogram;
 
@@ -45,14 +46,18 @@ impl Default for DsmcTwinConfig {
     }
 }
 
-/// The DSMC twin of the 1D intruder.
-#[derive(Clone, Debug)]
+/// The DSMC twin of the 1D intruder; an [`Engine`] (serialisable, for checkpoints) with
+/// the same scalars as [`super::Intruder1d`], so a scenario can switch between the two.
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct DsmcTwin {
     params: Intruder1dParams,
     bath_v: Vec<f64>,
     omega_max: f64,
     v1: f64,
     time: f64,
+    /// Time of the next trial (exponential spacing at rate `omega_max`, drawn after each
+    /// trial, so the trajectory does not depend on how `advance` calls are chunked).
+    next_trial: f64,
     trials: u64,
     collisions: u64,
     bound_raises: u64,
@@ -91,16 +96,19 @@ impl DsmcTwin {
             .intruder
             .histogram_max
             .unwrap_or(6.0 * (params.bath_temperature / params.mass).sqrt());
+        let mut rng = stream(seed, &[DYNAMICS]);
+        let e: f64 = rng.sample(Exp1);
         Ok(Self {
             params,
             bath_v,
             omega_max,
             v1,
             time: 0.0,
+            next_trial: e / omega_max,
             trials: 0,
             collisions: 0,
             bound_raises: 0,
-            rng: stream(seed, &[DYNAMICS]),
+            rng,
             dt,
             next_sample: transient,
             series: GridSeries::new(64),
@@ -109,37 +117,58 @@ impl DsmcTwin {
         })
     }
 
+    /// Records the grid points before `upto` (and at `upto` when `inclusive`).
+    fn sample_grid(&mut self, upto: f64, inclusive: bool) {
+        while self.next_sample < upto || (inclusive && self.next_sample == upto) {
+            let v = self.v1;
+            self.series.push([v, v * v, v * v * v * v]);
+            hist_push(&mut self.histogram, self.inv_bin_width, v);
+            self.next_sample += self.dt;
+        }
+    }
+
+    /// Processes the pending trial and draws the time of the next one.
+    fn trial(&mut self) {
+        let n = self.bath_v.len();
+        let rho = self.params.rho;
+        let t = self.next_trial;
+        self.sample_grid(t, false);
+        self.time = t;
+        self.trials += 1;
+        let sigma = if self.rng.random::<bool>() { 1.0 } else { -1.0 };
+        let i = self.rng.random_range(0..n);
+        let rel = self.bath_v[i] - self.v1;
+        let omega_i = 2.0 * rho * rel.abs();
+        if omega_i > self.omega_max {
+            self.omega_max = omega_i;
+            self.bound_raises += 1;
+        }
+        if rel * sigma > 0.0 && self.rng.random::<f64>() * self.omega_max < omega_i {
+            self.v1 += self.params.kick * rel; // Eq. 17
+            self.collisions += 1;
+            let j = self.rng.random_range(0..n);
+            self.bath_v[j] = self.params.bath.sample(&mut self.rng);
+        }
+        let e: f64 = self.rng.sample(Exp1);
+        self.next_trial = t + e / self.omega_max;
+    }
+
     /// Runs until `collisions` more collisions have been accepted, averaging on the grid.
     pub fn run_collisions(&mut self, collisions: u64) {
         let target = self.collisions + collisions;
-        let n = self.bath_v.len();
-        let rho = self.params.rho;
         while self.collisions < target {
-            let e: f64 = self.rng.sample(Exp1);
-            let t = self.time + e / self.omega_max;
-            while self.next_sample < t {
-                let v = self.v1;
-                self.series.push([v, v * v, v * v * v * v]);
-                hist_push(&mut self.histogram, self.inv_bin_width, v);
-                self.next_sample += self.dt;
-            }
-            self.time = t;
-            self.trials += 1;
-            let sigma = if self.rng.random::<bool>() { 1.0 } else { -1.0 };
-            let i = self.rng.random_range(0..n);
-            let rel = self.bath_v[i] - self.v1;
-            let omega_i = 2.0 * rho * rel.abs();
-            if omega_i > self.omega_max {
-                self.omega_max = omega_i;
-                self.bound_raises += 1;
-            }
-            if rel * sigma > 0.0 && self.rng.random::<f64>() * self.omega_max < omega_i {
-                self.v1 += self.params.kick * rel; // Eq. 17
-                self.collisions += 1;
-                let j = self.rng.random_range(0..n);
-                self.bath_v[j] = self.params.bath.sample(&mut self.rng);
-            }
+            self.trial();
         }
+    }
+
+    /// Current intruder velocity.
+    pub fn velocity(&self) -> f64 {
+        self.v1
+    }
+
+    /// The mechanical parameters.
+    pub fn params(&self) -> &Intruder1dParams {
+        &self.params
     }
 
     /// Number of times `omega_max` had to be raised.
@@ -171,5 +200,66 @@ impl DsmcTwin {
             ),
             histogram: self.histogram.clone(),
         }
+    }
+}
+
+impl Engine for DsmcTwin {
+    fn name(&self) -> &'static str {
+        "intruder"
+    }
+    fn time(&self) -> f64 {
+        self.time
+    }
+    /// Trials (accepted or not).
+    fn events(&self) -> u64 {
+        self.trials
+    }
+    fn collisions(&self) -> u64 {
+        self.collisions
+    }
+    fn particle_count(&self) -> usize {
+        1
+    }
+    fn advance(&mut self, until: f64, max_events: u64) -> Result<Progress, EngineError> {
+        let mut budget = max_events;
+        while self.next_trial <= until {
+            if budget == 0 {
+                return Ok(Progress::BudgetExhausted);
+            }
+            budget -= 1;
+            self.trial();
+            if !self.v1.is_finite() {
+                return Err(EngineError::Numerical(format!(
+                    "intruder velocity became {} at t = {}",
+                    self.v1, self.time
+                )));
+            }
+        }
+        self.sample_grid(until, true);
+        self.time = until;
+        Ok(Progress::Reached)
+    }
+    /// The scalars of [`super::Intruder1d`] plus `bound_raises` and
+    /// `trials_per_collision`.
+    fn scalars(&mut self) -> Vec<Scalar> {
+        let s = self.summary();
+        vec![
+            ("velocity".into(), self.v1),
+            ("kinetic_energy".into(), self.kinetic_energy()),
+            ("collisions".into(), self.collisions as f64),
+            ("samples".into(), s.samples as f64),
+            ("temperature".into(), s.temperature.mean),
+            ("temperature_error".into(), s.temperature.error),
+            ("temperature_ratio".into(), s.temperature_ratio.mean),
+            ("temperature_ratio_error".into(), s.temperature_ratio.error),
+            ("kurtosis".into(), s.kurtosis.mean),
+            ("kurtosis_error".into(), s.kurtosis.error),
+            ("martin_piasecki_ratio".into(), s.martin_piasecki_ratio),
+            ("bound_raises".into(), self.bound_raises as f64),
+            ("trials_per_collision".into(), self.trials_per_collision()),
+        ]
+    }
+    fn kinetic_energy(&mut self) -> f64 {
+        0.5 * self.params.mass * self.v1 * self.v1
     }
 }

@@ -119,7 +119,7 @@ impl Default for NeedleConfig {
 }
 
 /// Derived constants of a needle run.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct NeedleParams {
     /// Normal-velocity distribution of the bath.
     pub bath: Gaussian,
@@ -320,8 +320,8 @@ pub fn total_flux(rho: f64, a: f64, length: f64, vn: f64, omega: f64) -> f64 {
     }
 }
 
-/// The needle as an [`Engine`].
-#[derive(Clone, Debug)]
+/// The needle as an [`Engine`] (serialisable, for checkpoints).
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Needle {
     /// Parameters.
     pub params: NeedleParams,

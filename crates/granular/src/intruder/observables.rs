@@ -33,7 +33,8 @@ pub const BATCHES: usize = 32;
 /// Accumulates `N` quantities sampled on a fixed time grid, in blocks of `block_len`
 /// consecutive samples; the block means are the input of the batch-means error estimate
 /// (`crate::stats::batch_means`), so the memory is `N * samples / block_len`.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(into = "GridSeriesData", try_from = "GridSeriesData")]
 pub struct GridSeries<const N: usize> {
     block_len: u32,
     in_block: u32,
@@ -43,6 +44,59 @@ pub struct GridSeries<const N: usize> {
     /// Sum of the completed blocks' sums (for the overall mean).
     totals: [f64; N],
     count: u64,
+}
+
+/// Serialised form of a [`GridSeries`] (serde derives do not cover `[f64; N]` for a
+/// generic `N`): the fixed-size arrays as vectors, blocks flattened block-major.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct GridSeriesData {
+    block_len: u32,
+    in_block: u32,
+    sums: Vec<f64>,
+    blocks: Vec<f64>,
+    totals: Vec<f64>,
+    count: u64,
+}
+
+impl<const N: usize> From<GridSeries<N>> for GridSeriesData {
+    fn from(g: GridSeries<N>) -> Self {
+        Self {
+            block_len: g.block_len,
+            in_block: g.in_block,
+            sums: g.sums.to_vec(),
+            blocks: g.blocks.iter().flatten().copied().collect(),
+            totals: g.totals.to_vec(),
+            count: g.count,
+        }
+    }
+}
+
+impl<const N: usize> TryFrom<GridSeriesData> for GridSeries<N> {
+    type Error = String;
+    fn try_from(d: GridSeriesData) -> Result<Self, String> {
+        let array = |v: &[f64]| -> Result<[f64; N], String> {
+            v.try_into()
+                .map_err(|_| format!("grid series: expected {N} values, found {}", v.len()))
+        };
+        if N == 0 || d.blocks.len() % N != 0 {
+            return Err(format!(
+                "grid series: {} block values are not a multiple of {N}",
+                d.blocks.len()
+            ));
+        }
+        Ok(Self {
+            block_len: d.block_len.max(1),
+            in_block: d.in_block,
+            sums: array(&d.sums)?,
+            blocks: d
+                .blocks
+                .chunks(N)
+                .map(array)
+                .collect::<Result<Vec<_>, String>>()?,
+            totals: array(&d.totals)?,
+            count: d.count,
+        })
+    }
 }
 
 impl<const N: usize> GridSeries<N> {

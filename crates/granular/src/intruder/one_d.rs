@@ -140,7 +140,7 @@ impl Intruder1dConfig {
 }
 
 /// Mechanical parameters shared by all intruders of one run.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Intruder1dParams {
     /// The bath.
     pub bath: Bath,
@@ -227,8 +227,8 @@ impl Intruder1dParams {
     }
 }
 
-/// The 1D intruder as an [`Engine`].
-#[derive(Clone, Debug)]
+/// The 1D intruder as an [`Engine`] (serialisable, for checkpoints).
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Intruder1d {
     /// Parameters.
     pub params: Intruder1dParams,

@@ -23,6 +23,8 @@ pub enum AnyEngine {
     Dsmc2(DsmcEngine<2>),
     /// DSMC, 3D.
     Dsmc3(DsmcEngine<3>),
+    /// Gillespie intruder (1D, needle or DSMC twin), `engine = "intruder"`.
+    Intruder(super::intruder::IntruderEngine),
 }
 
 macro_rules! each_engine {
@@ -32,6 +34,7 @@ macro_rules! each_engine {
             AnyEngine::Edmd3($e) => $body,
             AnyEngine::Dsmc2($e) => $body,
             AnyEngine::Dsmc3($e) => $body,
+            AnyEngine::Intruder($e) => $body,
         }
     };
 }
@@ -49,6 +52,7 @@ impl AnyEngine {
             AnyEngine::Edmd3(e) => Some(e.impact_histogram().clone()),
             AnyEngine::Dsmc2(e) => Some(e.impact_histogram()),
             AnyEngine::Dsmc3(e) => Some(e.impact_histogram()),
+            AnyEngine::Intruder(_) => None,
         }
     }
 }
@@ -100,6 +104,9 @@ pub enum BuildError {
     /// The DSMC engine rejected its input.
     #[error("DSMC: {0}")]
     Dsmc(String),
+    /// The intruder engine rejected its input (e.g. an unreadable tabulated bath file).
+    #[error("intruder: {0}")]
+    Intruder(String),
     /// Given positions overlap.
     #[error(
         "grains {a} and {b} overlap at the start (distance {distance:.6} < sum of radii {sigma:.6}); move them apart or make them smaller"
@@ -120,6 +127,9 @@ pub enum BuildError {
 pub fn build(scenario: &Scenario) -> Result<AnyEngine, BuildError> {
     scenario.validate()?;
     Ok(match (scenario.engine, scenario.dimension) {
+        (EngineKind::Intruder, _) => {
+            AnyEngine::Intruder(super::intruder::build(scenario).map_err(BuildError::Intruder)?)
+        }
         (EngineKind::Edmd, 2) => AnyEngine::Edmd2(build_edmd::<2>(scenario)?),
         (EngineKind::Edmd, _) => AnyEngine::Edmd3(build_edmd::<3>(scenario)?),
         (EngineKind::Dsmc, 2) => AnyEngine::Dsmc2(build_dsmc::<2>(scenario)?),

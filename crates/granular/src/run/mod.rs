@@ -10,11 +10,13 @@
 //! | `velocity_histograms.csv` | pooled equilibrium velocity-component histograms per species |
 //! | `impact_parameter.csv` | histogram of `b / σ` of all pair collisions |
 //! | `impact_histograms.npz`, `structure_factor.npz`, `density_maps.npz` | opt-in observables at output times ([`observers`]) |
+//! | `intruder_histograms.csv`, `.npz` | intruder engine: velocity histograms on the time grid with reference densities |
 //! | `summary.json` | engine, version, seed, timings, final observables, goodness of fit |
 //! | `checkpoint.msgpack` | full state at the last checkpoint (removed when the run ends) |
 //! | `log.txt` | what happened, with wall-clock times |
 
 mod build;
+pub mod intruder;
 pub mod observers;
 pub mod sweep;
 
@@ -170,6 +172,10 @@ pub struct Summary {
     /// Crater measure, when the scenario has a `[crater]` table.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub crater: Option<serde_json::Value>,
+    /// Intruder engine: stationary averages with errors and the theory value (see
+    /// `docs/output.md`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub intruder: Option<serde_json::Value>,
     /// Outputs and snapshots written.
     pub outputs: u64,
     /// Snapshots written.
@@ -488,6 +494,9 @@ impl Run {
         if let Some(c) = stop.collisions_per_particle {
             f = f.max(2.0 * self.engine.collisions() as f64 / n / c);
         }
+        if let Some(c) = stop.collisions {
+            f = f.max(self.engine.collisions() as f64 / c.max(1) as f64);
+        }
         if let Some(e) = stop.events {
             f = f.max(self.engine.events() as f64 / e as f64);
         }
@@ -577,6 +586,13 @@ impl Run {
                 stop_reason = "collisions_per_particle";
                 break;
             }
+            if stop
+                .collisions
+                .is_some_and(|c| self.engine.collisions() >= c)
+            {
+                stop_reason = "collisions";
+                break;
+            }
             if stop.events.is_some_and(|e| self.engine.events() >= e) {
                 stop_reason = "events";
                 break;
@@ -617,6 +633,10 @@ impl Run {
         self.write_impact()?;
         let species = self.species_statistics();
         let crater = self.crater()?;
+        let intruder = match &self.engine {
+            AnyEngine::Intruder(e) => Some(intruder::finish(e, &self.scenario, &self.dir)?),
+            _ => None,
+        };
         let wall = self.wall_seconds();
         let events = self.engine.events();
         let collisions = self.engine.collisions();
@@ -641,6 +661,7 @@ impl Run {
             maxwell_boltzmann_fit: fits,
             species,
             crater,
+            intruder,
             outputs: self.state.outputs,
             snapshots: self.state.snapshots,
         };

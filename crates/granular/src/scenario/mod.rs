@@ -7,9 +7,11 @@
 //! typed [`Scenario`] (serde, unknown keys rejected) → [`Scenario::validate`]. Every error
 //! names the key, the value, the line when it comes from the file, and the fix.
 
+mod intruder;
 mod observables;
 mod overrides;
 
+pub use intruder::IntruderSpec;
 pub use overrides::apply_override;
 
 use serde::{Deserialize, Serialize};
@@ -23,13 +25,15 @@ pub enum EngineKind {
     Edmd,
     /// Direct Simulation Monte Carlo (`granular::dsmc`).
     Dsmc,
+    /// Gillespie intruder in a thermal bath (`granular::intruder`); set up by `[intruder]`.
+    Intruder,
 }
 
 /// A whole scenario.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Scenario {
-    /// Engine: `"edmd"` or `"dsmc"`.
+    /// Engine: `"edmd"`, `"dsmc"` or `"intruder"`.
     pub engine: EngineKind,
     /// Spatial dimension: 2 (disks) or 3 (spheres).
     #[serde(default = "two")]
@@ -40,10 +44,11 @@ pub struct Scenario {
     /// Optional one-line description.
     #[serde(default, skip_serializing_if = "String::is_empty")]
     pub description: String,
-    /// The simulation box.
-    #[serde(rename = "box")]
+    /// The simulation box (not used by the intruder engine).
+    #[serde(rename = "box", default, skip_serializing_if = "BoxSpec::is_default")]
     pub simulation_box: BoxSpec,
-    /// Grain species (at least one).
+    /// Grain species (at least one; none for the intruder engine).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub species: Vec<SpeciesSpec>,
     /// How the initial state is built.
     #[serde(default)]
@@ -67,6 +72,9 @@ pub struct Scenario {
     /// grains come from the shared tables).
     #[serde(default)]
     pub dsmc: DsmcSpec,
+    /// The Gillespie intruder (`engine = "intruder"`): model, bath and parameters.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub intruder: Option<IntruderSpec>,
     /// Crater measure (Problem 4 of the hard-disk seed).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub crater: Option<CraterSpec>,
@@ -160,6 +168,22 @@ pub struct BoxSpec {
 
 fn default_boundary() -> BoundarySpec {
     BoundarySpec::All(crate::boundary::AxisKind::Wall)
+}
+
+impl Default for BoxSpec {
+    fn default() -> Self {
+        Self {
+            lengths: Vec::new(),
+            boundary: default_boundary(),
+        }
+    }
+}
+
+impl BoxSpec {
+    /// Whether this is the default box (left out of the resolved scenario then).
+    pub fn is_default(&self) -> bool {
+        *self == Self::default()
+    }
 }
 
 /// Boundary kinds: one for all axes or one per axis.
@@ -353,6 +377,9 @@ pub struct StopSpec {
     /// Number of events.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub events: Option<u64>,
+    /// Number of collisions (pair collisions; intruder-bath collisions for the intruder).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub collisions: Option<u64>,
     /// Fraction of the initial kinetic energy remaining (e.g. 0.1 for the crater).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub energy_fraction: Option<f64>,
@@ -648,6 +675,10 @@ impl Scenario {
 
     /// Checks every value; the error names the key, the value and the fix.
     pub fn validate(&self) -> Result<(), ScenarioError> {
+        if self.engine == EngineKind::Intruder {
+            return intruder::validate(self);
+        }
+        intruder::check_unused(self)?;
         let d = self.dimension;
         if d != 2 && d != 3 {
             return Err(ScenarioError::new(
@@ -888,6 +919,7 @@ impl Scenario {
         }
         let stop = &self.stop;
         if stop.time.is_none()
+            && stop.collisions.is_none()
             && stop.collisions_per_particle.is_none()
             && stop.events.is_none()
             && stop.energy_fraction.is_none()
@@ -895,7 +927,7 @@ impl Scenario {
         {
             return Err(ScenarioError::new(
                 "stop",
-                "has no rule; set at least one of time, collisions_per_particle, events, energy_fraction, wall_seconds",
+                "has no rule; set at least one of time, collisions, collisions_per_particle, events, energy_fraction, wall_seconds",
             ));
         }
         if let Some(f) = stop.energy_fraction {

@@ -1,0 +1,172 @@
+//! `granular plot` and the end-of-run report for intruder run directories
+//! (`engine = "intruder"`): the running temperature ratio (or the needle's temperatures and
+//! `R`) against time, and the velocity histograms on the time grid with their reference
+//! densities (`intruder_histograms.csv`, see `docs/output.md`).
+
+use std::path::{Path, PathBuf};
+
+use granular::run::Summary;
+
+use crate::plot::{HistogramPlot, LinePlot, Series};
+
+type Table = (Vec<String>, Vec<Vec<String>>);
+
+fn read_csv(path: &Path) -> Result<Table, String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let mut lines = text.lines().filter(|l| !l.starts_with('#'));
+    let header: Vec<String> = lines
+        .next()
+        .unwrap_or_default()
+        .split(',')
+        .map(str::to_string)
+        .collect();
+    let rows = lines
+        .map(|l| l.split(',').map(str::to_string).collect())
+        .collect();
+    Ok((header, rows))
+}
+
+fn column(t: &Table, name: &str, rows: &[&Vec<String>]) -> Vec<f64> {
+    let Some(i) = t.0.iter().position(|h| h == name) else {
+        return Vec::new();
+    };
+    rows.iter()
+        .map(|r| r.get(i).and_then(|x| x.parse().ok()).unwrap_or(f64::NAN))
+        .collect()
+}
+
+fn save(
+    stem: &Path,
+    r: Result<[PathBuf; 2], crate::plot::PlotError>,
+    made: &mut Vec<PathBuf>,
+) -> Result<(), String> {
+    made.extend(r.map_err(|e| format!("{}: {e}", stem.display()))?);
+    Ok(())
+}
+
+/// Draws the figures of an intruder run directory into `DIR/figures/`.
+pub fn plot_run(dir: &Path) -> Result<Vec<PathBuf>, String> {
+    let out = dir.join("figures");
+    std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
+    let mut made = Vec::new();
+    let summary: Option<Summary> = std::fs::read_to_string(dir.join("summary.json"))
+        .ok()
+        .and_then(|t| serde_json::from_str(&t).ok());
+    let block = summary.as_ref().and_then(|s| s.intruder.clone());
+    let theory = block
+        .as_ref()
+        .and_then(|b| b["theory_temperature_ratio"].as_f64());
+
+    // Running averages against time (after the transient; NaN rows are skipped).
+    let ts = read_csv(&dir.join("timeseries.csv"))?;
+    let rows: Vec<&Vec<String>> = ts.1.iter().collect();
+    let time = column(&ts, "time", &rows);
+    let pairs: &[(&str, &str)] = if ts.0.iter().any(|c| c == "temperature_ratio") {
+        &[("temperature_ratio", "T / T_B")]
+    } else {
+        &[
+            ("translational_temperature_ratio", "T_tr / T_B"),
+            ("rotational_temperature_ratio", "T_rot / T_B"),
+            ("correlation_r", "R (Eq. 30)"),
+        ]
+    };
+    let mut p = LinePlot::new("Intruder: running averages on the time grid")
+        .x_label("time t")
+        .y_label("running average ± batch-means error");
+    for (key, label) in pairs {
+        let y = column(&ts, key, &rows);
+        let e = column(&ts, &format!("{key}_error"), &rows);
+        let e: Vec<f64> = e
+            .iter()
+            .map(|v| if v.is_finite() { *v } else { 0.0 })
+            .collect();
+        p = p.series(Series::line(*label, time.clone(), y).with_errors(e));
+    }
+    if let Some(r) = theory {
+        let (t0, t1) = (
+            time.first().copied().unwrap_or(0.0),
+            time.last().copied().unwrap_or(1.0),
+        );
+        p = p.series(Series::theory(
+            format!("theory {r:.4}"),
+            vec![t0, t1],
+            vec![r, r],
+        ));
+    }
+    let stem = out.join("running_averages");
+    save(&stem, p.save_png_and_svg(&stem), &mut made)?;
+
+    // Histograms with their reference densities.
+    let h = read_csv(&dir.join("intruder_histograms.csv"))?;
+    let reference = block
+        .as_ref()
+        .and_then(|b| b["histogram_reference"].as_str().map(str::to_string))
+        .unwrap_or_else(|| "reference".into());
+    let var = h.0.iter().position(|c| c == "variable").unwrap_or(0);
+    let mut names: Vec<String> = Vec::new();
+    for r in &h.1 {
+        if let Some(n) = r.get(var)
+            && !names.contains(n)
+        {
+            names.push(n.clone());
+        }
+    }
+    for name in names {
+        let rows: Vec<&Vec<String>> = h.1.iter().filter(|r| r.get(var) == Some(&name)).collect();
+        let (lo, hi) = (column(&h, "low", &rows), column(&h, "high", &rows));
+        let dens = column(&h, "density", &rows);
+        let th = column(&h, "theory_density", &rows);
+        let mut edges = lo.clone();
+        edges.push(hi.last().copied().unwrap_or(0.0));
+        let centres: Vec<f64> = lo.iter().zip(&hi).map(|(a, b)| 0.5 * (a + b)).collect();
+        for log in [false, true] {
+            let stem = out.join(format!("histogram_{name}{}", if log { "_log" } else { "" }));
+            let p = HistogramPlot::new(
+                format!("Intruder {name} on the time grid"),
+                edges.clone(),
+                dens.clone(),
+            )
+            .x_label(name.replace('_', " "))
+            .y_label("probability density")
+            .log_y(log)
+            .theory_points(reference.replace('_', " "), centres.clone(), th.clone());
+            save(&stem, p.save_png_and_svg(&stem), &mut made)?;
+        }
+    }
+    Ok(made)
+}
+
+/// One or two lines on the intruder's result for the end of `granular run`.
+pub fn report(summary: &Summary) {
+    let Some(b) = &summary.intruder else {
+        return;
+    };
+    let f = |k: &str| b[k].as_f64().unwrap_or(f64::NAN);
+    if b.get("temperature_ratio").is_some() {
+        eprint!(
+            "  T/T_B = {:.5} ± {:.5}, kurtosis = {:.4} ± {:.4}",
+            f("temperature_ratio"),
+            f("temperature_ratio_error"),
+            f("kurtosis"),
+            f("kurtosis_error")
+        );
+        match b.get("theory_temperature_ratio") {
+            Some(_) => eprintln!(
+                "; theory {:.5} (z = {:.2})",
+                f("theory_temperature_ratio"),
+                f("temperature_ratio_z")
+            ),
+            None => eprintln!(),
+        }
+    } else {
+        eprintln!(
+            "  T_tr/T_B = {:.5} ± {:.5}, T_rot/T_B = {:.5} ± {:.5}, R = {:.5} ± {:.5}",
+            f("translational_temperature_ratio"),
+            f("translational_temperature_ratio_error"),
+            f("rotational_temperature_ratio"),
+            f("rotational_temperature_ratio_error"),
+            f("correlation_r"),
+            f("correlation_r_error")
+        );
+    }
+}

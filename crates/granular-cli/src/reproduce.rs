@@ -1,0 +1,411 @@
+//! `granular reproduce FIGURE...`: the figures of the Gillespie intruder paper
+//! (`docs/intruder.md`), each as `figN.png`, `figN.svg` and the data table `figN.csv`,
+//! with the theory overlaid where it exists.
+//!
+//! Statistics: by default the paper's (5e5 collisions per point in 1D, 5e6 for the
+//! needle); `--quick` uses ten times fewer. Sweep points run in parallel (rayon) and every
+//! point `i` of figure `N` uses the stream `(derive_key(seed, [N]), [MEMBER, i])`, so the
+//! tables do not depend on the number of threads.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use granular::intruder::figures as paper;
+use granular::intruder::observables::Table;
+use granular::intruder::theory::martin_piasecki_ratio;
+use granular::random::derive_key;
+
+use crate::plot::{HistogramPlot, LegendPosition, LinePlot, Panels, PlotError, Series};
+
+/// The figures that can be reproduced (Fig. 6 of the paper is a sketch of the needle).
+pub const FIGURES: [&str; 7] = ["fig1", "fig2", "fig3", "fig4", "fig5", "fig7", "fig8"];
+
+/// Arguments of `granular reproduce`.
+#[derive(clap::Args, Debug)]
+pub struct ReproduceArgs {
+    /// Figures to make: fig1 fig2 fig3 fig4 fig5 fig7 fig8, or all.
+    #[arg(required = true, value_name = "FIGURE")]
+    pub figures: Vec<String>,
+    /// Output directory (created).
+    #[arg(long, default_value = "figures/intruder")]
+    pub out: PathBuf,
+    /// Ten times fewer collisions than the paper (for tests and previews).
+    #[arg(long)]
+    pub quick: bool,
+    /// Worker threads (default: all cores); results do not depend on it.
+    #[arg(long, default_value_t = 0)]
+    pub threads: usize,
+    /// Seed of all random streams.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+}
+
+/// Collisions (or samples) per point.
+#[derive(Clone, Copy, Debug)]
+struct Statistics {
+    /// 1D intruder collisions per point (paper: 5e5).
+    one_d: u64,
+    /// Needle collisions per point (paper: 5e6).
+    needle: u64,
+    /// Thinning candidates per `v1` (Fig. 1) and sampler draws per `v1` (Fig. 2).
+    samples: u64,
+}
+
+impl Statistics {
+    fn new(quick: bool) -> Self {
+        let k = if quick { 10 } else { 1 };
+        Self {
+            one_d: 500_000 / k,
+            needle: 5_000_000 / k,
+            samples: 500_000 / k,
+        }
+    }
+}
+
+/// Runs the command: the requested figures, one after the other (each in parallel).
+pub fn run(args: &ReproduceArgs) -> Result<(), String> {
+    let mut wanted: Vec<&str> = Vec::new();
+    for f in &args.figures {
+        let names: Vec<&str> = if f == "all" {
+            FIGURES.to_vec()
+        } else if let Some(name) = FIGURES.iter().find(|n| **n == f.as_str()) {
+            vec![*name]
+        } else {
+            return Err(format!(
+                "unknown figure `{f}`; use one or more of {} or all",
+                FIGURES.join(" ")
+            ));
+        };
+        for n in names {
+            if !wanted.contains(&n) {
+                wanted.push(n);
+            }
+        }
+    }
+    std::fs::create_dir_all(&args.out).map_err(|e| format!("{}: {e}", args.out.display()))?;
+    let stats = Statistics::new(args.quick);
+    let work = || -> Result<(), String> {
+        for name in &wanted {
+            let start = Instant::now();
+            let files = figure(name, &args.out, stats, args.seed)?;
+            for f in &files {
+                println!("{}", f.display());
+            }
+            eprintln!(
+                "{name}: {:.1} s{}",
+                start.elapsed().as_secs_f64(),
+                if args.quick { " (--quick)" } else { "" }
+            );
+        }
+        Ok(())
+    };
+    if args.threads == 0 {
+        work()
+    } else {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(args.threads)
+            .build()
+            .map_err(|e| format!("--threads {}: {e}", args.threads))?
+            .install(work)
+    }
+}
+
+fn write_csv(table: &Table, path: &Path) -> Result<(), String> {
+    let text = format!("# {}\n{}", table.title, table.to_csv());
+    std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+fn col(t: &Table, name: &str) -> Vec<f64> {
+    t.column(name).map(<[f64]>::to_vec).unwrap_or_default()
+}
+
+/// Finite points of `(x, y)` only.
+fn finite(x: &[f64], y: &[f64]) -> (Vec<f64>, Vec<f64>) {
+    x.iter()
+        .zip(y)
+        .filter(|(a, b)| a.is_finite() && b.is_finite())
+        .map(|(a, b)| (*a, *b))
+        .unzip()
+}
+
+const HALF: (u32, u32) = (800, 700);
+
+fn figure(name: &str, out: &Path, st: Statistics, seed: u64) -> Result<Vec<PathBuf>, String> {
+    let number: u64 = name.trim_start_matches("fig").parse().unwrap_or(0);
+    let fseed = derive_key(seed, &[number]);
+    let stem = out.join(name);
+    let table = match name {
+        "fig1" => paper::fig1_flux(61, st.samples / 5, fseed),
+        "fig2" => paper::fig2_colliding_velocities(st.samples, fseed),
+        "fig3" => paper::fig3_temperature_ratio(&paper::alpha_grid(), st.one_d, fseed),
+        "fig4" => paper::fig4_power_law_ratio(&paper::alpha_grid(), st.one_d, fseed),
+        "fig5" => paper::fig5_power_law_distributions(st.one_d, fseed),
+        "fig7" => paper::fig7_correlation(&paper::alpha_grid(), st.needle, fseed),
+        _ => paper::fig8_angular_distribution(st.needle, fseed),
+    };
+    write_csv(&table, &stem.with_extension("csv"))?;
+    let r: Result<[PathBuf; 2], PlotError> = match name {
+        "fig1" => plot_fig1(&table).save_png_and_svg(&stem),
+        "fig2" => plot_fig2(&table).save_png_and_svg(&stem),
+        "fig3" => plot_fig3(&table).save_png_and_svg(&stem),
+        "fig4" => plot_fig4(&table).save_png_and_svg(&stem),
+        "fig5" => plot_fig5(&table).save_png_and_svg(&stem),
+        "fig7" => plot_fig7(&table).save_png_and_svg(&stem),
+        _ => plot_fig8(&table).save_png_and_svg(&stem),
+    };
+    let [png, svg] = r.map_err(|e| format!("{}: {e}", stem.display()))?;
+    Ok(vec![png, svg, stem.with_extension("csv")])
+}
+
+fn plot_fig1(t: &Table) -> LinePlot {
+    let v = col(t, "v1");
+    let mut p = LinePlot::new("Fig. 1: collision rate of a Gaussian bath (Eq. 16)")
+        .x_label("intruder velocity v₁")
+        .y_label("φ(v₁)/ρ")
+        .legend(LegendPosition::UpperLeft);
+    for a in ["0.5", "1", "2", "4"] {
+        // Every third point, so the Monte Carlo markers do not hide the curves.
+        let (x, y): (Vec<f64>, Vec<f64>) = v
+            .iter()
+            .zip(col(t, &format!("phi_mc_a{a}")))
+            .step_by(3)
+            .map(|(x, y)| (*x, y))
+            .unzip();
+        p = p.series(Series::markers(format!("Monte Carlo, a = {a}"), x, y));
+    }
+    for a in ["0.5", "1", "2", "4"] {
+        p = p.series(
+            Series::theory(
+                format!("Eq. 16, a = {a}"),
+                v.clone(),
+                col(t, &format!("phi_a{a}")),
+            )
+            .dashed(false),
+        );
+    }
+    p
+}
+
+fn plot_fig2(t: &Table) -> LinePlot {
+    let v = col(t, "v");
+    let mut p = LinePlot::new("Fig. 2: colliding bath velocities g₊(v, v₁) (Eq. 12)")
+        .x_label("bath velocity v")
+        .y_label("g₊(v, v₁)")
+        .legend(LegendPosition::UpperLeft);
+    for v1 in ["-2", "-1", "0", "1", "2"] {
+        let (x, y) = finite(&v, &col(t, &format!("g_sampled_v1={v1}")));
+        let (x, y): (Vec<f64>, Vec<f64>) = x.into_iter().zip(y).step_by(2).unzip();
+        p = p.series(Series::markers(format!("sampled, v₁ = {v1}"), x, y));
+    }
+    for v1 in ["-2", "-1", "0", "1", "2"] {
+        p = p.series(
+            Series::theory(
+                format!("Eq. 12, v₁ = {v1}"),
+                v.clone(),
+                col(t, &format!("g_theory_v1={v1}")),
+            )
+            .dashed(false),
+        );
+    }
+    p
+}
+
+fn plot_fig3(t: &Table) -> Panels<LinePlot, LinePlot> {
+    let alpha = col(t, "alpha");
+    let left = LinePlot::new("Fig. 3: T/T_B, M = m, Gaussian bath")
+        .size(HALF.0, HALF.1)
+        .x_label("restitution α")
+        .y_label("T / T_B")
+        .legend(LegendPosition::UpperLeft)
+        .series(
+            Series::markers("simulation", alpha.clone(), col(t, "T_over_TB"))
+                .with_errors(col(t, "T_over_TB_error")),
+        )
+        .series(Series::theory_fn(
+            "Martin–Piasecki, Eq. 18",
+            (0.0, 1.0),
+            101,
+            false,
+            |a| martin_piasecki_ratio(a, 1.0, 1.0),
+        ));
+    let right = LinePlot::new("Kurtosis ⟨v⁴⟩/⟨v²⟩²")
+        .size(HALF.0, HALF.1)
+        .x_label("restitution α")
+        .y_label("kurtosis")
+        .y_range(2.8, 3.2)
+        .series(
+            Series::markers("simulation", alpha.clone(), col(t, "kurtosis"))
+                .with_errors(col(t, "kurtosis_error")),
+        )
+        .series(Series::theory(
+            "Gaussian: 3",
+            vec![0.0, 1.0],
+            vec![3.0, 3.0],
+        ));
+    Panels::new(left, right)
+}
+
+fn plot_fig4(t: &Table) -> LinePlot {
+    let alpha = col(t, "alpha");
+    let mut p = LinePlot::new("Fig. 4: T/T_B, power-law bath (Eq. 19)")
+        .x_label("restitution α")
+        .y_label("T / T_B")
+        .legend(LegendPosition::UpperLeft);
+    for m in ["1", "0.5"] {
+        p = p.series(
+            Series::markers(
+                format!("simulation, M = {m}"),
+                alpha.clone(),
+                col(t, &format!("T_over_TB_M{m}")),
+            )
+            .with_errors(col(t, &format!("T_over_TB_M{m}_error"))),
+        );
+    }
+    for m in ["1", "0.5"] {
+        let mass: f64 = m.parse().unwrap_or(1.0);
+        p = p.series(
+            Series::theory_fn(
+                format!("Gaussian bath, Eq. 18, M = {m}"),
+                (0.0, 1.0),
+                101,
+                false,
+                move |a| martin_piasecki_ratio(a, mass, 1.0),
+            )
+            .dashed(true),
+        );
+    }
+    let (mut ex, mut ey) = (Vec::new(), Vec::new());
+    for m in ["1", "0.5"] {
+        let (x, y) = finite(&alpha, &col(t, &format!("exact_M{m}")));
+        ex.extend(x);
+        ey.extend(y);
+    }
+    p.series(Series::markers("exact, M/m = α", ex, ey))
+}
+
+fn plot_fig5(t: &Table) -> Panels<LinePlot, LinePlot> {
+    let v = col(t, "v");
+    let shown = ["0", "0.2", "0.5", "0.8", "1"];
+    let mut left = LinePlot::new("Fig. 5: F(v₁), power-law bath, M = 1/2")
+        .size(HALF.0, HALF.1)
+        .x_label("intruder velocity v₁")
+        .y_label("F(v₁)")
+        .log_y(true)
+        .legend(LegendPosition::LowerRight);
+    let mut right = LinePlot::new("Tail, v₁ > 0 (log-log)")
+        .size(HALF.0, HALF.1)
+        .x_label("v₁")
+        .y_label("F(v₁)")
+        .log_x(true)
+        .log_y(true)
+        .legend(LegendPosition::LowerLeft);
+    let positive = |y: &[f64]| -> (Vec<f64>, Vec<f64>) {
+        v.iter()
+            .zip(y)
+            .filter(|(x, y)| **x > 0.3 && **y > 0.0)
+            .map(|(x, y)| (*x, *y))
+            .unzip()
+    };
+    for a in shown {
+        let y = col(t, &format!("F_alpha{a}"));
+        left = left.series(Series::line(format!("α = {a}"), v.clone(), y.clone()));
+        let (x, y) = positive(&y);
+        right = right.series(Series::line(format!("α = {a}"), x, y));
+    }
+    left = left.series(
+        Series::theory(
+            "exact (α = M/m = 0.5): Eq. 19",
+            v.clone(),
+            col(t, "eq19_exact_alpha0.5"),
+        )
+        .dashed(true),
+    );
+    let (x, y) = positive(&col(t, "eq19_exact_alpha0.5"));
+    right = right.series(Series::theory("Eq. 19 (α = 0.5)", x, y).dashed(true));
+    let (x, y) = positive(&col(t, "tail_v^-4"));
+    let (x, y): (Vec<f64>, Vec<f64>) = x.into_iter().zip(y).filter(|(x, _)| *x > 1.5).unzip();
+    right = right.series(Series::theory("√2/(π v⁴)", x, y).dashed(false));
+    Panels::new(left, right)
+}
+
+fn plot_fig7(t: &Table) -> Panels<LinePlot, LinePlot> {
+    let alpha = col(t, "alpha");
+    let mut left = LinePlot::new("Fig. 7: needle correlation R (Eq. 30)")
+        .size(HALF.0, HALF.1)
+        .x_label("restitution α")
+        .y_label("R = ⟨v²ω²⟩/(⟨v²⟩⟨ω²⟩)");
+    let mut right = LinePlot::new("Temperatures")
+        .size(HALF.0, HALF.1)
+        .x_label("restitution α")
+        .y_label("T / T_B")
+        .legend(LegendPosition::UpperLeft);
+    for m in ["0.1", "0.5", "1"] {
+        left = left.series(
+            Series::markers(
+                format!("M/m = {m}"),
+                alpha.clone(),
+                col(t, &format!("R_M{m}")),
+            )
+            .with_errors(col(t, &format!("R_M{m}_error"))),
+        );
+        right = right
+            .series(Series::line_markers(
+                format!("T_tr, M/m = {m}"),
+                alpha.clone(),
+                col(t, &format!("Ttr_over_TB_M{m}")),
+            ))
+            .series(Series::line_markers(
+                format!("T_rot, M/m = {m}"),
+                alpha.clone(),
+                col(t, &format!("Trot_over_TB_M{m}")),
+            ));
+    }
+    left = left
+        .series(Series::theory("equilibrium, R = 1", vec![0.0, 1.0], vec![1.0, 1.0]).dashed(true));
+    Panels::new(left, right)
+}
+
+/// A histogram from a table of bin centres, cropped to the bins with data; on a log scale
+/// the reference curve is cut a decade below the smallest non-zero density.
+fn histogram(t: &Table, log: bool, title: &str) -> HistogramPlot {
+    let centres = col(t, "omega");
+    let dens = col(t, "P_omega");
+    let fit = col(t, "gaussian_fit_omega");
+    let w = if centres.len() > 1 {
+        centres[1] - centres[0]
+    } else {
+        1.0
+    };
+    let used: Vec<usize> = (0..dens.len()).filter(|&i| dens[i] > 0.0).collect();
+    let (lo, hi) = match (used.first(), used.last()) {
+        (Some(&a), Some(&b)) => (a, b + 1),
+        _ => (0, dens.len()),
+    };
+    let floor = dens[lo..hi]
+        .iter()
+        .copied()
+        .filter(|d| *d > 0.0)
+        .fold(f64::INFINITY, f64::min)
+        / 10.0;
+    let mut edges: Vec<f64> = centres[lo..hi].iter().map(|c| c - 0.5 * w).collect();
+    edges.push(centres[hi - 1] + 0.5 * w);
+    let (fx, fy): (Vec<f64>, Vec<f64>) = centres[lo..hi]
+        .iter()
+        .zip(&fit[lo..hi])
+        .filter(|(_, y)| !log || **y >= floor)
+        .map(|(x, y)| (*x, *y))
+        .unzip();
+    HistogramPlot::new(title, edges, dens[lo..hi].to_vec())
+        .size(HALF.0, HALF.1)
+        .x_label("angular velocity ω")
+        .y_label("probability density")
+        .log_y(log)
+        .theory_points("best-fit Gaussian", fx, fy)
+}
+
+fn plot_fig8(t: &Table) -> Panels<HistogramPlot, HistogramPlot> {
+    Panels::new(
+        histogram(t, false, "Fig. 8: needle ω, M/m = 0.1, α = 0.1"),
+        histogram(t, true, "Fig. 8, logarithmic scale"),
+    )
+}

@@ -1,0 +1,368 @@
+//! `[intruder]`: the Gillespie intruder engine in the scenario format (`engine = "intruder"`).
+//!
+//! The table names the model and then holds the fields of that model's library
+//! configuration, flat and with unknown keys rejected:
+//!
+//! * `model = "1d"`: [`Intruder1dConfig`] (the 1D intruder, Eqs. 8-17 of the Gillespie
+//!   intruder paper; Eq. 18 checks it in a Gaussian bath);
+//! * `model = "needle"`: [`NeedleConfig`] (the 2D needle, Eqs. 20-30);
+//! * `model = "dsmc-twin"`: the fields of [`Intruder1dConfig`] plus `bath_particles`
+//!   ([`DsmcTwinConfig`], section 4 of the paper).
+//!
+//! The grain tables (`[box]`, `[[species]]`, `[initial]`, `[collisions]`) do not apply.
+
+use serde::de::Error as _;
+use serde::ser::Error as _;
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+use super::{Scenario, ScenarioError};
+use crate::intruder::dsmc_twin::DsmcTwinConfig;
+use crate::intruder::needle::NeedleParams;
+use crate::intruder::one_d::Intruder1dParams;
+use crate::intruder::{BathConfig, Intruder1dConfig, NeedleConfig};
+
+/// The `[intruder]` table: which model, with that model's configuration.
+#[derive(Clone, Debug, PartialEq)]
+pub enum IntruderSpec {
+    /// `model = "1d"`: one-dimensional intruder (section 3.1).
+    OneD(Intruder1dConfig),
+    /// `model = "needle"`: two-dimensional needle (section 3.2).
+    Needle(NeedleConfig),
+    /// `model = "dsmc-twin"`: DSMC version of the 1D intruder (section 4).
+    DsmcTwin(DsmcTwinConfig),
+}
+
+/// The accepted `model` values.
+pub const MODELS: &str = "\"1d\", \"needle\" or \"dsmc-twin\"";
+
+impl IntruderSpec {
+    /// The `model` name as written in the scenario.
+    pub fn model(&self) -> &'static str {
+        match self {
+            IntruderSpec::OneD(_) => "1d",
+            IntruderSpec::Needle(_) => "needle",
+            IntruderSpec::DsmcTwin(_) => "dsmc-twin",
+        }
+    }
+
+    /// The 1D system (for the `1d` and `dsmc-twin` models).
+    pub fn one_d(&self) -> Option<&Intruder1dConfig> {
+        match self {
+            IntruderSpec::OneD(c) => Some(c),
+            IntruderSpec::DsmcTwin(c) => Some(&c.intruder),
+            IntruderSpec::Needle(_) => None,
+        }
+    }
+
+    /// Makes a relative tabulated-bath `file` absolute, relative to `base` (the directory
+    /// of the scenario file), so that run directories, sweeps and resumes find it from any
+    /// working directory.
+    pub fn resolve_paths(&mut self, base: &std::path::Path) {
+        let cfg = match self {
+            IntruderSpec::OneD(c) => c,
+            IntruderSpec::DsmcTwin(c) => &mut c.intruder,
+            IntruderSpec::Needle(_) => return,
+        };
+        if let BathConfig::Tabulated { file: Some(f), .. } = &mut cfg.bath
+            && std::path::Path::new(f.as_str()).is_relative()
+        {
+            *f = base.join(&*f).to_string_lossy().into_owned();
+        }
+    }
+}
+
+impl Serialize for IntruderSpec {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        let body = match self {
+            IntruderSpec::OneD(c) => toml::Table::try_from(c),
+            IntruderSpec::Needle(c) => toml::Table::try_from(c),
+            IntruderSpec::DsmcTwin(c) => toml::Table::try_from(&c.intruder),
+        };
+        let mut table = body.map_err(S::Error::custom)?;
+        if let IntruderSpec::DsmcTwin(c) = self {
+            table.insert(
+                "bath_particles".into(),
+                toml::Value::Integer(c.bath_particles as i64),
+            );
+        }
+        table.insert("model".into(), toml::Value::String(self.model().into()));
+        table.serialize(serializer)
+    }
+}
+
+impl<'de> Deserialize<'de> for IntruderSpec {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        let mut table = toml::Table::deserialize(deserializer)?;
+        let model = match table.remove("model") {
+            Some(toml::Value::String(m)) => m,
+            Some(other) => {
+                return Err(D::Error::custom(format!(
+                    "`intruder.model` is {other}; use {MODELS}"
+                )));
+            }
+            None => {
+                return Err(D::Error::custom(format!(
+                    "missing field `intruder.model`: add model = {MODELS} to [intruder]"
+                )));
+            }
+        };
+        // Name the table in the errors of the model's own fields.
+        let wrap = |e: toml::de::Error| {
+            let msg = e
+                .message()
+                .replace("unknown field `", "unknown field `intruder.");
+            D::Error::custom(format!("{msg} (in [intruder], model = \"{model}\")"))
+        };
+        match model.as_str() {
+            "1d" => Intruder1dConfig::deserialize(table)
+                .map(IntruderSpec::OneD)
+                .map_err(wrap),
+            "needle" => NeedleConfig::deserialize(table)
+                .map(IntruderSpec::Needle)
+                .map_err(wrap),
+            "dsmc-twin" => {
+                let bath_particles = match table.remove("bath_particles") {
+                    None => DsmcTwinConfig::default().bath_particles,
+                    Some(toml::Value::Integer(n)) if n >= 1 => n as usize,
+                    Some(other) => {
+                        return Err(D::Error::custom(format!(
+                            "`intruder.bath_particles` is {other}; give the number of stored bath velocities, an integer >= 1 (e.g. 10000)"
+                        )));
+                    }
+                };
+                let intruder = Intruder1dConfig::deserialize(table).map_err(wrap)?;
+                Ok(IntruderSpec::DsmcTwin(DsmcTwinConfig {
+                    intruder,
+                    bath_particles,
+                }))
+            }
+            other => Err(D::Error::custom(format!(
+                "`intruder.model` is \"{other}\"; use {MODELS}"
+            ))),
+        }
+    }
+}
+
+fn err(key: &str, message: String) -> ScenarioError {
+    ScenarioError::new(format!("intruder.{key}"), message)
+}
+
+fn positive(key: &str, x: f64, what: &str) -> Result<(), ScenarioError> {
+    if x > 0.0 && x.is_finite() {
+        Ok(())
+    } else {
+        Err(err(
+            key,
+            format!("is {x}; {what} must be positive and finite"),
+        ))
+    }
+}
+
+fn restitution(x: f64) -> Result<(), ScenarioError> {
+    if (0.0..=1.0).contains(&x) {
+        Ok(())
+    } else {
+        Err(err(
+            "restitution",
+            format!(
+                "is {x}; the coefficient of restitution alpha must lie in [0, 1] (1 = elastic)"
+            ),
+        ))
+    }
+}
+
+fn grid(
+    sample_interval: Option<f64>,
+    transient: Option<f64>,
+    bins: usize,
+) -> Result<(), ScenarioError> {
+    if let Some(dt) = sample_interval {
+        positive(
+            "sample_interval",
+            dt,
+            "the averaging grid spacing (time units)",
+        )?;
+    }
+    if let Some(t) = transient
+        && !(t >= 0.0 && t.is_finite())
+    {
+        return Err(err(
+            "transient",
+            format!("is {t}; give the time discarded before averaging, >= 0"),
+        ));
+    }
+    if bins == 0 {
+        return Err(err(
+            "histogram_bins",
+            "is 0; use at least 1 bin (default 120)".into(),
+        ));
+    }
+    Ok(())
+}
+
+fn validate_1d(c: &Intruder1dConfig) -> Result<(), ScenarioError> {
+    positive("mass", c.mass, "the intruder mass M")?;
+    positive("bath_mass", c.bath_mass, "the bath particle mass m")?;
+    positive("bath_density", c.bath_density, "the bath density rho")?;
+    restitution(c.restitution)?;
+    if !c.initial_velocity.is_finite() {
+        return Err(err(
+            "initial_velocity",
+            format!("is {}; give a finite velocity", c.initial_velocity),
+        ));
+    }
+    if let Some(h) = c.histogram_max {
+        positive("histogram_max", h, "the histogram half-width")?;
+    }
+    grid(c.sample_interval, c.transient, c.histogram_bins)?;
+    match &c.bath {
+        BathConfig::Gaussian { temperature } | BathConfig::PowerLaw { temperature } => {
+            positive("bath.temperature", *temperature, "the bath temperature T_B")?;
+        }
+        BathConfig::Tabulated { file, points } => {
+            if file.is_none() && points.is_none() {
+                return Err(err(
+                    "bath",
+                    "is tabulated without data; give file = \"path\" (two columns v f, relative to the scenario file) or points = [[v, f], ...]".into(),
+                ));
+            }
+        }
+    }
+    // Everything else (tabulated points, files given by absolute path) by the engine's
+    // own constructor; relative files are checked when the run starts.
+    let relative_file = matches!(&c.bath, BathConfig::Tabulated { file: Some(f), .. }
+        if std::path::Path::new(f.as_str()).is_relative());
+    if !relative_file {
+        Intruder1dParams::new(c).map_err(|e| {
+            err(
+                "bath",
+                format!("{e}; fix the bath description (docs/scenario.md, [intruder])"),
+            )
+        })?;
+    }
+    Ok(())
+}
+
+fn validate_needle(c: &NeedleConfig) -> Result<(), ScenarioError> {
+    positive("mass", c.mass, "the needle mass M")?;
+    positive("bath_mass", c.bath_mass, "the bath particle mass m")?;
+    positive("length", c.length, "the needle length L")?;
+    positive("bath_density", c.bath_density, "the bath density rho")?;
+    positive(
+        "bath_temperature",
+        c.bath_temperature,
+        "the bath temperature T_B",
+    )?;
+    if let Some(i) = c.moment_of_inertia {
+        positive("moment_of_inertia", i, "the moment of inertia I")?;
+    }
+    positive(
+        "time_tolerance",
+        c.time_tolerance,
+        "the Eq. 23 tolerance (e.g. 1e-12)",
+    )?;
+    positive(
+        "histogram_width",
+        c.histogram_width,
+        "the histogram half-width in thermal widths",
+    )?;
+    restitution(c.restitution)?;
+    grid(c.sample_interval, c.transient, c.histogram_bins)?;
+    NeedleParams::new(c).map_err(|e| err("model", format!("{e}; fix that field of [intruder]")))?;
+    Ok(())
+}
+
+/// Validates a scenario with `engine = "intruder"`: the `[intruder]` table, the stop rules
+/// that make sense for a single driven particle, the output interval and the sweep.
+pub(super) fn validate(sc: &Scenario) -> Result<(), ScenarioError> {
+    let Some(spec) = &sc.intruder else {
+        return Err(ScenarioError::new(
+            "intruder",
+            format!(
+                "is missing; engine = \"intruder\" needs an [intruder] table with model = {MODELS} (docs/scenario.md)"
+            ),
+        ));
+    };
+    if !sc.species.is_empty() {
+        return Err(ScenarioError::new(
+            "species",
+            "is given, but the intruder engine has no grains; remove the [[species]] tables (the bath is described in [intruder])",
+        ));
+    }
+    match spec {
+        IntruderSpec::OneD(c) => validate_1d(c)?,
+        IntruderSpec::DsmcTwin(c) => {
+            validate_1d(&c.intruder)?;
+            if c.bath_particles == 0 {
+                return Err(err(
+                    "bath_particles",
+                    "is 0; store at least one bath velocity (e.g. 10000)".into(),
+                ));
+            }
+        }
+        IntruderSpec::Needle(c) => validate_needle(c)?,
+    }
+    let stop = &sc.stop;
+    if let Some(f) = stop.energy_fraction {
+        return Err(ScenarioError::new(
+            "stop.energy_fraction",
+            format!(
+                "is {f}, but the intruder is driven by a thermal bath and its energy does not decay; use stop.time, stop.collisions or stop.events"
+            ),
+        ));
+    }
+    if stop.time.is_none()
+        && stop.collisions.is_none()
+        && stop.collisions_per_particle.is_none()
+        && stop.events.is_none()
+        && stop.wall_seconds.is_none()
+    {
+        return Err(ScenarioError::new(
+            "stop",
+            "has no rule; set stop.collisions (e.g. 500000, the paper's statistics) or stop.time",
+        ));
+    }
+    if let Some(t) = stop.time
+        && !(t > 0.0 && t.is_finite())
+    {
+        return Err(ScenarioError::new(
+            "stop.time",
+            format!("is {t}; give a positive simulation time"),
+        ));
+    }
+    if sc.output.interval.is_nan() || sc.output.interval <= 0.0 {
+        return Err(ScenarioError::new(
+            "output.interval",
+            format!(
+                "is {}; it must be positive (for the intruder, e.g. 1000 mean collision times)",
+                sc.output.interval
+            ),
+        ));
+    }
+    if let Some(sw) = &sc.sweep {
+        if sw.values.is_empty() {
+            return Err(ScenarioError::new(
+                "sweep.values",
+                "is empty; list the values to scan",
+            ));
+        }
+        if sw.seeds == 0 {
+            return Err(ScenarioError::new(
+                "sweep.seeds",
+                "is 0; use at least 1 seed per value",
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// An `[intruder]` table in a scenario of another engine is a mistake worth reporting.
+pub(super) fn check_unused(sc: &Scenario) -> Result<(), ScenarioError> {
+    if sc.intruder.is_some() {
+        return Err(ScenarioError::new(
+            "intruder",
+            "is only read by engine = \"intruder\"; remove the [intruder] table or set engine = \"intruder\"",
+        ));
+    }
+    Ok(())
+}

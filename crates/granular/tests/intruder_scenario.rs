@@ -1,0 +1,209 @@
+//! The intruder engine through the scenario spine: `[intruder]` parsing and errors,
+//! resume, and the DSMC twin against the Gillespie engine (same scenario, `model`
+//! switched). Statistical tolerances: 4 combined standard errors as reported by the runs.
+
+use granular::run::{Run, Summary};
+use granular::scenario::Scenario;
+use std::path::PathBuf;
+
+const ONE_D: &str = r#"
+engine = "intruder"
+seed = 3
+
+[intruder]
+model = "1d"
+mass = 1.0
+restitution = 0.5
+bath = { kind = "gaussian", temperature = 0.5 }
+
+[stop]
+collisions = 200000
+
+[output]
+interval = 2000.0
+checkpoint_seconds = 0.0
+"#;
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!(
+        "granular-intruder-test-{}-{name}",
+        std::process::id()
+    ));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+fn run(dir: &std::path::Path, s: Scenario) -> Summary {
+    Run::create(dir, s)
+        .unwrap()
+        .run_to_end(&mut |_| {}, None)
+        .unwrap()
+}
+
+fn with(overrides: &[&str]) -> Scenario {
+    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+    Scenario::from_toml(ONE_D, &o).unwrap()
+}
+
+#[test]
+fn intruder_scenarios_round_trip_for_every_model() {
+    for model in [
+        &["intruder.model=\"1d\""][..],
+        &[
+            "intruder.model=\"dsmc-twin\"",
+            "intruder.bath_particles=500",
+        ][..],
+        &[
+            "intruder.model=\"needle\"",
+            "intruder.bath=0",
+            "intruder.bath_temperature=0.5",
+        ][..],
+    ] {
+        // The needle has no `bath` table: replace it by a scalar and remove it below.
+        let mut text = ONE_D.to_string();
+        let mut o: Vec<String> = model.iter().map(|s| s.to_string()).collect();
+        if o[0].contains("needle") {
+            text = text.replace("bath = { kind = \"gaussian\", temperature = 0.5 }\n", "");
+            o.retain(|s| !s.starts_with("intruder.bath="));
+        }
+        let s = Scenario::from_toml(&text, &o).expect("valid");
+        let again = Scenario::from_toml(&s.to_toml(), &[]).expect("resolved scenario is valid");
+        assert_eq!(s, again, "{model:?}");
+    }
+}
+
+#[test]
+fn intruder_errors_name_the_field_value_and_fix() {
+    let err = |o: &[&str]| {
+        let o: Vec<String> = o.iter().map(|s| s.to_string()).collect();
+        Scenario::from_toml(ONE_D, &o)
+            .expect_err("invalid")
+            .to_string()
+    };
+    let e = err(&["intruder.restitution=1.5"]);
+    assert!(
+        e.contains("intruder.restitution") && e.contains("1.5") && e.contains("[0, 1]"),
+        "{e}"
+    );
+    let e = err(&["intruder.mass=-1"]);
+    assert!(
+        e.contains("intruder.mass") && e.contains("-1") && e.contains("positive"),
+        "{e}"
+    );
+    let e = err(&["intruder.model=\"3d\""]);
+    assert!(e.contains("\"3d\"") && e.contains("needle"), "{e}");
+    let e = err(&["intruder.lenght=2"]);
+    assert!(
+        e.contains("intruder.lenght") && e.contains("unknown field"),
+        "{e}"
+    );
+    let e = err(&["stop.energy_fraction=0.5"]);
+    assert!(e.contains("stop.energy_fraction"), "{e}");
+    let text = ONE_D.replace("mass = 1.0", "masss = 1.0");
+    let e = Scenario::from_toml(&text, &[])
+        .expect_err("unknown key")
+        .to_string();
+    assert!(e.contains("intruder.masss") && e.contains("line"), "{e}");
+}
+
+#[test]
+fn intruder_resume_equals_the_uninterrupted_run() {
+    for (name, o) in [
+        ("1d", vec![]),
+        (
+            "twin",
+            vec![
+                "intruder.model=\"dsmc-twin\"",
+                "intruder.bath_particles=1000",
+            ],
+        ),
+    ] {
+        let s = with(&o);
+        let (full, cut) = (tmp(&format!("{name}-full")), tmp(&format!("{name}-cut")));
+        let a = run(&full, s.clone());
+        assert!(
+            Run::create(&cut, s)
+                .unwrap()
+                .run_to_end(&mut |_| {}, Some(5))
+                .is_err()
+        );
+        let b = Run::resume(&cut)
+            .unwrap()
+            .run_to_end(&mut |_| {}, None)
+            .unwrap();
+        assert_eq!(a.final_observables, b.final_observables, "{name}");
+        assert_eq!(a.intruder, b.intruder, "{name}");
+        let csv = |d: &PathBuf| std::fs::read_to_string(d.join("timeseries.csv")).unwrap();
+        assert_eq!(csv(&full), csv(&cut), "{name}");
+    }
+    // The needle has its own table.
+    let text = r#"
+engine = "intruder"
+[intruder]
+model = "needle"
+mass = 0.5
+restitution = 0.3
+[stop]
+collisions = 100000
+[output]
+interval = 500.0
+"#;
+    let s = Scenario::from_toml(text, &[]).unwrap();
+    let (full, cut) = (tmp("needle-full"), tmp("needle-cut"));
+    let a = run(&full, s.clone());
+    assert!(
+        Run::create(&cut, s)
+            .unwrap()
+            .run_to_end(&mut |_| {}, Some(3))
+            .is_err()
+    );
+    let b = Run::resume(&cut)
+        .unwrap()
+        .run_to_end(&mut |_| {}, None)
+        .unwrap();
+    assert_eq!(a.final_observables, b.final_observables);
+    assert_eq!(a.stop_reason, "collisions");
+}
+
+fn ratio(s: &Summary) -> (f64, f64) {
+    let b = s.intruder.as_ref().expect("intruder block");
+    (
+        b["temperature_ratio"].as_f64().unwrap(),
+        b["temperature_ratio_error"].as_f64().unwrap(),
+    )
+}
+
+/// The DSMC twin (section 4) and the Gillespie engine give the same `T/T_B` within their
+/// combined statistical errors, and both agree with Eq. 18, through the run spine.
+#[test]
+fn dsmc_twin_engine_agrees_with_gillespie_engine() {
+    let o = [
+        "intruder.restitution=0.3",
+        "intruder.mass=0.5",
+        "stop.collisions=400000",
+    ];
+    let g = run(&tmp("g"), with(&o));
+    let mut ot = o.to_vec();
+    ot.extend([
+        "intruder.model=\"dsmc-twin\"",
+        "intruder.bath_particles=20000",
+    ]);
+    let t = run(&tmp("t"), with(&ot));
+    let ((rg, eg), (rt, et)) = (ratio(&g), ratio(&t));
+    assert!(eg > 0.0 && et > 0.0);
+    assert!(
+        (rg - rt).abs() <= 4.0 * (eg * eg + et * et).sqrt(),
+        "Gillespie {rg} ± {eg}, DSMC twin {rt} ± {et}"
+    );
+    let eq18 = granular::intruder::theory::martin_piasecki_ratio(0.3, 0.5, 1.0);
+    for (r, e) in [(rg, eg), (rt, et)] {
+        assert!((r - eq18).abs() <= 4.0 * e, "{r} ± {e} vs Eq. 18 {eq18}");
+    }
+    assert_eq!(t.engine, "intruder");
+    assert!(
+        t.intruder.as_ref().unwrap()["trials_per_collision"]
+            .as_f64()
+            .unwrap()
+            >= 1.0
+    );
+}
