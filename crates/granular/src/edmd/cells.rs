@@ -210,6 +210,39 @@ impl<const D: usize> CellGrid<D> {
     /// Calls `f(j)` for every particle in the cells neighbouring (and including) cell `c`.
     #[inline(always)]
     pub fn for_each_neighbour(&self, c: &[u32; D], mut f: impl FnMut(usize)) {
+        // Fast path: a cell away from the grid's faces has its neighbours at fixed flat
+        // offsets (no wrapping, no clipping).
+        if (0..D).all(|k| c[k] >= 1 && (c[k] as usize) + 2 <= self.counts[k]) {
+            let centre = self.flat(c);
+            let mut stride = [1usize; D];
+            for k in 1..D {
+                stride[k] = stride[k - 1] * self.counts[k - 1];
+            }
+            let mut idx = [0usize; D];
+            loop {
+                let mut flat = centre;
+                for k in 0..D {
+                    flat = flat + idx[k] * stride[k] - stride[k];
+                }
+                let mut j = self.head[flat];
+                while j != NONE {
+                    f(j as usize);
+                    j = self.next[j as usize];
+                }
+                let mut k = 0;
+                loop {
+                    if k == D {
+                        return;
+                    }
+                    idx[k] += 1;
+                    if idx[k] < 3 {
+                        break;
+                    }
+                    idx[k] = 0;
+                    k += 1;
+                }
+            }
+        }
         // Offsets per axis: -1, 0, +1, clipped at walls, wrapped on periodic axes; a
         // single-cell axis contributes only 0.
         let mut ranges = [[0usize; 3]; D];

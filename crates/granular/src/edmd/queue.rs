@@ -205,7 +205,10 @@ impl EventQueue {
 
     #[inline(always)]
     fn bucket_of(&self, t: f64) -> i64 {
-        ((t - self.origin) * self.inv_width).floor() as i64
+        let x = (t - self.origin) * self.inv_width;
+        // `as` truncates towards zero (and saturates), which is the floor for x >= 0;
+        // it avoids a libm call on targets without a rounding instruction.
+        if x >= 0.0 { x as i64 } else { x.floor() as i64 }
     }
 
     #[inline(always)]
