@@ -560,6 +560,41 @@ impl<const D: usize> Edmd<D> {
             let w = self.cells.widths[k];
             let ck = coords[k] as usize;
             let (v, a) = (vi[k], half_g[k]);
+            if a == 0.0 && rate_i == 0.0 {
+                // Uniform motion along k: only the boundaries ahead can be reached. The
+                // arithmetic of `upward_crossing`/`downward_crossing` with a = 0, without
+                // their branches on the sign of v (a coin toss).
+                if v != 0.0 {
+                    let up = v > 0.0;
+                    // The cell boundary ahead (none at a walled face: the wall comes first).
+                    let has_cell = periodic || if up { ck + 1 < n } else { ck > 0 };
+                    let bound = if !up {
+                        ck as f64 * w
+                    } else if ck + 1 == n {
+                        self.bx.lengths[k]
+                    } else {
+                        (ck + 1) as f64 * w
+                    };
+                    let t = (-(xi[k] - bound) / v).max(0.0);
+                    if has_cell && t < best {
+                        best = t;
+                        code = CROSSING + 2 * k as u32 + up as u32;
+                    }
+                    if !periodic {
+                        let c = if up {
+                            xi[k] + ri - self.bx.lengths[k]
+                        } else {
+                            xi[k] - ri
+                        };
+                        let t = (-c / v).max(0.0);
+                        if t < best {
+                            best = t;
+                            code = WALL + 2 * k as u32 + up as u32;
+                        }
+                    }
+                }
+                continue;
+            }
             // Cell boundaries (walled box faces excluded: the wall comes first).
             if periodic || ck + 1 < n {
                 let hi = if ck + 1 == n {
