@@ -40,7 +40,7 @@ impl<const D: usize> CellGrid<D> {
         let mut widths = [0.0; D];
         let mut periodic = [false; D];
         // Keep the grid at most ~2 cells per particle so memory stays O(N) in sparse boxes.
-        let max_cells = (2 * n).max(1) as f64;
+        let max_cells = (2 * n).clamp(1, u32::MAX as usize - 1) as f64;
         let mut total = 1.0;
         for k in 0..D {
             let l = bx.lengths[k];
@@ -108,14 +108,17 @@ impl<const D: usize> CellGrid<D> {
     /// Cell coordinates of grain `i`.
     #[inline(always)]
     pub fn coords(&self, i: usize) -> [u32; D] {
-        let mut f = self.cell[i] as usize;
+        // 32-bit division: flat indices are u32, and it is several times faster than a
+        // 64-bit one on many x86 processors.
+        let mut f = self.cell[i];
         let mut c = [0u32; D];
         for (k, ck) in c.iter_mut().enumerate() {
             if k + 1 == D {
-                *ck = f as u32;
+                *ck = f;
             } else {
-                *ck = (f % self.counts[k]) as u32;
-                f /= self.counts[k];
+                let n = self.counts[k] as u32;
+                *ck = f % n;
+                f /= n;
             }
         }
         c
