@@ -206,3 +206,28 @@ fn dsmc_resume_equals_the_uninterrupted_run() {
     let (a, b) = (final_state(&full), final_state(&cut));
     assert_eq!(a, b);
 }
+
+#[test]
+fn checkpoint_of_another_format_is_named_as_such() {
+    let dir = tmp("old-checkpoint");
+    let scenario = Scenario::from_toml(GOOD, &[]).expect("valid");
+    let mut run = Run::create(&dir, scenario).expect("run directory");
+    run.checkpoint().expect("checkpoint");
+    let path = dir.join("checkpoint.msgpack");
+    let mut bytes = std::fs::read(&path).expect("checkpoint file");
+    // A msgpack map of four (0x84), the key "format" (0xa6 + 6 bytes), then the format
+    // number as a positive fixint.
+    assert_eq!(&bytes[..8], b"\x84\xa6format");
+    assert_eq!(bytes[8] as u32, granular::run::CHECKPOINT_FORMAT);
+    bytes[8] = 0x01;
+    std::fs::write(&path, &bytes).expect("write");
+    let Err(e) = Run::resume(&dir) else {
+        panic!("an old checkpoint must not resume");
+    };
+    let msg = e.to_string();
+    assert!(
+        msg.contains("format 1") && msg.contains("another version"),
+        "{msg}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -33,7 +33,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// Version of the checkpoint format; bumped when the state layout changes.
-pub const CHECKPOINT_FORMAT: u32 = 1;
+pub const CHECKPOINT_FORMAT: u32 = 2;
 
 /// Why a run failed.
 #[derive(Debug, thiserror::Error)]
@@ -250,19 +250,28 @@ impl Run {
     pub fn resume(dir: &Path) -> Result<Run, RunError> {
         let path = dir.join("checkpoint.msgpack");
         let bytes = std::fs::read(&path).map_err(io_err(&path))?;
+        // The format number first, so that a checkpoint of another version is named as
+        // such rather than failing somewhere inside the engine's state.
+        #[derive(Deserialize)]
+        struct Header {
+            format: u32,
+        }
+        if let Ok(Header { format }) = rmp_serde::from_slice::<Header>(&bytes)
+            && format != CHECKPOINT_FORMAT
+        {
+            return Err(RunError::Checkpoint {
+                path,
+                message: format!(
+                    "checkpoint format {format} was written by another version of granular; \
+                     this one reads format {CHECKPOINT_FORMAT}. Resume with the version that \
+                     wrote it, or rerun the scenario (DIR/scenario.toml)"
+                ),
+            });
+        }
         let cp: Checkpoint = rmp_serde::from_slice(&bytes).map_err(|e| RunError::Checkpoint {
             path: path.clone(),
             message: e.to_string(),
         })?;
-        if cp.format != CHECKPOINT_FORMAT {
-            return Err(RunError::Checkpoint {
-                path,
-                message: format!(
-                    "format {} is not the supported {CHECKPOINT_FORMAT}",
-                    cp.format
-                ),
-            });
-        }
         let scenario =
             Scenario::from_toml(&cp.scenario, &[]).map_err(|e| RunError::Checkpoint {
                 path: path.clone(),
