@@ -1128,17 +1128,14 @@ impl<const D: usize> Engine for Edmd<D> {
             .options
             .reorder_interval
             .unwrap_or(8 * self.len() as u64 + 1024);
-        if self.events_since_rebase >= interval {
-            self.rebase();
-        }
-        let until = until - self.origin;
+        let mut until_now = until - self.origin;
         for _ in 0..max_events {
             let Some((i, t)) = self.queue.min() else {
-                self.now = self.now.max(until);
+                self.now = self.now.max(until_now);
                 return Ok(Progress::Reached);
             };
-            if t > until {
-                self.now = self.now.max(until);
+            if t > until_now {
+                self.now = self.now.max(until_now);
                 return Ok(Progress::Reached);
             }
             if t < self.now {
@@ -1151,6 +1148,12 @@ impl<const D: usize> Engine for Edmd<D> {
             self.process(i)?;
             if self.totals.events & (COLLAPSE_WINDOW - 1) == 0 {
                 self.check_collapse()?;
+            }
+            // At a fixed event count, so that the trajectory does not depend on how the
+            // run is cut into `advance` calls.
+            if self.events_since_rebase >= interval {
+                self.rebase();
+                until_now = until - self.origin;
             }
         }
         Ok(Progress::BudgetExhausted)
