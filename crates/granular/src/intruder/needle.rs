@@ -36,7 +36,7 @@ use rand::Rng;
 use serde::{Deserialize, Serialize};
 
 use super::bath::{BathDistribution, BathError, FRAC_1_SQRT_PI, Gaussian, Side, gaussian_h};
-use super::observables::{Estimate, GridSeries, grid_count, hist_push_n};
+use super::observables::{Estimate, GridSeries, hist_push_n};
 use crate::engine::{Engine, EngineError, Progress, Scalar};
 use crate::random::{DYNAMICS, RngExt, Stream, exp1, std_normal, stream, unit_f64};
 use crate::stats::Histogram;
@@ -360,8 +360,7 @@ pub struct Needle {
     rng: Stream,
     dt: f64,
     transient: f64,
-    /// The next grid point not yet sampled, `transient + k dt` with `k` the number of
-    /// samples taken (see `observables::grid_count`).
+    /// The next grid point not yet sampled.
     next_sample: f64,
     /// Grid samples of `v^2, omega^2, v^2 omega^2, vx, vy, omega`.
     series: GridSeries<6>,
@@ -489,14 +488,14 @@ impl Needle {
     /// with the current state (constant since the last collision).
     #[inline]
     fn sample_grid(&mut self, upto: f64, inclusive: bool) {
-        // `next_sample` is the grid point `transient + done dt`: nothing to add before it.
-        if !(self.next_sample < upto || (inclusive && self.next_sample == upto)) {
-            return;
+        // The grid points are `next_sample += dt` from `transient`, as one at a time.
+        let mut t = self.next_sample;
+        let mut n = 0u64;
+        while t < upto || (inclusive && t == upto) {
+            n += 1;
+            t += self.dt;
         }
-        let done = self.series.samples();
-        let k = grid_count(self.transient, self.dt, upto, inclusive);
-        if k > done {
-            let n = k - done;
+        if n > 0 {
             let [vx, vy] = self.v;
             let w = self.omega;
             let v2 = vx * vx + vy * vy;
@@ -509,7 +508,7 @@ impl Needle {
             let h = &mut self.omega_hist;
             let inv = h.counts.len() as f64 / (h.max - h.min);
             hist_push_n(h, inv, w, n);
-            self.next_sample = self.transient + k as f64 * self.dt;
+            self.next_sample = t;
         }
     }
 

@@ -134,7 +134,7 @@ impl<const N: usize> GridSeries<N> {
         loop {
             // Samples that fit in the current block (may be 0: then nothing changes).
             let take = left.min(u64::from(self.block_len - self.in_block));
-            let w = take as f64;
+            let w = f64::from(take as u32);
             for (s, x) in self.sums.iter_mut().zip(values) {
                 *s += w * x;
             }
@@ -261,30 +261,6 @@ pub fn hist_push_n(h: &mut Histogram, inv_width: f64, x: f64, n: u64) {
     }
 }
 
-/// Number of points `t_k = start + k dt` (`k = 0, 1, ...`) of a fixed time grid with
-/// `t_k < t` (`t_k <= t` when `inclusive`). Every grid point is tested with the same formula
-/// `start + k dt`, so counting at any sequence of increasing times counts each point exactly
-/// once, whatever the sequence (the result does not depend on how a run is chunked). `t`
-/// must not be `+inf`.
-#[inline]
-pub fn grid_count(start: f64, dt: f64, t: f64, inclusive: bool) -> u64 {
-    let before = |k: u64| {
-        let tk = start + k as f64 * dt;
-        tk < t || (inclusive && tk == t)
-    };
-    // First guess from the division, then corrected by the formula itself (at most a step
-    // or two, and only when t is within rounding of a grid point).
-    let guess = ((t - start) / dt).ceil();
-    let mut k = if guess > 0.0 { guess as u64 } else { 0 };
-    while k > 0 && !before(k - 1) {
-        k -= 1;
-    }
-    while before(k) {
-        k += 1;
-    }
-    k
-}
-
 /// A named-column table (the data of one figure or one curve set).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Table {
@@ -343,33 +319,18 @@ impl Table {
 mod tests {
     use super::*;
 
-    /// Counting grid points at any increasing sequence of times counts each point once:
-    /// the totals agree with one count at the end, and with `push` one sample at a time.
+    /// `push_n` gives the blocks and means of `n` calls of `push`.
     #[test]
-    fn grid_count_partitions_exactly_and_push_n_matches_push() {
-        let (start, dt) = (0.3, 0.1);
-        assert_eq!(grid_count(start, dt, 0.3, false), 0);
-        assert_eq!(grid_count(start, dt, 0.3, true), 1);
-        assert_eq!(grid_count(start, dt, 0.0, true), 0);
-        let end = 57.0;
-        let mut t = 0.0;
-        let mut done = 0;
+    fn push_n_matches_push() {
         let mut batched = GridSeries::<1>::new(7);
         let mut single = GridSeries::<1>::new(7);
-        let mut k = 0u64;
-        while t < end {
-            t += 0.013 * (1.0 + (k % 17) as f64);
-            let c = grid_count(start, dt, t.min(end), t >= end);
-            assert!(c >= done);
-            let x = (k % 5) as f64;
-            batched.push_n([x], c - done);
-            for _ in done..c {
+        for k in 0..5000u64 {
+            let (x, n) = ((k % 5) as f64, (k * 7919) % 13);
+            batched.push_n([x], n);
+            for _ in 0..n {
                 single.push([x]);
             }
-            done = c;
-            k += 1;
         }
-        assert_eq!(done, grid_count(start, dt, end, true));
         assert_eq!(batched.samples(), single.samples());
         assert_eq!(batched.block_means(0).len(), single.block_means(0).len());
         for (a, b) in batched.block_means(0).iter().zip(single.block_means(0)) {

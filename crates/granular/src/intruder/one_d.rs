@@ -26,7 +26,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use super::bath::{Bath, BathConfig, BathDistribution, BathError, Gaussian, Side};
-use super::observables::{Estimate, GridSeries, grid_count, hist_push_n};
+use super::observables::{Estimate, GridSeries, hist_push_n};
 use super::theory;
 use crate::engine::{Engine, EngineError, Progress, Scalar};
 use crate::random::{DYNAMICS, INITIAL_STATE, MEMBER, RngExt, Stream, exp1, stream};
@@ -251,8 +251,7 @@ pub struct Intruder1d {
     rng: Stream,
     dt: f64,
     transient: f64,
-    /// The next grid point not yet sampled, `transient + k dt` with `k` the number of
-    /// samples taken (see `observables::grid_count`).
+    /// The next grid point not yet sampled.
     next_sample: f64,
     /// Grid samples of `v1, v1^2, v1^4`.
     series: GridSeries<3>,
@@ -346,19 +345,19 @@ impl Intruder1d {
     /// `inclusive`), all at the current velocity (constant since the last collision).
     #[inline]
     fn sample_grid(&mut self, upto: f64, inclusive: bool) {
-        // `next_sample` is the grid point `transient + done dt`: nothing to add before it.
-        if !(self.next_sample < upto || (inclusive && self.next_sample == upto)) {
-            return;
+        // The grid points are `next_sample += dt` from `transient`, as one at a time.
+        let mut t = self.next_sample;
+        let mut n = 0u64;
+        while t < upto || (inclusive && t == upto) {
+            n += 1;
+            t += self.dt;
         }
-        let done = self.series.samples();
-        let k = grid_count(self.transient, self.dt, upto, inclusive);
-        if k > done {
-            let n = k - done;
+        if n > 0 {
             let v = self.v1;
             let v2 = v * v;
             self.series.push_n([v, v2, v2 * v2], n);
             hist_push_n(&mut self.histogram, self.inv_bin_width, v, n);
-            self.next_sample = self.transient + k as f64 * self.dt;
+            self.next_sample = t;
         }
     }
 
