@@ -527,11 +527,7 @@ impl Needle {
     /// (mass `rho |omega| L^2/4`: `|x| = (L/2) sqrt(U)`, random sign, `v` from `f`) and
     /// `rho |v| f(v)` (mass `rho L <|v|>`: `x` uniform, `v` from `|v| f/<|v|>`); a candidate
     /// is accepted with probability `|v - v_n(t) - omega x| / (|v1| + |omega x| + |v|)`, so the
-    /// accepted events have exactly the collision intensity (Eqs. 21, 25-26). The
-    /// acceptance test needs the orientation (`sin`, `cos`) only when the uniform falls
-    /// below `|v - omega x| + |v1|`, the largest value of `|v - v_n - omega x|` over all
-    /// orientations; above it the candidate is rejected at once (the same decision as the
-    /// full test, a margin of 1e-12 covering rounding).
+    /// accepted events have exactly the collision intensity (Eqs. 21, 25-26).
     fn drive(
         &mut self,
         until: f64,
@@ -606,23 +602,15 @@ impl Needle {
                     let r = exp1(&mut rng).sqrt() * speed_scale;
                     (x, f64::from_bits(r.to_bits() | (bits << 63)))
                 };
-                // Accept if acc < |v - v_n - omega x| = |w - v_n|.
                 let acc = rng.random::<f64>() * (b0 + omega.abs() * x.abs() + vb.abs());
-                let w = vb - omega * x;
-                // |w - v_n| <= |w| + |v1| whatever the orientation: above that (with a margin
-                // far beyond rounding) the candidate is rejected without the orientation.
-                if acc >= (w.abs() + b0) * (1.0 + 1e-12) {
-                    None
+                theta = wrap_angle(theta + omega * (te - theta_time));
+                theta_time = te;
+                let (sn, cs) = theta.sin_cos();
+                let vn = v[1] * cs - v[0] * sn; // Eq. 20
+                if acc < (vb - vn - omega * x).abs() {
+                    Some((x, vb, sn, cs, vn))
                 } else {
-                    theta = wrap_angle(theta + omega * (te - theta_time));
-                    theta_time = te;
-                    let (sn, cs) = theta.sin_cos();
-                    let vn = v[1] * cs - v[0] * sn; // Eq. 20
-                    if acc < (w - vn).abs() {
-                        Some((x, vb, sn, cs, vn))
-                    } else {
-                        None
-                    }
+                    None
                 }
             } else {
                 theta = wrap_angle(theta + omega * (te - theta_time));
