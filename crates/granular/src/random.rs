@@ -47,6 +47,121 @@ pub const DYNAMICS: u64 = 1;
 /// Path prefix for ensemble members and sweep points.
 pub const MEMBER: u64 = 2;
 
+mod ziggurat_tables;
+use rand::Rng;
+use ziggurat_tables::{ZIG_EXP_F, ZIG_EXP_R, ZIG_EXP_X, ZIG_NORM_F, ZIG_NORM_R, ZIG_NORM_X};
+
+/// `2^-53`.
+const TWO_POW_M53: f64 = 1.0 / 9_007_199_254_740_992.0;
+
+/// The uniform deviate in `[0, 1)` made of the 53 high bits of `bits`, exactly as
+/// `rng.random::<f64>()` makes it from one `u64`; the 11 low bits are left free for other
+/// uses (they are independent of the deviate).
+#[inline(always)]
+pub fn unit_f64(bits: u64) -> f64 {
+    (bits >> 11) as f64 * TWO_POW_M53
+}
+
+/// A standard exponential deviate (density `e^{-x}`, `x > 0`): the ziggurat (ZIGNOR,
+/// Doornik 2005) of `rand_distr::Exp1`, with the same tables and the same use of random
+/// bits, so it returns exactly the values `rng.sample(Exp1)` would (a unit test checks this
+/// bit for bit). The fast path (about 98.9 % of the draws) is inlined and the rest is out of
+/// line, taking and returning the generator by value, so a loop that owns its generator can
+/// keep the state in registers.
+#[inline(always)]
+pub fn exp1(rng: &mut Stream) -> f64 {
+    let bits = rng.next_u64();
+    let i = (bits & 0xff) as usize;
+    let u = f64::from_bits((bits >> 12) | 0x3FF0_0000_0000_0000) - (1.0 - f64::EPSILON / 2.0);
+    let x = u * ZIG_EXP_X[i];
+    if x < ZIG_EXP_X[i + 1] {
+        return x;
+    }
+    let (x, r) = exp1_slow(rng.clone(), i, x);
+    *rng = r;
+    x
+}
+
+#[cold]
+#[inline(never)]
+fn exp1_slow(mut rng: Stream, mut i: usize, mut x: f64) -> (f64, Stream) {
+    loop {
+        if i == 0 {
+            let x = ZIG_EXP_R - rng.random::<f64>().ln();
+            return (x, rng);
+        }
+        if ZIG_EXP_F[i + 1] + (ZIG_EXP_F[i] - ZIG_EXP_F[i + 1]) * rng.random::<f64>() < (-x).exp() {
+            return (x, rng);
+        }
+        let bits = rng.next_u64();
+        i = (bits & 0xff) as usize;
+        let u = f64::from_bits((bits >> 12) | 0x3FF0_0000_0000_0000) - (1.0 - f64::EPSILON / 2.0);
+        x = u * ZIG_EXP_X[i];
+        if x < ZIG_EXP_X[i + 1] {
+            return (x, rng);
+        }
+    }
+}
+
+/// A standard normal deviate: the ziggurat of `rand_distr::StandardNormal`, same tables and
+/// same use of random bits, so exactly the values `rng.sample(StandardNormal)` would return
+/// (checked bit for bit by a unit test); fast path inlined as in [`exp1`].
+#[inline(always)]
+pub fn std_normal(rng: &mut Stream) -> f64 {
+    let bits = rng.next_u64();
+    let i = (bits & 0xff) as usize;
+    let u = f64::from_bits((bits >> 12) | 0x4000_0000_0000_0000) - 3.0;
+    let x = u * ZIG_NORM_X[i];
+    if x.abs() < ZIG_NORM_X[i + 1] {
+        return x;
+    }
+    let (x, r) = std_normal_slow(rng.clone(), i, u, x);
+    *rng = r;
+    x
+}
+
+/// `rand`'s `Open01` for `f64`: 52 random bits, values `(k + 1/2) 2^-52`.
+#[inline]
+fn open01_52(rng: &mut Stream) -> f64 {
+    f64::from_bits((rng.next_u64() >> 12) | 0x3FF0_0000_0000_0000) - (1.0 - f64::EPSILON / 2.0)
+}
+
+#[cold]
+#[inline(never)]
+fn std_normal_slow(mut rng: Stream, mut i: usize, mut u: f64, mut x: f64) -> (f64, Stream) {
+    loop {
+        if i == 0 {
+            // The tail beyond R (Marsaglia's method), as in rand_distr.
+            let mut tx = 1.0f64;
+            let mut ty = 0.0f64;
+            while -2.0 * ty < tx * tx {
+                let x_ = open01_52(&mut rng);
+                let y_ = open01_52(&mut rng);
+                tx = x_.ln() / ZIG_NORM_R;
+                ty = y_.ln();
+            }
+            let x = if u < 0.0 {
+                tx - ZIG_NORM_R
+            } else {
+                ZIG_NORM_R - tx
+            };
+            return (x, rng);
+        }
+        if ZIG_NORM_F[i + 1] + (ZIG_NORM_F[i] - ZIG_NORM_F[i + 1]) * rng.random::<f64>()
+            < (-x * x / 2.0).exp()
+        {
+            return (x, rng);
+        }
+        let bits = rng.next_u64();
+        i = (bits & 0xff) as usize;
+        u = f64::from_bits((bits >> 12) | 0x4000_0000_0000_0000) - 3.0;
+        x = u * ZIG_NORM_X[i];
+        if x.abs() < ZIG_NORM_X[i + 1] {
+            return (x, rng);
+        }
+    }
+}
+
 /// A uniform deviate in the open interval (0, 1): never 0, so that `-ln(u)` is finite.
 #[inline]
 pub fn open01(rng: &mut Stream) -> f64 {
@@ -79,6 +194,28 @@ mod tests {
         let mut r = stream(42, &[DYNAMICS]);
         let u = open01(&mut r);
         assert!(u > 0.0 && u < 1.0);
+    }
+
+    /// The inlined ziggurats are the samplers of rand_distr, value for value (so they
+    /// sample exactly the same laws), including the rare slow paths and tails.
+    #[test]
+    fn ziggurats_reproduce_rand_distr_bit_for_bit() {
+        let mut a = stream(11, &[3]);
+        let mut b = a.clone();
+        for k in 0..2_000_000 {
+            let (x, y) = if k % 2 == 0 {
+                (exp1(&mut a), b.sample::<f64, _>(rand_distr::Exp1))
+            } else {
+                (
+                    std_normal(&mut a),
+                    b.sample::<f64, _>(rand_distr::StandardNormal),
+                )
+            };
+            assert_eq!(x.to_bits(), y.to_bits(), "draw {k}");
+        }
+        assert_eq!(a.random::<u64>(), b.random::<u64>());
+        let u = unit_f64(a.random::<u64>());
+        assert_eq!(u.to_bits(), b.random::<f64>().to_bits());
     }
 
     const GOLDEN: [u64; 2] = [16842389006524088220, 2581731596818908892];

@@ -15,11 +15,12 @@
 //!   impact point by acceptance-rejection on Eq. 25, side by Eq. 26, bath velocity from
 //!   `g_+-` (exact sampler of [`super::bath`]).
 //! * `thinning` (default, faster): candidates at the constant rate
-//!   `Lambda = rho L (U + <|v|>)`, `U = |v1| + |omega| L/2` (constant between collisions and
-//!   an upper bound of `|v_n + omega x|` at every time and point). Each candidate gets a
-//!   uniform impact point `x` and a normal bath velocity `v` of density
-//!   `(U + |v|) f(v)/(U + <|v|>)`, and is accepted with probability
-//!   `|v - v_n(t) - omega x| / (U + |v|)`. The accepted events have intensity
+//!   `Lambda = rho L (|v1| + |omega| L/4 + <|v|>)`, the integral over the impact point `x`
+//!   and the bath velocity `v` of the intensity `rho (|v1| + |omega x| + |v|) f(v)`, which
+//!   is constant between collisions and bounds `rho |v - v_n(t) - omega x| f(v)` at every
+//!   time (`|v_n| <= |v1|`). Each candidate gets `(x, v)` from that intensity (a
+//!   three-component mixture, see `Needle::drive`) and is accepted with probability
+//!   `|v - v_n(t) - omega x| / (|v1| + |omega x| + |v|)`. The accepted events have intensity
 //!   `rho |v - v_n - omega x| f(v) dx dv` at time `t`, which is exactly the collision
 //!   intensity whose integrals over `v` and `x` are Eqs. 21 and 25-26, so the process is the
 //!   same Markov process as the paper's, without Newton iterations or error functions.
@@ -31,20 +32,20 @@
 use crate::quadrature::gauss_legendre;
 use std::f64::consts::TAU;
 
-use rand_distr::Exp1;
+use rand::Rng;
 use serde::{Deserialize, Serialize};
 
 use super::bath::{BathDistribution, BathError, FRAC_1_SQRT_PI, Gaussian, Side, gaussian_h};
-use super::observables::{Estimate, GridSeries};
+use super::observables::{Estimate, GridSeries, hist_push_n};
 use crate::engine::{Engine, EngineError, Progress, Scalar};
-use crate::random::{DYNAMICS, RngExt, Stream, stream};
+use crate::random::{DYNAMICS, RngExt, Stream, exp1, std_normal, stream, unit_f64};
 use crate::stats::Histogram;
 
 /// Which exact event sampler drives the needle.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum NeedleMethod {
-    /// Thinning against the rate bound `rho L (|v1| + |omega| L/2 + <|v|>)`.
+    /// Thinning against the rate bound `rho L (|v1| + |omega| L/4 + <|v|>)`.
     #[default]
     Thinning,
     /// The paper's algorithm, Eqs. 21-26 with Newton-Raphson/bisection on Eq. 23.
@@ -320,6 +321,23 @@ pub fn total_flux(rho: f64, a: f64, length: f64, vn: f64, omega: f64) -> f64 {
     }
 }
 
+/// `theta.rem_euclid(2 pi)`, value for value, without the division when `theta` is within
+/// one turn of `[0, 2 pi)` (the usual case: it was reduced at the previous event). For
+/// `theta` in `[2 pi, 4 pi)` the remainder is `theta - 2 pi`, exact by Sterbenz's lemma, and
+/// for `theta` in `(-2 pi, 0)` it is `theta + 2 pi` rounded once, as `rem_euclid` computes.
+#[inline]
+fn wrap_angle(theta: f64) -> f64 {
+    if (0.0..TAU).contains(&theta) {
+        theta
+    } else if (TAU..2.0 * TAU).contains(&theta) {
+        theta - TAU
+    } else if theta < 0.0 && theta > -TAU {
+        theta + TAU
+    } else {
+        theta.rem_euclid(TAU)
+    }
+}
+
 /// The needle as an [`Engine`] (serialisable, for checkpoints).
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Needle {
@@ -335,13 +353,14 @@ pub struct Needle {
     events: u64,
     collisions: u64,
     newton_iterations: u64,
-    /// Cached `U = |v1| + |omega| L/2` and `1/(rho L (U + <|v|>))` (thinning), updated at
+    /// Cached `U = |v1| + |omega| L/4` and `1/(rho L (U + <|v|>))` (thinning), updated at
     /// every collision.
     bound: f64,
     inv_rate: f64,
     rng: Stream,
     dt: f64,
     transient: f64,
+    /// The next grid point not yet sampled.
     next_sample: f64,
     /// Grid samples of `v^2, omega^2, v^2 omega^2, vx, vy, omega`.
     series: GridSeries<6>,
@@ -444,14 +463,16 @@ impl Needle {
         self.inv_rate = 1.0 / (p.rho * p.length * (self.bound + p.bath.mean_speed()));
     }
 
+    /// `|v1| + |omega| L/4`: the mean over the needle of the bound `|v1| + |omega x|` of the
+    /// normal velocity of its points (see [`Self::drive`]).
     fn bound_speed(&self) -> f64 {
         (self.v[0] * self.v[0] + self.v[1] * self.v[1]).sqrt()
-            + 0.5 * self.omega.abs() * self.params.length
+            + 0.25 * self.omega.abs() * self.params.length
     }
 
     /// Time of the next candidate (thinning) or collision (paper), from time `t`.
     fn draw_next_event(&mut self, t: f64) -> f64 {
-        let e: f64 = self.rng.sample(Exp1);
+        let e = exp1(&mut self.rng);
         match self.params.method {
             NeedleMethod::Thinning => t + e * self.inv_rate,
             NeedleMethod::Paper => {
@@ -463,105 +484,215 @@ impl Needle {
         }
     }
 
-    /// Processes the event at time `te` (the orientation is brought to `te`); returns
-    /// whether a collision happened.
-    fn event(&mut self, te: f64) -> bool {
-        let theta = (self.theta + self.omega * (te - self.theta_time)).rem_euclid(TAU);
-        self.theta = theta;
-        self.theta_time = te;
-        let (sn, cs) = theta.sin_cos();
-        let vn = self.v[1] * cs - self.v[0] * sn; // Eq. 20
-        let p = &self.params;
+    /// Adds the grid points not yet sampled before `upto` (or at it when `inclusive`), all
+    /// with the current state (constant since the last collision).
+    #[inline]
+    fn sample_grid(&mut self, upto: f64, inclusive: bool) {
+        // The grid points are `next_sample += dt` from `transient`, as one at a time.
+        let mut t = self.next_sample;
+        let mut n = 0u64;
+        while t < upto || (inclusive && t == upto) {
+            n += 1;
+            t += self.dt;
+        }
+        if n > 0 {
+            let [vx, vy] = self.v;
+            let w = self.omega;
+            let v2 = vx * vx + vy * vy;
+            let w2 = w * w;
+            self.series.push_n([v2, w2, v2 * w2, vx, vy, w], n);
+            let h = &mut self.component_hist;
+            let inv = h.counts.len() as f64 / (h.max - h.min);
+            hist_push_n(h, inv, vx, n);
+            hist_push_n(h, inv, vy, n);
+            let h = &mut self.omega_hist;
+            let inv = h.counts.len() as f64 / (h.max - h.min);
+            hist_push_n(h, inv, w, n);
+            self.next_sample = t;
+        }
+    }
+
+    /// The event loop: stops before the first event after `until`, after `max_events`
+    /// events or when the collision count reaches `max_collisions`. The generator and the
+    /// state are local variables during the loop (kept in registers); the time grid is
+    /// filled only at collisions and at the end, the state being constant in between.
+    ///
+    /// Thinning uses the candidate intensity `rho (|v1| + |omega x| + |v|) f(v)` in the
+    /// impact point `x` and the bath velocity `v`: it bounds the collision intensity
+    /// `rho |v - v_n(t) - omega x| f(v)` at every time because `|v_n(t)| <= |v1|` whatever the
+    /// orientation, it is constant between collisions, and its total
+    /// `Lambda = rho L (|v1| + |omega| L/4 + <|v|>)` is the smallest of the bounds that do not
+    /// depend on the orientation. It is the sum of three intensities, sampled as a mixture:
+    /// `rho |v1| f(v)` (mass `rho L |v1|`: `x` uniform, `v` from `f`), `rho |omega x| f(v)`
+    /// (mass `rho |omega| L^2/4`: `|x| = (L/2) sqrt(U)`, random sign, `v` from `f`) and
+    /// `rho |v| f(v)` (mass `rho L <|v|>`: `x` uniform, `v` from `|v| f/<|v|>`); a candidate
+    /// is accepted with probability `|v - v_n(t) - omega x| / (|v1| + |omega x| + |v|)`, so the
+    /// accepted events have exactly the collision intensity (Eqs. 21, 25-26).
+    fn drive(
+        &mut self,
+        until: f64,
+        max_events: u64,
+        max_collisions: u64,
+    ) -> Result<Progress, EngineError> {
+        match self.params.method {
+            NeedleMethod::Thinning => self.drive_with::<true>(until, max_events, max_collisions),
+            NeedleMethod::Paper => self.drive_with::<false>(until, max_events, max_collisions),
+        }
+    }
+
+    /// [`Self::drive`] for one sampler (a separate loop for each, so that the thinning loop
+    /// keeps its generator in registers).
+    fn drive_with<const THINNING: bool>(
+        &mut self,
+        until: f64,
+        max_events: u64,
+        max_collisions: u64,
+    ) -> Result<Progress, EngineError> {
+        let p = self.params.clone();
+        let mut rng = self.rng.clone();
+        let mut v = self.v;
+        let mut omega = self.omega;
+        let mut theta = self.theta;
+        let mut theta_time = self.theta_time;
+        let mut next_event = self.next_event;
+        let mut time = self.time;
+        let mut collisions = self.collisions;
+        let mut newton = self.newton_iterations;
+        let mut budget = max_events;
         let half = 0.5 * p.length;
-        let (x, vb) = match p.method {
-            NeedleMethod::Thinning => {
-                let x = half * (2.0 * self.rng.random::<f64>() - 1.0);
-                let u = vn + self.omega * x;
-                let bound = self.bound;
-                let vb = if self.rng.random::<f64>() * (bound + p.bath.mean_speed()) < bound {
-                    p.bath.sample(&mut self.rng)
-                } else {
-                    p.bath.sample_speed_weighted(&mut self.rng)
-                };
-                if self.rng.random::<f64>() * (bound + vb.abs()) >= (vb - u).abs() {
-                    return false;
-                }
-                (x, vb)
+        let mean_speed = p.bath.mean_speed();
+        let rate_factor = p.rho * p.length;
+        let inv_mass = 1.0 / p.mass;
+        let inv_inertia = 1.0 / p.inertia;
+        let reduced = 1.0 / p.bath_mass + 1.0 / p.mass;
+        let kick = -(1.0 + p.restitution);
+        let gauss_scale = std::f64::consts::FRAC_1_SQRT_2 / p.bath.sqrt_a();
+        let speed_scale = 1.0 / p.bath.sqrt_a();
+        // Thinning bound: |v1| and |omega| L/4, and 1/Lambda.
+        let bounds = |v: [f64; 2], omega: f64| {
+            let b0 = (v[0] * v[0] + v[1] * v[1]).sqrt();
+            let bw = 0.5 * half * omega.abs();
+            (b0, bw, 1.0 / (rate_factor * (b0 + bw + mean_speed)))
+        };
+        let (mut b0, mut bw, mut inv_rate) = bounds(v, omega);
+        let outcome = loop {
+            if next_event > until {
+                break Ok(Progress::Reached);
             }
-            NeedleMethod::Paper => {
+            if budget == 0 || collisions >= max_collisions {
+                break Ok(Progress::BudgetExhausted);
+            }
+            budget -= 1;
+            let te = next_event;
+            time = te;
+            let hit = if THINNING {
+                let bits = rng.next_u64();
+                let c = unit_f64(bits) * (b0 + bw + mean_speed);
+                let (x, vb) = if c < b0 + bw {
+                    let x = if c < b0 {
+                        half * (2.0 * rng.random::<f64>() - 1.0)
+                    } else {
+                        // |x| with density 2|x|/(L/2)^2; the sign from the free low bit.
+                        let r = half * rng.random::<f64>().sqrt();
+                        f64::from_bits(r.to_bits() | (bits << 63))
+                    };
+                    (x, std_normal(&mut rng) * gauss_scale)
+                } else {
+                    let x = half * (2.0 * rng.random::<f64>() - 1.0);
+                    let r = exp1(&mut rng).sqrt() * speed_scale;
+                    (x, f64::from_bits(r.to_bits() | (bits << 63)))
+                };
+                let acc = rng.random::<f64>() * (b0 + omega.abs() * x.abs() + vb.abs());
+                theta = wrap_angle(theta + omega * (te - theta_time));
+                theta_time = te;
+                let (sn, cs) = theta.sin_cos();
+                let vn = v[1] * cs - v[0] * sn; // Eq. 20
+                if acc < (vb - vn - omega * x).abs() {
+                    Some((x, vb, sn, cs, vn))
+                } else {
+                    None
+                }
+            } else {
+                theta = wrap_angle(theta + omega * (te - theta_time));
+                theta_time = te;
+                let (sn, cs) = theta.sin_cos();
+                let vn = v[1] * cs - v[0] * sn; // Eq. 20
                 // Eq. 25: phi(vn + omega x) is convex in x, so its maximum is at an end.
                 let fmax = p
-                    .local_flux(vn - self.omega * half)
-                    .max(p.local_flux(vn + self.omega * half));
+                    .local_flux(vn - omega * half)
+                    .max(p.local_flux(vn + omega * half));
                 let x = loop {
-                    let x = half * (2.0 * self.rng.random::<f64>() - 1.0);
-                    if self.rng.random::<f64>() * fmax <= p.local_flux(vn + self.omega * x) {
+                    let x = half * (2.0 * rng.random::<f64>() - 1.0);
+                    if rng.random::<f64>() * fmax <= p.local_flux(vn + omega * x) {
                         break x;
                     }
                 };
-                let u = vn + self.omega * x;
+                let u = vn + omega * x;
                 // Eq. 26 (fluxes per unit density; rho cancels).
                 let s = p.bath.sqrt_a();
                 let plus = gaussian_h(s * u);
                 let minus = gaussian_h(-s * u);
-                let side = if self.rng.random::<f64>() * (plus + minus) < plus {
+                let side = if rng.random::<f64>() * (plus + minus) < plus {
                     Side::Right
                 } else {
                     Side::Left
                 };
-                (x, p.bath.sample_colliding(side, u, &mut self.rng))
+                let vb = p.bath.sample_colliding(side, u, &mut rng);
+                Some((x, vb, sn, cs, vn))
+            };
+            if let Some((x, vb, sn, cs, vn)) = hit {
+                // Eqs. 27-29.
+                let gn = vn + omega * x - vb;
+                let dp = kick * gn / (reduced + x * x * inv_inertia);
+                let dv = dp * inv_mass;
+                let new_v = [v[0] - sn * dv, v[1] + cs * dv];
+                let new_omega = omega + x * dp * inv_inertia;
+                if !(new_v[0].is_finite() && new_v[1].is_finite() && new_omega.is_finite()) {
+                    break Err(EngineError::Numerical(format!(
+                        "needle state not finite at t = {te}"
+                    )));
+                }
+                // Grid points before te see the state before the collision.
+                self.v = v;
+                self.omega = omega;
+                self.sample_grid(te, false);
+                v = new_v;
+                omega = new_omega;
+                collisions += 1;
+                (b0, bw, inv_rate) = bounds(v, omega);
             }
+            let e = exp1(&mut rng);
+            next_event = if THINNING {
+                te + e * inv_rate
+            } else {
+                let (tau, it) = p.collision_time(v, omega, theta, e);
+                newton += u64::from(it);
+                te + tau
+            };
         };
-        // Eqs. 27-29.
-        let gn = vn + self.omega * x - vb;
-        let dp =
-            -(1.0 + p.restitution) * gn / (1.0 / p.bath_mass + 1.0 / p.mass + x * x / p.inertia);
-        let n = [-sn, cs];
-        self.v[0] += n[0] * dp / p.mass;
-        self.v[1] += n[1] * dp / p.mass;
-        self.omega += x * dp / p.inertia;
+        self.events += max_events - budget;
+        self.rng = rng;
+        self.v = v;
+        self.omega = omega;
+        self.theta = theta;
+        self.theta_time = theta_time;
+        self.next_event = next_event;
+        self.time = time;
+        self.collisions = collisions;
+        self.newton_iterations = newton;
         self.refresh_bound();
-        true
-    }
-
-    #[inline]
-    fn sample_grid(&mut self, upto: f64, inclusive: bool) {
-        while self.next_sample < upto || (inclusive && self.next_sample == upto) {
-            let v2 = self.v[0] * self.v[0] + self.v[1] * self.v[1];
-            let w2 = self.omega * self.omega;
-            self.series
-                .push([v2, w2, v2 * w2, self.v[0], self.v[1], self.omega]);
-            self.component_hist.push(self.v[0]);
-            self.component_hist.push(self.v[1]);
-            self.omega_hist.push(self.omega);
-            self.next_sample += self.dt;
+        self.sample_grid(time, false);
+        if let Ok(Progress::Reached) = outcome {
+            self.sample_grid(until, true);
+            self.time = until;
         }
-    }
-
-    fn step(&mut self) -> Result<(), EngineError> {
-        let te = self.next_event;
-        self.sample_grid(te, false);
-        self.time = te;
-        self.events += 1;
-        if self.event(te) {
-            self.collisions += 1;
-            if !(self.v[0].is_finite() && self.v[1].is_finite() && self.omega.is_finite()) {
-                return Err(EngineError::Numerical(format!(
-                    "needle state not finite at t = {te}"
-                )));
-            }
-        }
-        self.next_event = self.draw_next_event(te);
-        Ok(())
+        outcome
     }
 
     /// Runs until `collisions` more collisions have happened, averaging on the grid.
     pub fn run_collisions(&mut self, collisions: u64) -> Result<(), EngineError> {
         let target = self.collisions + collisions;
-        while self.collisions < target {
-            self.step()?;
-        }
-        Ok(())
+        self.drive(f64::INFINITY, u64::MAX, target).map(|_| ())
     }
 
     /// Stationary averages so far.
@@ -607,17 +738,7 @@ impl Engine for Needle {
         1
     }
     fn advance(&mut self, until: f64, max_events: u64) -> Result<Progress, EngineError> {
-        let mut budget = max_events;
-        while self.next_event <= until {
-            if budget == 0 {
-                return Ok(Progress::BudgetExhausted);
-            }
-            budget -= 1;
-            self.step()?;
-        }
-        self.sample_grid(until, true);
-        self.time = until;
-        Ok(Progress::Reached)
+        self.drive(until, max_events, u64::MAX)
     }
     fn scalars(&mut self) -> Vec<Scalar> {
         let s = self.summary();

@@ -22,15 +22,14 @@
 //! Averages are taken on a fixed time grid (pseudocode step 2 of the paper): grid points
 //! `t_k = transient + k dt`, the intruder velocity being constant between collisions.
 
-use rand_distr::Exp1;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use super::bath::{Bath, BathConfig, BathDistribution, BathError, Gaussian, Side};
-use super::observables::{Estimate, GridSeries, hist_push};
+use super::observables::{Estimate, GridSeries, hist_push_n};
 use super::theory;
 use crate::engine::{Engine, EngineError, Progress, Scalar};
-use crate::random::{DYNAMICS, INITIAL_STATE, MEMBER, RngExt, Stream, stream};
+use crate::random::{DYNAMICS, INITIAL_STATE, MEMBER, RngExt, Stream, exp1, stream};
 use crate::stats::{Histogram, RunningStats};
 
 /// Which exact event sampler drives the 1D intruder.
@@ -191,37 +190,49 @@ impl Intruder1dParams {
     #[inline]
     fn inverse_rate<B: BathDistribution>(&self, bath: &B, v1: f64) -> f64 {
         match self.method {
-            Method1d::Thinning => 1.0 / (self.rho * (v1.abs() + self.mean_speed)),
-            Method1d::Direct => 1.0 / (self.rho * bath.flux(v1)),
+            Method1d::Thinning => self.inverse_rate_with::<B, true>(bath, v1),
+            Method1d::Direct => self.inverse_rate_with::<B, false>(bath, v1),
+        }
+    }
+
+    /// [`Self::inverse_rate`] for thinning (`THINNING`) or the direct method.
+    #[inline]
+    fn inverse_rate_with<B: BathDistribution, const THINNING: bool>(
+        &self,
+        bath: &B,
+        v1: f64,
+    ) -> f64 {
+        if THINNING {
+            1.0 / (self.rho * (v1.abs() + self.mean_speed))
+        } else {
+            1.0 / (self.rho * bath.flux(v1))
         }
     }
 
     /// Processes the candidate event; returns the new velocity if a collision happened.
     #[inline]
-    fn event<B: BathDistribution>(&self, bath: &B, v1: f64, rng: &mut Stream) -> Option<f64> {
-        let v = match self.method {
-            Method1d::Thinning => {
-                let av1 = v1.abs();
-                let v = if rng.random::<f64>() * (av1 + self.mean_speed) < av1 {
-                    bath.sample(rng)
-                } else {
-                    bath.sample_speed_weighted(rng)
-                };
-                if rng.random::<f64>() * (av1 + v.abs()) >= (v - v1).abs() {
-                    return None;
-                }
-                v
+    fn event<B: BathDistribution, const THINNING: bool>(
+        &self,
+        bath: &B,
+        v1: f64,
+        rng: &mut Stream,
+    ) -> Option<f64> {
+        let v = if THINNING {
+            let av1 = v1.abs();
+            let v = bath.sample_mark(av1, self.mean_speed, rng);
+            if rng.random::<f64>() * (av1 + v.abs()) >= (v - v1).abs() {
+                return None;
             }
-            Method1d::Direct => {
-                let plus = bath.flux_plus(v1);
-                let minus = bath.flux_minus(v1);
-                let side = if rng.random::<f64>() * (plus + minus) < plus {
-                    Side::Right // Eq. 11
-                } else {
-                    Side::Left
-                };
-                bath.sample_colliding(side, v1, rng) // Eqs. 12-13
-            }
+            v
+        } else {
+            let plus = bath.flux_plus(v1);
+            let minus = bath.flux_minus(v1);
+            let side = if rng.random::<f64>() * (plus + minus) < plus {
+                Side::Right // Eq. 11
+            } else {
+                Side::Left
+            };
+            bath.sample_colliding(side, v1, rng) // Eqs. 12-13
         };
         Some(v1 + self.kick * (v - v1)) // Eq. 17
     }
@@ -240,6 +251,7 @@ pub struct Intruder1d {
     rng: Stream,
     dt: f64,
     transient: f64,
+    /// The next grid point not yet sampled.
     next_sample: f64,
     /// Grid samples of `v1, v1^2, v1^4`.
     series: GridSeries<3>,
@@ -296,8 +308,7 @@ impl Intruder1d {
         let hmax = cfg
             .histogram_max
             .unwrap_or(6.0 * (params.bath_temperature / params.mass).sqrt());
-        let e: f64 = rng.sample(Exp1);
-        let next_event = e * params.inverse_rate(&params.bath, v1);
+        let next_event = exp1(&mut rng) * params.inverse_rate(&params.bath, v1);
         Self {
             v1,
             time: 0.0,
@@ -330,22 +341,34 @@ impl Intruder1d {
         self.transient
     }
 
+    /// Adds the grid points not yet sampled that lie before `upto` (or at it when
+    /// `inclusive`), all at the current velocity (constant since the last collision).
     #[inline]
     fn sample_grid(&mut self, upto: f64, inclusive: bool) {
-        while self.next_sample < upto || (inclusive && self.next_sample == upto) {
+        // The grid points are `next_sample += dt` from `transient`, as one at a time.
+        let mut t = self.next_sample;
+        let mut n = 0u64;
+        while t < upto || (inclusive && t == upto) {
+            n += 1;
+            t += self.dt;
+        }
+        if n > 0 {
             let v = self.v1;
             let v2 = v * v;
-            self.series.push([v, v2, v2 * v2]);
-            hist_push(&mut self.histogram, self.inv_bin_width, v);
-            self.next_sample += self.dt;
+            self.series.push_n([v, v2, v2 * v2], n);
+            hist_push_n(&mut self.histogram, self.inv_bin_width, v, n);
+            self.next_sample = t;
         }
     }
 
     /// The event loop, monomorphised for the bath type. Stops before the first event
     /// after `until`, after `max_events` events or when the collision count reaches
-    /// `max_collisions`; grid sampling only when `sample`.
+    /// `max_collisions`; grid sampling only when `sample`. The generator and the state
+    /// live in local variables during the loop (so they stay in registers), and the time
+    /// grid is filled only at collisions and at the end: the velocity does not change at
+    /// rejected candidates.
     #[inline]
-    fn drive<B: BathDistribution>(
+    fn drive<B: BathDistribution, const THINNING: bool>(
         &mut self,
         bath: &B,
         until: f64,
@@ -353,37 +376,58 @@ impl Intruder1d {
         max_collisions: u64,
         sample: bool,
     ) -> Result<Progress, EngineError> {
+        let mut rng = self.rng.clone();
+        let mut v1 = self.v1;
+        let mut next_event = self.next_event;
+        let mut time = self.time;
+        let mut collisions = self.collisions;
         let mut budget = max_events;
-        let mut inv_rate = self.params.inverse_rate(bath, self.v1);
-        while self.next_event <= until {
-            if budget == 0 || self.collisions >= max_collisions {
-                return Ok(Progress::BudgetExhausted);
+        let mut inv_rate = self.params.inverse_rate_with::<B, THINNING>(bath, v1);
+        let outcome = loop {
+            if next_event > until {
+                break Ok(Progress::Reached);
+            }
+            if budget == 0 || collisions >= max_collisions {
+                break Ok(Progress::BudgetExhausted);
             }
             budget -= 1;
-            let te = self.next_event;
-            if sample {
-                self.sample_grid(te, false);
-            }
-            self.time = te;
-            self.events += 1;
-            if let Some(v) = self.params.event(bath, self.v1, &mut self.rng) {
+            let te = next_event;
+            time = te;
+            if let Some(v) = self.params.event::<B, THINNING>(bath, v1, &mut rng) {
                 if !v.is_finite() {
-                    return Err(EngineError::Numerical(format!(
+                    break Err(EngineError::Numerical(format!(
                         "intruder velocity became {v} at t = {te}"
                     )));
                 }
-                self.v1 = v;
-                self.collisions += 1;
-                inv_rate = self.params.inverse_rate(bath, v);
+                if sample {
+                    // Grid points before te see the old velocity.
+                    self.v1 = v1;
+                    self.sample_grid(te, false);
+                }
+                v1 = v;
+                collisions += 1;
+                inv_rate = self.params.inverse_rate_with::<B, THINNING>(bath, v);
             }
-            let e: f64 = self.rng.sample(Exp1);
-            self.next_event = te + e * inv_rate; // Eq. 10 (or the thinning rate)
-        }
+            next_event = te + exp1(&mut rng) * inv_rate; // Eq. 10 (or the thinning rate)
+        };
+        // On an error, the event that failed is counted and its random numbers are used,
+        // but the velocity and the next event time are left as they were.
+        self.events += max_events - budget;
+        self.rng = rng;
+        self.v1 = v1;
+        self.next_event = next_event;
+        self.collisions = collisions;
+        self.time = time;
         if sample {
-            self.sample_grid(until, true);
+            self.sample_grid(time, false);
         }
-        self.time = until;
-        Ok(Progress::Reached)
+        if let Ok(Progress::Reached) = outcome {
+            if sample {
+                self.sample_grid(until, true);
+            }
+            self.time = until;
+        }
+        outcome
     }
 
     /// Runs [`Self::drive`] with the bath moved out of `params` (so the loop is
@@ -400,10 +444,18 @@ impl Intruder1d {
             Err(e) => return Err(EngineError::Numerical(e.to_string())),
         });
         let bath = std::mem::replace(&mut self.params.bath, placeholder);
-        let r = match &bath {
-            Bath::Gaussian(b) => self.drive(b, until, max_events, max_collisions, sample),
-            Bath::PowerLaw(b) => self.drive(b, until, max_events, max_collisions, sample),
-            Bath::Tabulated(b) => self.drive(b.as_ref(), until, max_events, max_collisions, sample),
+        let (u, e, c, s) = (until, max_events, max_collisions, sample);
+        let r = match (&bath, self.params.method) {
+            (Bath::Gaussian(b), Method1d::Thinning) => self.drive::<_, true>(b, u, e, c, s),
+            (Bath::Gaussian(b), Method1d::Direct) => self.drive::<_, false>(b, u, e, c, s),
+            (Bath::PowerLaw(b), Method1d::Thinning) => self.drive::<_, true>(b, u, e, c, s),
+            (Bath::PowerLaw(b), Method1d::Direct) => self.drive::<_, false>(b, u, e, c, s),
+            (Bath::Tabulated(b), Method1d::Thinning) => {
+                self.drive::<_, true>(b.as_ref(), u, e, c, s)
+            }
+            (Bath::Tabulated(b), Method1d::Direct) => {
+                self.drive::<_, false>(b.as_ref(), u, e, c, s)
+            }
         };
         self.params.bath = bath;
         r
