@@ -342,6 +342,7 @@ fn intruder_run_checks_eq_18() {
         "T/T_B = {r} ± {e}, Eq. 18 = {eq18}"
     );
     assert_eq!(b["theory_temperature_ratio"].as_f64().unwrap(), eq18);
+    assert_eq!(s["dimension"], 1, "the 1D intruder moves in one dimension");
     // The histogram on the time grid holds every grid sample (within its range).
     let csv = std::fs::read_to_string(out.join("intruder_histograms.csv")).unwrap();
     let counted: u64 = csv

@@ -657,7 +657,11 @@ impl Run {
             engine: self.engine.name().to_string(),
             version: env!("CARGO_PKG_VERSION").to_string(),
             seed: self.scenario.seed,
-            dimension: self.scenario.dimension,
+            dimension: self
+                .scenario
+                .intruder
+                .as_ref()
+                .map_or(self.scenario.dimension, |i| i.dimension()),
             n: self.engine.particle_count(),
             wall_seconds: wall,
             events,

@@ -45,6 +45,15 @@ impl IntruderSpec {
         }
     }
 
+    /// The dimension of the intruder's motion: 1 for the `1d` and `dsmc-twin` models, 2 for
+    /// the needle.
+    pub fn dimension(&self) -> usize {
+        match self {
+            IntruderSpec::Needle(_) => 2,
+            IntruderSpec::OneD(_) | IntruderSpec::DsmcTwin(_) => 1,
+        }
+    }
+
     /// The 1D system (for the `1d` and `dsmc-twin` models).
     pub fn one_d(&self) -> Option<&Intruder1dConfig> {
         match self {
