@@ -227,22 +227,9 @@ impl<const D: usize> CellGrid<D> {
                 for k in 0..D {
                     flat = flat + idx[k] * stride[k] - stride[k];
                 }
-                let mut j = self.head[flat];
-                while j != NONE {
-                    f(j as usize);
-                    j = self.next[j as usize];
-                }
-                let mut k = 0;
-                loop {
-                    if k == D {
-                        return;
-                    }
-                    idx[k] += 1;
-                    if idx[k] < 3 {
-                        break;
-                    }
-                    idx[k] = 0;
-                    k += 1;
+                self.for_each_in_cell(flat, &mut f);
+                if !odometer_step(&mut idx, &[3; D]) {
+                    return;
                 }
             }
         }
@@ -283,24 +270,34 @@ impl<const D: usize> CellGrid<D> {
             for k in (0..D).rev() {
                 flat = flat * self.counts[k] + ranges[k][idx[k]];
             }
-            let mut j = self.head[flat];
-            while j != NONE {
-                f(j as usize);
-                j = self.next[j as usize];
-            }
-            // Odometer increment.
-            let mut k = 0;
-            loop {
-                if k == D {
-                    return;
-                }
-                idx[k] += 1;
-                if idx[k] < lens[k] {
-                    break;
-                }
-                idx[k] = 0;
-                k += 1;
+            self.for_each_in_cell(flat, &mut f);
+            if !odometer_step(&mut idx, &lens) {
+                return;
             }
         }
     }
+
+    /// Calls `f(j)` for every particle in the cell with flat index `flat`.
+    #[inline(always)]
+    fn for_each_in_cell(&self, flat: usize, f: &mut impl FnMut(usize)) {
+        let mut j = self.head[flat];
+        while j != NONE {
+            f(j as usize);
+            j = self.next[j as usize];
+        }
+    }
+}
+
+/// Advances the multi-index `idx` (axis 0 fastest, `idx[k] < lens[k]`); `false` once every
+/// combination has been visited.
+#[inline(always)]
+fn odometer_step<const D: usize>(idx: &mut [usize; D], lens: &[usize; D]) -> bool {
+    for k in 0..D {
+        idx[k] += 1;
+        if idx[k] < lens[k] {
+            return true;
+        }
+        idx[k] = 0;
+    }
+    false
 }

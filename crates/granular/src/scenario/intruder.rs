@@ -349,18 +349,7 @@ pub(super) fn validate(sc: &Scenario) -> Result<(), ScenarioError> {
         ));
     }
     if let Some(sw) = &sc.sweep {
-        if sw.values.is_empty() {
-            return Err(ScenarioError::new(
-                "sweep.values",
-                "is empty; list the values to scan",
-            ));
-        }
-        if sw.seeds == 0 {
-            return Err(ScenarioError::new(
-                "sweep.seeds",
-                "is 0; use at least 1 seed per value",
-            ));
-        }
+        sw.validate()?;
     }
     Ok(())
 }

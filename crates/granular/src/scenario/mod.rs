@@ -140,6 +140,25 @@ pub struct SweepSpec {
     pub observable: String,
 }
 
+impl SweepSpec {
+    /// Checks that the sweep has values and seeds.
+    pub(crate) fn validate(&self) -> Result<(), ScenarioError> {
+        if self.values.is_empty() {
+            return Err(ScenarioError::new(
+                "sweep.values",
+                "is empty; list the values to scan",
+            ));
+        }
+        if self.seeds == 0 {
+            return Err(ScenarioError::new(
+                "sweep.seeds",
+                "is 0; use at least 1 seed per value",
+            ));
+        }
+        Ok(())
+    }
+}
+
 fn four() -> usize {
     4
 }
@@ -991,18 +1010,7 @@ impl Scenario {
             }
         }
         if let Some(sw) = &self.sweep {
-            if sw.values.is_empty() {
-                return Err(ScenarioError::new(
-                    "sweep.values",
-                    "is empty; list the values to scan",
-                ));
-            }
-            if sw.seeds == 0 {
-                return Err(ScenarioError::new(
-                    "sweep.seeds",
-                    "is 0; use at least 1 seed per value",
-                ));
-            }
+            sw.validate()?;
         }
         self.output.validate_observables(self.dimension)?;
         if self.output.histogram_bins == 0 {
