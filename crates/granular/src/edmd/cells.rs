@@ -222,10 +222,36 @@ impl<const D: usize> CellGrid<D> {
         // at 10^5 spheres; within noise in 2D).
         let mut heads = [NONE; 27];
         let mut m = 0;
-        self.for_each_neighbour_cell(c, |flat| {
-            heads[m] = self.head[flat];
-            m += 1;
-        });
+        if (0..D).all(|k| c[k] >= 1 && (c[k] as usize) + 2 <= self.counts[k]) {
+            // Away from the grid's faces: 3^(D-1) rows of three consecutive heads.
+            let mut stride = [1usize; D];
+            for k in 1..D {
+                stride[k] = stride[k - 1] * self.counts[k - 1];
+            }
+            let centre = self.flat(c);
+            let mut idx = [0usize; D];
+            'rows: loop {
+                let mut row = centre - 1;
+                for k in 1..D {
+                    row = row + idx[k] * stride[k] - stride[k];
+                }
+                heads[m..m + 3].copy_from_slice(&self.head[row..row + 3]);
+                m += 3;
+                for ik in idx.iter_mut().skip(1) {
+                    *ik += 1;
+                    if *ik < 3 {
+                        continue 'rows;
+                    }
+                    *ik = 0;
+                }
+                break;
+            }
+        } else {
+            self.for_each_neighbour_cell(c, |flat| {
+                heads[m] = self.head[flat];
+                m += 1;
+            });
+        }
         for &h in &heads[..m] {
             let mut j = h;
             while j != NONE {
