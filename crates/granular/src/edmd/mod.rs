@@ -4,6 +4,7 @@
 //! * [`engine`]: the event loop ([`Edmd`]);
 //! * [`prediction`]: collision and crossing times (Eqs. 1, 2, 7-10);
 //! * [`queue`]: the event priority queue;
+//! * [`prefetch`]: software prefetch of the records a prediction is about to read;
 //! * [`cells`]: the cell grid for neighbour search;
 //! * [`init`]: placements, compression and initial velocities.
 
@@ -12,6 +13,7 @@ pub mod cells;
 pub mod engine;
 pub mod init;
 pub mod prediction;
+pub mod prefetch;
 pub mod queue;
 
 pub use engine::{Edmd, EdmdOptions, EventKind, ParticleSet, Totals};

