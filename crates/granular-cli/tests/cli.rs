@@ -11,6 +11,20 @@ fn scenarios() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../scenarios")
 }
 
+/// Runs `granular check SCENARIO ARGS...`: its exit status and standard error.
+fn check(scenario: &std::path::Path, args: &[&str]) -> (std::process::ExitStatus, String) {
+    let out = granular()
+        .arg("check")
+        .arg(scenario)
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status,
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
 fn tmp(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("granular-cli-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
@@ -69,14 +83,11 @@ fn run_writes_the_run_directory() {
 
 #[test]
 fn check_reports_bad_values_with_key_value_line_and_fix() {
-    let out = granular()
-        .arg("check")
-        .arg(scenarios().join("maxwell-boltzmann.toml"))
-        .args(["--set", "collisions.restitution=1.2"])
-        .output()
-        .unwrap();
-    assert!(!out.status.success());
-    let err = String::from_utf8_lossy(&out.stderr);
+    let (status, err) = check(
+        &scenarios().join("maxwell-boltzmann.toml"),
+        &["--set", "collisions.restitution=1.2"],
+    );
+    assert!(!status.success());
     assert!(
         err.contains("collisions.restitution") && err.contains("1.2") && err.contains("[0, 1]"),
         "{err}"
@@ -88,10 +99,9 @@ fn check_reports_bad_values_with_key_value_line_and_fix() {
         .unwrap()
         .replace("restitution = 1.0", "restitution = 1.0\nrestitushun = 2");
     std::fs::write(&bad, text).unwrap();
-    let out = granular().arg("check").arg(&bad).output().unwrap();
-    let err = String::from_utf8_lossy(&out.stderr);
+    let (status, err) = check(&bad, &[]);
     assert!(
-        !out.status.success() && err.contains("restitushun") && err.contains("line "),
+        !status.success() && err.contains("restitushun") && err.contains("line "),
         "{err}"
     );
 }
@@ -264,14 +274,11 @@ fn observables_are_written_for_both_engines_and_compared() {
 
 #[test]
 fn bad_observable_keys_name_key_value_and_fix() {
-    let out = granular()
-        .arg("check")
-        .arg(scenarios().join("section32-edmd.toml"))
-        .args(["--set", "output.density_map=[64]"])
-        .output()
-        .unwrap();
-    assert!(!out.status.success());
-    let err = String::from_utf8_lossy(&out.stderr);
+    let (status, err) = check(
+        &scenarios().join("section32-edmd.toml"),
+        &["--set", "output.density_map=[64]"],
+    );
+    assert!(!status.success());
     assert!(
         err.contains("output.density_map") && err.contains("1 entries") && err.contains("[64, 64]"),
         "{err}"
@@ -410,14 +417,8 @@ fn check_reports_bad_intruder_fields() {
         ),
     ];
     for (args, wanted) in cases {
-        let out = granular()
-            .arg("check")
-            .arg(scenarios().join("intruder-1d.toml"))
-            .args(args)
-            .output()
-            .unwrap();
-        assert_eq!(out.status.code(), Some(2));
-        let err = String::from_utf8_lossy(&out.stderr);
+        let (status, err) = check(&scenarios().join("intruder-1d.toml"), args);
+        assert_eq!(status.code(), Some(2));
         for w in wanted {
             assert!(err.contains(w), "{args:?}: `{w}` not in: {err}");
         }
@@ -429,14 +430,9 @@ fn check_reports_bad_intruder_fields() {
         .unwrap()
         .replace("\nmass = 1.0 ", "\nmasss = 1.0 ");
     std::fs::write(dir.join("bad.toml"), text).unwrap();
-    let out = granular()
-        .arg("check")
-        .arg(dir.join("bad.toml"))
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&out.stderr);
+    let (status, err) = check(&dir.join("bad.toml"), &[]);
     assert!(
-        !out.status.success() && err.contains("intruder.masss") && err.contains("line"),
+        !status.success() && err.contains("intruder.masss") && err.contains("line"),
         "{err}"
     );
 }

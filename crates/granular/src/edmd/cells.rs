@@ -222,36 +222,10 @@ impl<const D: usize> CellGrid<D> {
         // at 10^5 spheres; within noise in 2D).
         let mut heads = [NONE; 27];
         let mut m = 0;
-        if (0..D).all(|k| c[k] >= 1 && (c[k] as usize) + 2 <= self.counts[k]) {
-            // Away from the grid's faces: 3^(D-1) rows of three consecutive heads.
-            let mut stride = [1usize; D];
-            for k in 1..D {
-                stride[k] = stride[k - 1] * self.counts[k - 1];
-            }
-            let centre = self.flat(c);
-            let mut idx = [0usize; D];
-            'rows: loop {
-                let mut row = centre - 1;
-                for k in 1..D {
-                    row = row + idx[k] * stride[k] - stride[k];
-                }
-                heads[m..m + 3].copy_from_slice(&self.head[row..row + 3]);
-                m += 3;
-                for ik in idx.iter_mut().skip(1) {
-                    *ik += 1;
-                    if *ik < 3 {
-                        continue 'rows;
-                    }
-                    *ik = 0;
-                }
-                break;
-            }
-        } else {
-            self.for_each_neighbour_cell(c, |flat| {
-                heads[m] = self.head[flat];
-                m += 1;
-            });
-        }
+        self.for_each_neighbour_run(c, |first, len| {
+            heads[m..m + len].copy_from_slice(&self.head[first..first + len]);
+            m += len;
+        });
         for &h in &heads[..m] {
             let mut j = h;
             while j != NONE {
@@ -264,29 +238,37 @@ impl<const D: usize> CellGrid<D> {
     /// Calls `f(j)` for every particle in the cells neighbouring (and including) cell `c`.
     #[inline(always)]
     pub fn for_each_neighbour(&self, c: &[u32; D], mut f: impl FnMut(usize)) {
-        self.for_each_neighbour_cell(c, |flat| self.for_each_in_cell(flat, &mut f));
+        self.for_each_neighbour_run(c, |first, len| {
+            for flat in first..first + len {
+                self.for_each_in_cell(flat, &mut f);
+            }
+        });
     }
 
-    /// Calls `f(flat)` for the flat index of every cell neighbouring (and including) cell
-    /// `c` (at most 3^D, each once).
+    /// Calls `f(first, len)` for runs of consecutive flat cell indices `first..first + len`
+    /// that together cover every cell neighbouring (and including) cell `c`, each once:
+    /// rows of three cells away from the grid's faces, single cells near them.
     #[inline(always)]
-    fn for_each_neighbour_cell(&self, c: &[u32; D], mut f: impl FnMut(usize)) {
+    fn for_each_neighbour_run(&self, c: &[u32; D], mut f: impl FnMut(usize, usize)) {
         // Fast path: a cell away from the grid's faces has its neighbours at fixed flat
-        // offsets (no wrapping, no clipping).
+        // offsets (no wrapping, no clipping): 3^(D-1) rows of three consecutive cells.
         if (0..D).all(|k| c[k] >= 1 && (c[k] as usize) + 2 <= self.counts[k]) {
-            let centre = self.flat(c);
             let mut stride = [1usize; D];
             for k in 1..D {
                 stride[k] = stride[k - 1] * self.counts[k - 1];
             }
+            let centre = self.flat(c);
+            // Rows are numbered by the offsets along axes 1..D (axis 0 has one "offset").
+            let mut rows = [3usize; D];
+            rows[0] = 1;
             let mut idx = [0usize; D];
             loop {
-                let mut flat = centre;
-                for k in 0..D {
-                    flat = flat + idx[k] * stride[k] - stride[k];
+                let mut row = centre - 1;
+                for k in 1..D {
+                    row = row + idx[k] * stride[k] - stride[k];
                 }
-                f(flat);
-                if !odometer_step(&mut idx, &[3; D]) {
+                f(row, 3);
+                if !odometer_step(&mut idx, &rows) {
                     return;
                 }
             }
@@ -328,7 +310,7 @@ impl<const D: usize> CellGrid<D> {
             for k in (0..D).rev() {
                 flat = flat * self.counts[k] + ranges[k][idx[k]];
             }
-            f(flat);
+            f(flat, 1);
             if !odometer_step(&mut idx, &lens) {
                 return;
             }

@@ -36,7 +36,7 @@ use rand::Rng;
 use serde::{Deserialize, Serialize};
 
 use super::bath::{BathDistribution, BathError, FRAC_1_SQRT_PI, Gaussian, Side, gaussian_h};
-use super::observables::{Estimate, GridSeries, hist_push_n};
+use super::observables::{Estimate, GridSeries, grid_points_before, hist_push_n};
 use crate::engine::{Engine, EngineError, Progress, Scalar};
 use crate::random::{DYNAMICS, RngExt, Stream, exp1, std_normal, stream, unit_f64};
 use crate::stats::Histogram;
@@ -488,13 +488,7 @@ impl Needle {
     /// with the current state (constant since the last collision).
     #[inline]
     fn sample_grid(&mut self, upto: f64, inclusive: bool) {
-        // The grid points are `next_sample += dt` from `transient`, as one at a time.
-        let mut t = self.next_sample;
-        let mut n = 0u64;
-        while t < upto || (inclusive && t == upto) {
-            n += 1;
-            t += self.dt;
-        }
+        let (n, t) = grid_points_before(self.next_sample, self.dt, upto, inclusive);
         if n > 0 {
             let [vx, vy] = self.v;
             let w = self.omega;

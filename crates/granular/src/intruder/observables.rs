@@ -27,6 +27,20 @@ impl Estimate {
     }
 }
 
+/// The grid points `next, next + dt, next + 2 dt, ...` (accumulated one addition at a
+/// time, as the samplers always did) that lie before `upto`, or at it when `inclusive`:
+/// returns their number and the first grid point after them.
+#[inline]
+pub fn grid_points_before(next: f64, dt: f64, upto: f64, inclusive: bool) -> (u64, f64) {
+    let mut t = next;
+    let mut n = 0u64;
+    while t < upto || (inclusive && t == upto) {
+        n += 1;
+        t += dt;
+    }
+    (n, t)
+}
+
 /// Number of batches used for batch-means errors.
 pub const BATCHES: usize = 32;
 

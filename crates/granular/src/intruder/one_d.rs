@@ -26,7 +26,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use super::bath::{Bath, BathConfig, BathDistribution, BathError, Gaussian, Side};
-use super::observables::{Estimate, GridSeries, hist_push_n};
+use super::observables::{Estimate, GridSeries, grid_points_before, hist_push_n};
 use super::theory;
 use crate::engine::{Engine, EngineError, Progress, Scalar};
 use crate::random::{DYNAMICS, INITIAL_STATE, MEMBER, RngExt, Stream, exp1, stream};
@@ -345,13 +345,7 @@ impl Intruder1d {
     /// `inclusive`), all at the current velocity (constant since the last collision).
     #[inline]
     fn sample_grid(&mut self, upto: f64, inclusive: bool) {
-        // The grid points are `next_sample += dt` from `transient`, as one at a time.
-        let mut t = self.next_sample;
-        let mut n = 0u64;
-        while t < upto || (inclusive && t == upto) {
-            n += 1;
-            t += self.dt;
-        }
+        let (n, t) = grid_points_before(self.next_sample, self.dt, upto, inclusive);
         if n > 0 {
             let v = self.v1;
             let v2 = v * v;
