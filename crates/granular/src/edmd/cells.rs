@@ -273,45 +273,92 @@ impl<const D: usize> CellGrid<D> {
                 }
             }
         }
-        // Offsets per axis: -1, 0, +1, clipped at walls, wrapped on periodic axes; a
-        // single-cell axis contributes only 0.
         let mut ranges = [[0usize; 3]; D];
         let mut lens = [0usize; D];
         for k in 0..D {
-            let n = self.counts[k];
-            let ck = c[k] as usize;
-            if n == 1 {
-                ranges[k][0] = 0;
-                lens[k] = 1;
+            lens[k] = self.adjacent(k, c[k] as usize, &mut ranges[k]);
+        }
+        self.for_each_cell_of(&ranges, &lens, |flat| f(flat, 1));
+    }
+
+    /// Appends to `out` every particle in the cells that became neighbours of cell `c`
+    /// when a grain entered it by a step `step` (+1 or -1) along `axis`: the layer of
+    /// cells one further along `axis`, next to (and including) `c`'s position on the other
+    /// axes. None past a wall.
+    pub fn gather_layer(&self, c: &[u32; D], axis: usize, step: i32, out: &mut Vec<u32>) {
+        let mut ranges = [[0usize; 3]; D];
+        let mut lens = [0usize; D];
+        for k in 0..D {
+            if k != axis {
+                lens[k] = self.adjacent(k, c[k] as usize, &mut ranges[k]);
                 continue;
             }
-            let mut m = 0;
-            if ck > 0 {
-                ranges[k][m] = ck - 1;
-                m += 1;
-            } else if self.periodic[k] {
-                ranges[k][m] = n - 1;
-                m += 1;
+            let n = self.counts[k] as i64;
+            let mut v = c[k] as i64 + step as i64;
+            if self.periodic[k] {
+                v = v.rem_euclid(n);
+            } else if v < 0 || v >= n {
+                return;
             }
-            ranges[k][m] = ck;
-            m += 1;
-            if ck + 1 < n {
-                ranges[k][m] = ck + 1;
-                m += 1;
-            } else if self.periodic[k] {
-                ranges[k][m] = 0;
-                m += 1;
-            }
-            lens[k] = m;
+            ranges[k][0] = v as usize;
+            lens[k] = 1;
         }
+        self.for_each_cell_of(&ranges, &lens, |flat| {
+            let mut j = self.head[flat];
+            while j != NONE {
+                out.push(j);
+                j = self.next[j as usize];
+            }
+        });
+    }
+
+    /// The cells next to (and including) coordinate `ck` along axis `k`: -1, 0, +1,
+    /// clipped at walls, wrapped on periodic axes; a single-cell axis has only 0. Writes
+    /// them to `out` and returns how many.
+    #[inline(always)]
+    fn adjacent(&self, k: usize, ck: usize, out: &mut [usize; 3]) -> usize {
+        let n = self.counts[k];
+        if n == 1 {
+            out[0] = 0;
+            return 1;
+        }
+        let mut m = 0;
+        if ck > 0 {
+            out[m] = ck - 1;
+            m += 1;
+        } else if self.periodic[k] {
+            out[m] = n - 1;
+            m += 1;
+        }
+        out[m] = ck;
+        m += 1;
+        if ck + 1 < n {
+            out[m] = ck + 1;
+            m += 1;
+        } else if self.periodic[k] {
+            out[m] = 0;
+            m += 1;
+        }
+        m
+    }
+
+    /// Calls `f(flat)` for every cell whose coordinate along each axis `k` is one of
+    /// `ranges[k][..lens[k]]`.
+    #[inline(always)]
+    fn for_each_cell_of(
+        &self,
+        ranges: &[[usize; 3]; D],
+        lens: &[usize; D],
+        mut f: impl FnMut(usize),
+    ) {
         let mut idx = [0usize; D];
         loop {
             let mut flat = 0usize;
             for k in (0..D).rev() {
                 flat = flat * self.counts[k] + ranges[k][idx[k]];
             }
-            f(flat, 1);
-            if !odometer_step(&mut idx, &lens) {
+            f(flat);
+            if !odometer_step(&mut idx, lens) {
                 return;
             }
         }
@@ -340,4 +387,70 @@ fn odometer_step<const D: usize>(idx: &mut [usize; D], lens: &[usize; D]) -> boo
         idx[k] = 0;
     }
     false
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::boundary::AxisKind;
+    use crate::vector::Vector;
+    use std::collections::BTreeSet;
+
+    fn neighbourhood<const D: usize>(g: &CellGrid<D>, c: &[u32; D]) -> BTreeSet<u32> {
+        let mut out = Vec::new();
+        g.gather_neighbours(c, &mut out);
+        out.into_iter().collect()
+    }
+
+    /// The layer a crossing gathers, with the cells the grain's old cell already had
+    /// around it, is exactly the new cell's neighbourhood, on walled and periodic axes,
+    /// at the faces and inside.
+    fn layer_completes_the_neighbourhood<const D: usize>(kind: AxisKind, side: f64) {
+        let bx = SimulationBox::<D>::uniform(Vector([side; D]), kind);
+        let cells_per_axis = side as usize;
+        let total = cells_per_axis.pow(D as u32);
+        // One grain per cell (grain = flat cell index).
+        let mut g = CellGrid::<D>::new(&bx, 1.0, total);
+        for f in 0..total {
+            let mut c = [0u32; D];
+            let mut r = f;
+            for ck in c.iter_mut() {
+                *ck = (r % cells_per_axis) as u32;
+                r /= cells_per_axis;
+            }
+            g.insert(f, c);
+        }
+        for f in 0..total {
+            let old = g.coords(f);
+            for axis in 0..D {
+                for step in [-1i32, 1] {
+                    let v = old[axis] as i64 + step as i64;
+                    let n = cells_per_axis as i64;
+                    if kind == AxisKind::Wall && (v < 0 || v >= n) {
+                        continue;
+                    }
+                    let mut new = old;
+                    new[axis] = v.rem_euclid(n) as u32;
+                    let mut layer = Vec::new();
+                    g.gather_layer(&new, axis, step, &mut layer);
+                    let layer: BTreeSet<u32> = layer.into_iter().collect();
+                    let before = neighbourhood(&g, &old);
+                    let after = neighbourhood(&g, &new);
+                    assert!(layer.is_subset(&after), "{old:?} -> {new:?}");
+                    let union: BTreeSet<u32> =
+                        before.intersection(&after).chain(&layer).copied().collect();
+                    assert_eq!(union, after, "{old:?} -> {new:?} along {axis}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn crossing_layer_completes_the_neighbourhood() {
+        layer_completes_the_neighbourhood::<2>(AxisKind::Wall, 5.0);
+        layer_completes_the_neighbourhood::<2>(AxisKind::Periodic, 5.0);
+        layer_completes_the_neighbourhood::<2>(AxisKind::Periodic, 3.0);
+        layer_completes_the_neighbourhood::<3>(AxisKind::Wall, 4.0);
+        layer_completes_the_neighbourhood::<3>(AxisKind::Periodic, 4.0);
+    }
 }

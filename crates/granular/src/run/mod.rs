@@ -32,8 +32,9 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-/// Version of the checkpoint format; bumped when the state layout changes.
-pub const CHECKPOINT_FORMAT: u32 = 2;
+/// Version of the checkpoint format; bumped when the state layout changes (3: the event
+/// codes of cell crossings carry the partner bound of the cheap crossing).
+pub const CHECKPOINT_FORMAT: u32 = 3;
 
 /// Why a run failed.
 #[derive(Debug, thiserror::Error)]
