@@ -249,9 +249,11 @@ const COLLAPSE_WINDOW: u64 = 1 << 16;
 ///
 /// Memory layout (what `granular bench edmd` reports as bytes per particle): one
 /// [`Grain`] record per grain (48 bytes in 2D, 64 in 3D), an 8-byte scheduled event, the
-/// last partner (4), the event queue (16), the cell grid (about 12) and the id maps (8);
-/// radii and masses live in a table of grain kinds (distinct `(radius, mass, species)`),
-/// and the TC model's last-collision times are kept only when the model is on.
+/// last partner (4), the event queue (16), the cell grid (about 12) and the grain id of
+/// each slot (4); radii and masses live in a table of grain kinds (distinct `(radius,
+/// mass, species)`), and the TC model's last-collision times are kept only when the model
+/// is on. The inverse map (slot of each id, 4 more) exists only between an output that
+/// asks for grains by id and the next reordering.
 ///
 /// Grains are stored in cell order and re-sorted every few collisions per grain (spatial
 /// reordering), so that a prediction reads neighbours that are close in memory: this
@@ -275,8 +277,10 @@ pub struct Edmd<const D: usize> {
     last_collision: Vec<f64>,
     /// Grain id of each slot.
     id: Vec<u32>,
-    /// Slot of each grain id.
-    slot: Vec<u32>,
+    /// Slot of each grain id: built on the first query by id (outputs) and dropped at the
+    /// next reordering, so that the event loop's memory does not hold it.
+    #[serde(skip)]
+    slot: std::sync::OnceLock<Vec<u32>>,
     kind_radius: Vec<f64>,
     kind_mass: Vec<f64>,
     kind_species: Vec<u32>,
@@ -382,7 +386,7 @@ impl<const D: usize> Edmd<D> {
             last_partner: vec![NONE; n],
             last_collision,
             id: (0..n as u32).collect(),
-            slot: (0..n as u32).collect(),
+            slot: std::sync::OnceLock::new(),
             kind_radius,
             kind_mass,
             kind_species,
@@ -487,7 +491,7 @@ impl<const D: usize> Edmd<D> {
 
     /// The scheduled event of grain `id` (partners as grain ids).
     pub fn scheduled_event(&self, id: usize) -> EventKind {
-        let e = self.event[self.slot[id] as usize];
+        let e = self.event[self.slot_of(id)];
         match e.code {
             NOTHING => EventKind::Nothing,
             c if c >= WALL => EventKind::Wall {
@@ -510,7 +514,23 @@ impl<const D: usize> Edmd<D> {
 
     /// `f(self, slot)` for every grain, in id order.
     fn by_id<T>(&self, f: impl Fn(&Self, usize) -> T) -> Vec<T> {
-        self.slot.iter().map(|&s| f(self, s as usize)).collect()
+        self.slots().iter().map(|&s| f(self, s as usize)).collect()
+    }
+
+    /// The slot of each grain id (see the field `slot`).
+    fn slots(&self) -> &[u32] {
+        self.slot.get_or_init(|| {
+            let mut slot = vec![0u32; self.id.len()];
+            for (s, &g) in self.id.iter().enumerate() {
+                slot[g as usize] = s as u32;
+            }
+            slot
+        })
+    }
+
+    /// The slot of grain `id`.
+    fn slot_of(&self, id: usize) -> usize {
+        self.slots()[id] as usize
     }
 
     #[inline(always)]
@@ -541,14 +561,14 @@ impl<const D: usize> Edmd<D> {
     /// Position of grain `id` at the current time (not stored: observing never perturbs
     /// the trajectory).
     pub fn position(&self, id: usize) -> Vector<D> {
-        let mut x = self.position_raw(self.slot[id] as usize);
+        let mut x = self.position_raw(self.slot_of(id));
         self.bx.wrap(&mut x);
         x
     }
 
     /// Velocity of grain `id` at the current time.
     pub fn velocity(&self, id: usize) -> Vector<D> {
-        self.velocity_slot(self.slot[id] as usize)
+        self.velocity_slot(self.slot_of(id))
     }
 
     #[inline(always)]
@@ -1009,11 +1029,8 @@ impl<const D: usize> Edmd<D> {
                 .collect();
             self.last_collision = lc;
         }
-        let id: Vec<u32> = order.iter().map(|&o| self.id[o as usize]).collect();
-        for (s, &g) in id.iter().enumerate() {
-            self.slot[g as usize] = s as u32;
-        }
-        self.id = id;
+        self.id = order.iter().map(|&o| self.id[o as usize]).collect();
+        self.slot = std::sync::OnceLock::new();
         self.queue.relabel(&new_of_old, self.now);
         self.cells.relabel(&new_of_old);
     }
@@ -1169,7 +1186,7 @@ impl<const D: usize> Edmd<D> {
             + bytes(&self.last_partner)
             + bytes(&self.last_collision)
             + bytes(&self.id)
-            + bytes(&self.slot)
+            + self.slot.get().map_or(0, bytes)
             + bytes(&self.kind_radius)
             + bytes(&self.kind_mass)
             + bytes(&self.kind_species)
