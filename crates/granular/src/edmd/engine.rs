@@ -16,6 +16,7 @@
 //! collisions per particle, so that after 10^9 collisions event times still carry full
 //! double precision.
 
+use super::candidates::{Grain, Probe, earliest_contact};
 use super::cells::{CellGrid, NONE};
 use super::prediction::{downward_crossing, pair_contact_time, upward_crossing};
 use super::prefetch::prefetch_all;
@@ -121,21 +122,6 @@ impl Scheduled {
         code: NOTHING,
         partner_counter: 0,
     };
-}
-
-/// The state of one grain that every prediction reads, in one record (48 bytes for disks,
-/// one 64-byte cache line for spheres): position and velocity valid at the grain's own
-/// clock `time`, its collision counter, and its kind (radius, mass, species).
-#[derive(Clone, Copy, Debug, Serialize, Deserialize)]
-struct Grain<const D: usize> {
-    pos: Vector<D>,
-    vel: Vector<D>,
-    time: f64,
-    /// Collisions so far (wrapping): a pair event is stale when its partner's counter
-    /// changed. A stale event would be taken for valid only after exactly 2^32 collisions
-    /// of the partner before the event time, which the event order excludes.
-    counter: u32,
-    kind: u32,
 }
 
 /// One collision in the optional collision log ([`Edmd::record_collisions`]).
@@ -724,50 +710,54 @@ impl<const D: usize> Edmd<D> {
             }
         }
         prefetch_all(&self.grains, &candidates);
-        for &j in &candidates {
-            let j = j as usize;
-            if j == i || (partner_of_i == j as u32 && self.last_partner[j] == i as u32) {
-                continue;
-            }
-            let g = &self.grains[j];
-            let dt = now - g.time;
-            let mut xj = g.pos.add_scaled(dt, &g.vel);
-            let mut vj = g.vel;
-            if self.has_gravity {
-                xj = xj.add_scaled(0.5 * dt * dt, &self.gravity);
-                vj = vj.add_scaled(dt, &self.gravity);
-            }
-            let dx = self.bx.separation(&xi, &xj);
-            let dv = vj - vi;
-            let rj = self.kind_radius[g.kind as usize];
-            let t = if self.growth == 0.0 {
-                // `pair_contact_time` without growth, written without unpredictable
-                // branches (the sign of `b` is a coin toss for neighbours): every
-                // candidate costs a square root and a division, which pipeline, instead
-                // of a mispredicted branch. Same arithmetic, so the same times.
-                let sigma = ri + rj;
-                let b = dx.dot(&dv);
-                let c = dx.norm_squared() - sigma * sigma;
-                let d = b * b - dv.norm_squared() * c;
-                let root = (c / (-b + d.max(0.0).sqrt())).max(0.0);
-                if b < 0.0 && d > 0.0 {
-                    root
-                } else {
-                    f64::INFINITY
+        // The partner of the last collision is skipped while the two are each other's
+        // last partners: they are separating, and round-off must not make them collide
+        // again (at restitution 0 they would, forever, at zero time intervals).
+        let skip = if partner_of_i != NONE && self.last_partner[partner_of_i as usize] == i as u32 {
+            partner_of_i
+        } else {
+            NONE
+        };
+        if self.growth == 0.0 {
+            let probe = Probe {
+                slot: i as u32,
+                skip,
+                pos: xi,
+                vel: vi,
+                radius: ri,
+                now,
+                gravity: self.gravity,
+                lengths: self.bx.lengths,
+                periodic: std::array::from_fn(|k| self.bx.is_periodic(k)),
+            };
+            (best_pair, partner) = earliest_contact(
+                &self.grains,
+                &self.kind_radius,
+                &candidates,
+                &probe,
+                best_pair,
+            );
+        } else {
+            for &j in &candidates {
+                if j == i as u32 || j == skip {
+                    continue;
                 }
-            } else {
-                pair_contact_time(
+                let xj = self.position_raw(j as usize);
+                let dx = self.bx.separation(&xi, &xj);
+                let dv = self.velocity_slot(j as usize) - vi;
+                let rj = self.base_radius(j as usize);
+                let t = pair_contact_time(
                     dx.dot(&dv),
                     dx.norm_squared(),
                     dv.norm_squared(),
                     ri + rj * (1.0 + self.growth * now),
                     rate_i + rj * self.growth,
                 )
-                .unwrap_or(f64::INFINITY)
-            };
-            if t < best_pair {
-                best_pair = t;
-                partner = j as u32;
+                .unwrap_or(f64::INFINITY);
+                if t < best_pair {
+                    best_pair = t;
+                    partner = j;
+                }
             }
         }
         self.candidates = candidates;

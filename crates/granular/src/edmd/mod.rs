@@ -4,11 +4,14 @@
 //! * [`engine`]: the event loop ([`Edmd`]);
 //! * [`prediction`]: collision and crossing times (Eqs. 1, 2, 7-10);
 //! * [`queue`]: the event priority queue;
+//! * `candidates`: the grain record and the earliest contact among a prediction's
+//!   candidates (four at a time with AVX2 when there are many);
 //! * [`prefetch`]: software prefetch of the records a prediction is about to read;
 //! * [`cells`]: the cell grid for neighbour search;
 //! * [`init`]: placements, compression and initial velocities.
 
 pub mod bench;
+mod candidates;
 pub mod cells;
 pub mod engine;
 pub mod init;
