@@ -1,4 +1,4 @@
-//! Software prefetch: the one place the crate uses `unsafe` (a hint to the processor that
+//! Software prefetch: one of the two places the crate uses `unsafe` (a hint to the processor that
 //! cannot fault or change any state).
 
 /// Asks the processor to start loading the records of all `slots` at once, so that
