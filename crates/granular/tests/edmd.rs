@@ -610,3 +610,25 @@ fn large_projectile_in_a_bed_of_small_grains() {
         "energy bookkeeping"
     );
 }
+
+/// Systems above `LOOK_AHEAD_MIN_GRAINS` prefetch the events to come (hints that must
+/// never change the result): the trajectory of a large gas is exact (energy to round-off,
+/// no overlap) and the same whether it runs in one call or in many small ones.
+#[test]
+fn large_systems_with_look_ahead_stay_exact_and_reproducible() {
+    use granular::edmd::bench::{advance_collisions, equilibrated_fluid};
+    use granular::edmd::queue::LOOK_AHEAD_MIN_GRAINS;
+    let n = LOOK_AHEAD_MIN_GRAINS + 1000;
+    let mut a = equilibrated_fluid::<2>(n, 0.6, 3).expect("bench state");
+    let mut b = a.clone();
+    let e0 = a.kinetic_energy_now();
+    advance_collisions(&mut a, n as u64).expect("engine");
+    let target = a.time();
+    while b.time() < target {
+        b.advance(target, 997).expect("engine");
+    }
+    assert_eq!(a.collisions(), b.collisions());
+    assert_eq!(a.position(17).0, b.position(17).0);
+    assert!(((a.kinetic_energy_now() - e0) / e0).abs() < 1e-12);
+    assert!(a.max_overlap() < 1e-12, "overlap {}", a.max_overlap());
+}

@@ -133,6 +133,25 @@ impl<const D: usize> CellGrid<D> {
         c
     }
 
+    /// Starts loading the cell index of particle `i` (a hint).
+    #[inline(always)]
+    pub fn prefetch_cell_index(&self, i: usize) {
+        crate::edmd::prefetch::prefetch_all(&self.cell, &[i as u32]);
+    }
+
+    /// Starts loading the cell heads around particle `i` (a hint; its cell index should
+    /// be in cache).
+    #[inline(always)]
+    pub fn prefetch_heads(&self, i: usize) {
+        let c = self.coords(i);
+        self.for_each_neighbour_run(&c, |first, len| {
+            crate::edmd::prefetch::prefetch_all(
+                &self.head,
+                &[first as u32, (first + len - 1) as u32],
+            );
+        });
+    }
+
     /// Puts particle `i` into cell `c`.
     pub fn insert(&mut self, i: usize, c: [u32; D]) {
         let f = self.flat(&c);

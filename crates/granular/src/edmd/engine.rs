@@ -20,7 +20,7 @@ use super::candidates::{Grain, Probe, earliest_contact};
 use super::cells::{CellGrid, NONE};
 use super::prediction::{downward_crossing, pair_contact_time, upward_crossing};
 use super::prefetch::prefetch_all;
-use super::queue::EventQueue;
+use super::queue::{EventQueue, LOOK_AHEAD_MIN_GRAINS};
 use crate::boundary::SimulationBox;
 use crate::collision_law::CollisionLaw;
 use crate::engine::{Engine, EngineError, Progress, Scalar, Snapshot};
@@ -948,6 +948,33 @@ impl<const D: usize> Edmd<D> {
         }
     }
 
+    /// Prefetch in two stages for the events about to come, which in large systems are
+    /// cache misses (+8-29 % at 10^5-10^6 grains). First stage: the grain the queue's
+    /// look-ahead has reached (its event comes up in the next bucket): its record, its
+    /// scheduled event and its cell index. Second stage, one event later, for the grain
+    /// of the first stage (whose event and cell index are now in cache): its partner's
+    /// record and the cell heads around it. `coming` carries the first stage's grain to
+    /// the second. Hints only: a grain relabelled or re-predicted meanwhile costs a
+    /// useless prefetch, never a wrong result.
+    #[inline(always)]
+    fn prefetch_coming(&self, coming: &mut usize) {
+        if let Some(e) = self.event.get(*coming) {
+            if e.code < FIRST_SPECIAL {
+                prefetch_all(&self.grains, &[e.code]);
+            }
+            self.cells.prefetch_heads(*coming);
+        }
+        *coming = match self.queue.ahead() {
+            Some(h) => {
+                prefetch_all(&self.grains, &[h as u32]);
+                prefetch_all(&self.event, &[h as u32]);
+                self.cells.prefetch_cell_index(h);
+                h
+            }
+            None => usize::MAX,
+        };
+    }
+
     /// Moves the time origin to the current time: all grains are advanced to `now`, and
     /// every stored time is shifted, so that times stay small numbers. Then re-sorts the
     /// grains in cell order.
@@ -1225,11 +1252,18 @@ impl<const D: usize> Engine for Edmd<D> {
             .reorder_interval
             .unwrap_or(8 * self.len() as u64 + 1024);
         let mut until_now = until - self.origin;
+        // Large systems: prefetch what the events about to come will read (see
+        // `prefetch_coming`).
+        let look_ahead = self.len() >= LOOK_AHEAD_MIN_GRAINS;
+        let mut coming = usize::MAX;
         for _ in 0..max_events {
             let Some((i, t)) = self.queue.min() else {
                 self.now = self.now.max(until_now);
                 return Ok(Progress::Reached);
             };
+            if look_ahead {
+                self.prefetch_coming(&mut coming);
+            }
             if t > until_now {
                 self.now = self.now.max(until_now);
                 return Ok(Progress::Reached);

@@ -16,7 +16,14 @@
 //! The bucket width adapts to the dynamics: [`EventQueue::rebuild`] (called by the engine
 //! every few collisions per particle) sets it from the mean time to the pending events.
 
+use super::prefetch::prefetch_all;
 use serde::{Deserialize, Serialize};
+
+/// Grains from which the queue (and the engine) look ahead at the events to come and
+/// prefetch what they will read ([`EventQueue::ahead`]). Below it everything fits in the
+/// processor's second-level cache and the look-ahead measured 3 % slower (2D, 10^4
+/// grains); above it, 8-29 % faster (2D and 3D, 10^5 and 10^6 grains).
+pub const LOOK_AHEAD_MIN_GRAINS: usize = 1 << 15;
 
 /// `prev` of a particle whose entry is in the current-bucket heap (`next` then holds its
 /// heap position).
@@ -46,6 +53,9 @@ pub struct EventQueue {
     current: i64,
     /// Particles in bucket lists or in the overflow list.
     linked: usize,
+    /// Look-ahead cursor in the next bucket's list (a hint only: see [`EventQueue::min`]).
+    #[serde(skip)]
+    ahead: u32,
 }
 
 impl EventQueue {
@@ -64,6 +74,7 @@ impl EventQueue {
             origin: 0.0,
             current: 0,
             linked: 0,
+            ahead: u32::MAX,
         };
         q.reset_lists();
         q
@@ -98,6 +109,9 @@ impl EventQueue {
         let mut scanned = 0;
         loop {
             if let Some(&top) = self.heap.first() {
+                if self.n >= LOOK_AHEAD_MIN_GRAINS {
+                    self.look_ahead();
+                }
                 return Some((top as usize, self.keys[top as usize]));
             }
             if self.linked == 0 {
@@ -134,6 +148,38 @@ impl EventQueue {
             }
             self.next[sentinel] = sentinel as u32;
             self.prev[sentinel] = sentinel as u32;
+            if self.n >= LOOK_AHEAD_MIN_GRAINS {
+                let following = self.n + (slot + 1) % self.nb;
+                self.ahead = self.next[following];
+                prefetch_all(&self.next, &[self.ahead]);
+                prefetch_all(&self.keys, &[self.ahead]);
+            }
+        }
+    }
+
+    /// The particle the look-ahead cursor is at: one whose event comes up soon (its
+    /// bucket is next), whose records the engine may start loading.
+    #[inline(always)]
+    pub fn ahead(&self) -> Option<usize> {
+        let i = self.ahead as usize;
+        (i < self.n).then_some(i)
+    }
+
+    /// One step of the look-ahead walk through the next bucket's list: the link prefetched
+    /// at the previous step is followed and the next one prefetched, with the element's
+    /// key. When the bucket becomes current, moving it into the heap then finds its links
+    /// and keys in cache instead of meeting one dependent cache miss per element (at 10^6
+    /// grains that walk was most of the queue's minimum). The cursor is only a hint: the
+    /// list may change under it (an element removed or moved to the heap leads it astray),
+    /// which costs a useless prefetch, never a wrong result.
+    #[inline(always)]
+    fn look_ahead(&mut self) {
+        let i = self.ahead as usize;
+        if i < self.n {
+            let next = self.next[i];
+            self.ahead = next;
+            prefetch_all(&self.next, &[next]);
+            prefetch_all(&self.keys, &[next]);
         }
     }
 
