@@ -152,6 +152,21 @@ impl<const D: usize> CellGrid<D> {
         });
     }
 
+    /// Starts loading the first grain's record and list link of every cell around
+    /// particle `i` (a hint; the heads should already be in cache).
+    #[inline(always)]
+    pub fn prefetch_first_grains<T>(&self, i: usize, records: &[T]) {
+        let c = self.coords(i);
+        self.for_each_neighbour_run(&c, |first, len| {
+            for &h in &self.head[first..first + len] {
+                if h != NONE {
+                    crate::edmd::prefetch::prefetch_all(records, &[h]);
+                    crate::edmd::prefetch::prefetch_all(&self.next, &[h]);
+                }
+            }
+        });
+    }
+
     /// Puts particle `i` into cell `c`.
     pub fn insert(&mut self, i: usize, c: [u32; D]) {
         let f = self.flat(&c);

@@ -954,10 +954,18 @@ impl<const D: usize> Edmd<D> {
     /// scheduled event and its cell index. Second stage, one event later, for the grain
     /// of the first stage (whose event and cell index are now in cache): its partner's
     /// record and the cell heads around it. `coming` carries the first stage's grain to
-    /// the second. Hints only: a grain relabelled or re-predicted meanwhile costs a
-    /// useless prefetch, never a wrong result.
+    /// the second, `earlier` the second's to the third. Hints only: a grain relabelled or
+    /// re-predicted meanwhile costs a useless prefetch, never a wrong result.
     #[inline(always)]
-    fn prefetch_coming(&self, coming: &mut usize) {
+    fn prefetch_coming(&self, coming: &mut usize, earlier: &mut usize) {
+        // Third stage, in 2D only, one more event later (the heads are now in cache): the
+        // first grain of each of the 9 neighbouring cells, its record and list link
+        // (+5-7 % at 10^6 disks, +2 % at 10^5; in 3D the 27 cells' prefetches cost more
+        // than they save: -3 % at 10^6 spheres, -8 % at 10^5).
+        if D == 2 && *earlier < self.grains.len() {
+            self.cells.prefetch_first_grains(*earlier, &self.grains);
+        }
+        *earlier = *coming;
         if let Some(e) = self.event.get(*coming) {
             if e.code < FIRST_SPECIAL {
                 prefetch_all(&self.grains, &[e.code]);
@@ -1256,13 +1264,14 @@ impl<const D: usize> Engine for Edmd<D> {
         // `prefetch_coming`).
         let look_ahead = self.len() >= LOOK_AHEAD_MIN_GRAINS;
         let mut coming = usize::MAX;
+        let mut earlier = usize::MAX;
         for _ in 0..max_events {
             let Some((i, t)) = self.queue.min() else {
                 self.now = self.now.max(until_now);
                 return Ok(Progress::Reached);
             };
             if look_ahead {
-                self.prefetch_coming(&mut coming);
+                self.prefetch_coming(&mut coming, &mut earlier);
             }
             if t > until_now {
                 self.now = self.now.max(until_now);
