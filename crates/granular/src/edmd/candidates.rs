@@ -172,6 +172,8 @@ mod avx2 {
         ]
     }
 
+    /// [`super::earliest_contact`] over blocks of four candidates; the caller checks
+    /// that the processor has AVX2.
     #[target_feature(enable = "avx2")]
     pub(super) fn earliest_contact<const D: usize>(
         grains: &[Grain<D>],

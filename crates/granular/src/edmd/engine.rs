@@ -948,8 +948,8 @@ impl<const D: usize> Edmd<D> {
         }
     }
 
-    /// Prefetch in two stages for the events about to come, which in large systems are
-    /// cache misses (+8-29 % at 10^5-10^6 grains). First stage: the grain the queue's
+    /// Prefetch in stages for the events about to come, which in large systems are cache
+    /// misses (+8-29 % at 10^5-10^6 grains; see `docs/edmd.md`). First stage: the grain the queue's
     /// look-ahead has reached (its event comes up in the next bucket): its record, its
     /// scheduled event and its cell index. Second stage, one event later, for the grain
     /// of the first stage (whose event and cell index are now in cache): its partner's
