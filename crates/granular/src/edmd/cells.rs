@@ -5,6 +5,7 @@
 //!
 //! Hand-written: neighbour search is, with the event queue, the core of the engine's speed.
 
+use super::prefetch::prefetch_all;
 use crate::boundary::SimulationBox;
 use serde::{Deserialize, Serialize};
 
@@ -136,7 +137,7 @@ impl<const D: usize> CellGrid<D> {
     /// Starts loading the cell index of particle `i` (a hint).
     #[inline(always)]
     pub fn prefetch_cell_index(&self, i: usize) {
-        crate::edmd::prefetch::prefetch_all(&self.cell, &[i as u32]);
+        prefetch_all(&self.cell, &[i as u32]);
     }
 
     /// Starts loading the cell heads around particle `i` (a hint; its cell index should
@@ -145,10 +146,7 @@ impl<const D: usize> CellGrid<D> {
     pub fn prefetch_heads(&self, i: usize) {
         let c = self.coords(i);
         self.for_each_neighbour_run(&c, |first, len| {
-            crate::edmd::prefetch::prefetch_all(
-                &self.head,
-                &[first as u32, (first + len - 1) as u32],
-            );
+            prefetch_all(&self.head, &[first as u32, (first + len - 1) as u32]);
         });
     }
 
@@ -160,8 +158,8 @@ impl<const D: usize> CellGrid<D> {
         self.for_each_neighbour_run(&c, |first, len| {
             for &h in &self.head[first..first + len] {
                 if h != NONE {
-                    crate::edmd::prefetch::prefetch_all(records, &[h]);
-                    crate::edmd::prefetch::prefetch_all(&self.next, &[h]);
+                    prefetch_all(records, &[h]);
+                    prefetch_all(&self.next, &[h]);
                 }
             }
         });
@@ -338,11 +336,7 @@ impl<const D: usize> CellGrid<D> {
             lens[k] = 1;
         }
         self.for_each_cell_of(&ranges, &lens, |flat| {
-            let mut j = self.head[flat];
-            while j != NONE {
-                out.push(j);
-                j = self.next[j as usize];
-            }
+            self.for_each_in_cell(flat, &mut |j| out.push(j as u32));
         });
     }
 
