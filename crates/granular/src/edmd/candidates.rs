@@ -8,6 +8,7 @@
 //! multiply-add), so they give the same contact times to the last bit (tested).
 
 use super::cells::NONE;
+use crate::boundary::SimulationBox;
 use crate::vector::Vector;
 use serde::{Deserialize, Serialize};
 
@@ -27,7 +28,7 @@ pub(super) struct Grain<const D: usize> {
 }
 
 /// What the search needs to know about the predicted grain and the box.
-pub(super) struct Probe<const D: usize> {
+pub(super) struct Probe<'a, const D: usize> {
     /// The predicted grain's slot (skipped among the candidates).
     pub slot: u32,
     /// A candidate to skip as well (the partner it has just collided with, when that
@@ -38,11 +39,10 @@ pub(super) struct Probe<const D: usize> {
     pub vel: Vector<D>,
     pub radius: f64,
     pub now: f64,
-    /// Uniform acceleration (zero without gravity).
-    pub gravity: Vector<D>,
-    /// Box length per axis and whether the axis is periodic.
-    pub lengths: Vector<D>,
-    pub periodic: [bool; D],
+    /// Uniform acceleration, if any.
+    pub gravity: Option<Vector<D>>,
+    /// The box (minimum image on its periodic axes).
+    pub bx: &'a SimulationBox<D>,
 }
 
 /// Fewest candidates for which the packed (AVX2) search is used. Measured (collisions per
@@ -60,7 +60,7 @@ pub(super) fn earliest_contact<const D: usize>(
     grains: &[Grain<D>],
     kind_radius: &[f64],
     candidates: &[u32],
-    probe: &Probe<D>,
+    probe: &Probe<'_, D>,
     limit: f64,
 ) -> (f64, u32) {
     #[cfg(target_arch = "x86_64")]
@@ -79,11 +79,10 @@ pub(super) fn earliest_contact_scalar<const D: usize>(
     grains: &[Grain<D>],
     kind_radius: &[f64],
     candidates: &[u32],
-    probe: &Probe<D>,
+    probe: &Probe<'_, D>,
     limit: f64,
 ) -> (f64, u32) {
-    let half = half_lengths(probe);
-    let gravity = probe.gravity.norm_squared() > 0.0;
+    let half = half_lengths(probe.bx);
     let mut best = limit;
     let mut partner = NONE;
     for &j in candidates {
@@ -94,19 +93,19 @@ pub(super) fn earliest_contact_scalar<const D: usize>(
         let dt = probe.now - g.time;
         let mut xj = g.pos.add_scaled(dt, &g.vel);
         let mut vj = g.vel;
-        if gravity {
-            xj = xj.add_scaled(0.5 * dt * dt, &probe.gravity);
-            vj = vj.add_scaled(dt, &probe.gravity);
+        if let Some(gravity) = &probe.gravity {
+            xj = xj.add_scaled(0.5 * dt * dt, gravity);
+            vj = vj.add_scaled(dt, gravity);
         }
-        // Minimum image as in `SimulationBox::separation` (walled axes: `half` infinite).
-        // Branches, which the processor predicts (few pairs wrap); the packed lanes
-        // compute the same values as `d - 1 L`, `d + 1 L` or `d - 0 + 0`.
+        // Minimum image as in `SimulationBox::separation`, with the half lengths computed
+        // once per prediction rather than per candidate (2 % of the engine at 2D 10^4).
+        // The packed lanes compute the same values as `d - 1 L`, `d + 1 L` or `d - 0 + 0`.
         let mut dx = xj - probe.pos;
         for k in 0..D {
             if dx[k] > half[k] {
-                dx[k] -= probe.lengths[k];
+                dx[k] -= probe.bx.lengths[k];
             } else if dx[k] < -half[k] {
-                dx[k] += probe.lengths[k];
+                dx[k] += probe.bx.lengths[k];
             }
         }
         let dv = vj - probe.vel;
@@ -132,12 +131,12 @@ pub(super) fn earliest_contact_scalar<const D: usize>(
     (best, partner)
 }
 
-/// Half the box length on periodic axes (beyond it the minimum image wraps), infinity on
-/// walled axes.
-fn half_lengths<const D: usize>(probe: &Probe<D>) -> [f64; D] {
+/// Half the box length on periodic axes (beyond it the minimum image wraps, as in
+/// [`SimulationBox::separation`]), infinity on walled axes.
+fn half_lengths<const D: usize>(bx: &SimulationBox<D>) -> [f64; D] {
     std::array::from_fn(|k| {
-        if probe.periodic[k] {
-            0.5 * probe.lengths[k]
+        if bx.is_periodic(k) {
+            0.5 * bx.lengths[k]
         } else {
             f64::INFINITY
         }
@@ -179,11 +178,10 @@ mod avx2 {
         grains: &[Grain<D>],
         kind_radius: &[f64],
         candidates: &[u32],
-        probe: &Probe<D>,
+        probe: &Probe<'_, D>,
         limit: f64,
     ) -> (f64, u32) {
-        let half = half_lengths(probe);
-        let gravity = probe.gravity.norm_squared() > 0.0;
+        let half = half_lengths(probe.bx);
         let zero = _mm256_setzero_pd();
         let sign = _mm256_set1_pd(-0.0);
         let now = _mm256_set1_pd(probe.now);
@@ -219,14 +217,14 @@ mod avx2 {
                 let vk = pack(v[k]);
                 let mut xj = _mm256_add_pd(pack(x[k]), _mm256_mul_pd(dt, vk));
                 let mut vj = vk;
-                if gravity {
-                    let g = _mm256_set1_pd(probe.gravity[k]);
+                if let Some(gravity) = &probe.gravity {
+                    let g = _mm256_set1_pd(gravity[k]);
                     let half_dt2 = _mm256_mul_pd(_mm256_mul_pd(_mm256_set1_pd(0.5), dt), dt);
                     xj = _mm256_add_pd(xj, _mm256_mul_pd(half_dt2, g));
                     vj = _mm256_add_pd(vj, _mm256_mul_pd(dt, g));
                 }
                 let d = _mm256_sub_pd(xj, _mm256_set1_pd(probe.pos[k]));
-                let l_k = _mm256_set1_pd(probe.lengths[k]);
+                let l_k = _mm256_set1_pd(probe.bx.lengths[k]);
                 let up = _mm256_cmp_pd::<_CMP_GT_OQ>(d, _mm256_set1_pd(half[k]));
                 let down = _mm256_cmp_pd::<_CMP_LT_OQ>(d, _mm256_set1_pd(-half[k]));
                 let d = _mm256_add_pd(
@@ -285,8 +283,11 @@ mod tests {
 
     #[cfg(target_arch = "x86_64")]
     fn check<const D: usize>() {
+        use crate::boundary::AxisKind;
         let mut rng = stream(5, &[D as u64]);
         let n = 64;
+        let periodic = SimulationBox::<D>::uniform(Vector([3.0; D]), AxisKind::Periodic);
+        let walled = SimulationBox::<D>::uniform(Vector([3.0; D]), AxisKind::Wall);
         let kind_radius = [0.5, 0.3];
         let mut grains = Vec::new();
         for j in 0..n {
@@ -320,16 +321,16 @@ mod tests {
                 vel: Vector::zero(),
                 radius: 0.4,
                 now: 0.0,
-                gravity: Vector::zero(),
-                lengths: Vector([3.0; D]),
-                periodic: [trial % 2 == 0; D],
+                gravity: (trial % 5 == 0).then(|| {
+                    let mut g = Vector::zero();
+                    g[D - 1] = -1.0;
+                    g
+                }),
+                bx: if trial % 2 == 0 { &periodic } else { &walled },
             };
             for k in 0..D {
                 probe.pos[k] = 3.0 * rng.random::<f64>();
                 probe.vel[k] = rng.random::<f64>() - 0.5;
-            }
-            if trial % 5 == 0 {
-                probe.gravity[D - 1] = -1.0;
             }
             let limit = if trial % 4 == 0 { 0.5 } else { f64::INFINITY };
             let scalar = earliest_contact_scalar(&grains, &kind_radius, &candidates, &probe, limit);

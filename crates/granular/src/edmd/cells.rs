@@ -259,11 +259,7 @@ impl<const D: usize> CellGrid<D> {
             m += len;
         });
         for &h in &heads[..m] {
-            let mut j = h;
-            while j != NONE {
-                out.push(j);
-                j = self.next[j as usize];
-            }
+            self.for_each_in_list(h, &mut |j| out.push(j as u32));
         }
     }
 
@@ -395,7 +391,13 @@ impl<const D: usize> CellGrid<D> {
     /// Calls `f(j)` for every particle in the cell with flat index `flat`.
     #[inline(always)]
     fn for_each_in_cell(&self, flat: usize, f: &mut impl FnMut(usize)) {
-        let mut j = self.head[flat];
+        self.for_each_in_list(self.head[flat], f);
+    }
+
+    /// Calls `f(j)` for every particle of the cell list starting at `first`.
+    #[inline(always)]
+    fn for_each_in_list(&self, first: u32, f: &mut impl FnMut(usize)) {
+        let mut j = first;
         while j != NONE {
             f(j as usize);
             j = self.next[j as usize];

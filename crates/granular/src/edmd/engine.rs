@@ -726,9 +726,8 @@ impl<const D: usize> Edmd<D> {
                 vel: vi,
                 radius: ri,
                 now,
-                gravity: self.gravity,
-                lengths: self.bx.lengths,
-                periodic: std::array::from_fn(|k| self.bx.is_periodic(k)),
+                gravity: self.has_gravity.then_some(self.gravity),
+                bx: &self.bx,
             };
             (best_pair, partner) = earliest_contact(
                 &self.grains,
@@ -1032,9 +1031,14 @@ impl<const D: usize> Edmd<D> {
         let map = |x: u32| {
             if x < FIRST_SPECIAL {
                 new_of_old[x as usize]
-            } else if (CROSSING..CROSSING_END).contains(&x) && (x & HINT_NONE) < HINT_NO_PAIR {
-                let hint = x & HINT_NONE;
-                x - hint + new_of_old[hint as usize]
+            } else if x < CROSSING_END {
+                // A crossing: relabel its partner hint, if it holds one.
+                let (_, _, hint) = decode_crossing(x);
+                if hint < HINT_NO_PAIR {
+                    x - hint + new_of_old[hint as usize]
+                } else {
+                    x
+                }
             } else {
                 x
             }

@@ -151,8 +151,7 @@ impl EventQueue {
             if self.n >= LOOK_AHEAD_MIN_GRAINS {
                 let following = self.n + (slot + 1) % self.nb;
                 self.ahead = self.next[following];
-                prefetch_all(&self.next, &[self.ahead]);
-                prefetch_all(&self.keys, &[self.ahead]);
+                self.prefetch_entry(self.ahead);
             }
         }
     }
@@ -178,9 +177,15 @@ impl EventQueue {
         if i < self.n {
             let next = self.next[i];
             self.ahead = next;
-            prefetch_all(&self.next, &[next]);
-            prefetch_all(&self.keys, &[next]);
+            self.prefetch_entry(next);
         }
+    }
+
+    /// Starts loading the list link and key of entry `i` (a hint; any index is harmless).
+    #[inline(always)]
+    fn prefetch_entry(&self, i: u32) {
+        prefetch_all(&self.next, &[i]);
+        prefetch_all(&self.keys, &[i]);
     }
 
     /// The key of particle `i`.
