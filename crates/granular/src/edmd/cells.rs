@@ -247,7 +247,7 @@ impl<const D: usize> CellGrid<D> {
     /// `c`. Gathering the candidates first, then testing them, lets the processor fetch
     /// their records in parallel instead of one list link at a time.
     #[inline(always)]
-    pub fn gather_neighbours(&self, c: &[u32; D], out: &mut Vec<u32>) {
+    pub fn gather_neighbours(&self, c: &[u32; D], out: &mut Candidates) {
         // Two passes: first the heads of all the cells (independent loads, which the
         // processor overlaps), then the lists. Walking cell by cell waits for each head,
         // then for each link, behind a loop exit the branch predictor cannot guess (+6 %
@@ -258,9 +258,26 @@ impl<const D: usize> CellGrid<D> {
             heads[m..m + len].copy_from_slice(&self.head[first..first + len]);
             m += len;
         });
-        for &h in &heads[..m] {
-            self.for_each_in_list(h, &mut |j| out.push(j as u32));
+        out.append(|buf| {
+            let mut k = 0;
+            for &h in &heads[..m] {
+                k = self.write_list(h, buf, k)?;
+            }
+            Some(k)
+        });
+    }
+
+    /// Writes the particles of the cell list starting at `first` to `out[k..]`; returns
+    /// the new end, or `None` when `out` is too short.
+    #[inline(always)]
+    fn write_list(&self, first: u32, out: &mut [u32], mut k: usize) -> Option<usize> {
+        let mut j = first;
+        while j != NONE {
+            *out.get_mut(k)? = j;
+            k += 1;
+            j = self.next[j as usize];
         }
+        Some(k)
     }
 
     /// Calls `f(j)` for every particle in the cells neighbouring (and including) cell `c`.
@@ -313,7 +330,7 @@ impl<const D: usize> CellGrid<D> {
     /// when a grain entered it by a step `step` (+1 or -1) along `axis`: the layer of
     /// cells one further along `axis`, next to (and including) `c`'s position on the other
     /// axes. None past a wall.
-    pub fn gather_layer(&self, c: &[u32; D], axis: usize, step: i32, out: &mut Vec<u32>) {
+    pub fn gather_layer(&self, c: &[u32; D], axis: usize, step: i32, out: &mut Candidates) {
         let mut ranges = [[0usize; 3]; D];
         let mut lens = [0usize; D];
         for k in 0..D {
@@ -331,8 +348,12 @@ impl<const D: usize> CellGrid<D> {
             ranges[k][0] = v as usize;
             lens[k] = 1;
         }
-        self.for_each_cell_of(&ranges, &lens, |flat| {
-            self.for_each_in_cell(flat, &mut |j| out.push(j as u32));
+        out.append(|buf| {
+            let mut k = Some(0);
+            self.for_each_cell_of(&ranges, &lens, |flat| {
+                k = k.and_then(|k| self.write_list(self.head[flat], buf, k));
+            });
+            k
         });
     }
 
@@ -405,6 +426,55 @@ impl<const D: usize> CellGrid<D> {
     }
 }
 
+/// The candidates of one prediction: a buffer that only grows, written through a slice.
+/// A `Vec::push` per candidate re-reads and stores the vector's length and pointer
+/// through memory (the compiler cannot tell them from the cell lists it reads), some 15
+/// instructions each; here a candidate costs a bounds check and a store, and a list that
+/// does not fit (rare: clusters, wide cells) doubles the buffer and is gathered again.
+#[derive(Clone, Debug, Default)]
+pub struct Candidates {
+    buf: Vec<u32>,
+    len: usize,
+}
+
+impl Candidates {
+    /// Empties the list (keeps the buffer).
+    #[inline(always)]
+    pub fn clear(&mut self) {
+        self.len = 0;
+    }
+
+    /// The candidates.
+    #[inline(always)]
+    pub fn as_slice(&self) -> &[u32] {
+        &self.buf[..self.len]
+    }
+
+    /// Appends one candidate.
+    #[inline(always)]
+    pub fn push(&mut self, j: u32) {
+        self.append(|buf| {
+            *buf.first_mut()? = j;
+            Some(1)
+        });
+    }
+
+    /// Appends what `write` puts at the start of the free part of the buffer: it returns
+    /// how many, or `None` when the buffer is too short (which grows it and calls
+    /// `write` again).
+    #[inline(always)]
+    fn append(&mut self, mut write: impl FnMut(&mut [u32]) -> Option<usize>) {
+        loop {
+            if let Some(m) = write(&mut self.buf[self.len..]) {
+                self.len += m;
+                return;
+            }
+            let grown = (2 * self.buf.len()).max(64);
+            self.buf.resize(grown, NONE);
+        }
+    }
+}
+
 /// Advances the multi-index `idx` (axis 0 fastest, `idx[k] < lens[k]`); `false` once every
 /// combination has been visited.
 #[inline(always)]
@@ -427,9 +497,9 @@ mod tests {
     use std::collections::BTreeSet;
 
     fn neighbourhood<const D: usize>(g: &CellGrid<D>, c: &[u32; D]) -> BTreeSet<u32> {
-        let mut out = Vec::new();
+        let mut out = Candidates::default();
         g.gather_neighbours(c, &mut out);
-        out.into_iter().collect()
+        out.as_slice().iter().copied().collect()
     }
 
     /// The layer a crossing gathers, with the cells the grain's old cell already had
@@ -461,9 +531,9 @@ mod tests {
                     }
                     let mut new = old;
                     new[axis] = v.rem_euclid(n) as u32;
-                    let mut layer = Vec::new();
+                    let mut layer = Candidates::default();
                     g.gather_layer(&new, axis, step, &mut layer);
-                    let layer: BTreeSet<u32> = layer.into_iter().collect();
+                    let layer: BTreeSet<u32> = layer.as_slice().iter().copied().collect();
                     let before = neighbourhood(&g, &old);
                     let after = neighbourhood(&g, &new);
                     assert!(layer.is_subset(&after), "{old:?} -> {new:?}");

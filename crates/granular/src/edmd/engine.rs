@@ -17,7 +17,7 @@
 //! double precision.
 
 use super::candidates::{Grain, Probe, earliest_contact};
-use super::cells::{CellGrid, NONE};
+use super::cells::{Candidates, CellGrid, NONE};
 use super::prediction::{downward_crossing, pair_contact_time, upward_crossing};
 use super::prefetch::prefetch_all;
 use super::queue::{EventQueue, LOOK_AHEAD_MIN_GRAINS};
@@ -288,7 +288,7 @@ pub struct Edmd<const D: usize> {
     log: Option<Vec<CollisionRecord>>,
     /// Scratch list of neighbour candidates of one prediction.
     #[serde(skip)]
-    candidates: Vec<u32>,
+    candidates: Candidates,
 }
 
 impl<const D: usize> Edmd<D> {
@@ -390,7 +390,7 @@ impl<const D: usize> Edmd<D> {
             min_radius,
             bx,
             log: None,
-            candidates: Vec::new(),
+            candidates: Candidates::default(),
         };
         for i in 0..n {
             let c = engine.cells.coords_of(&engine.grains[i].pos.0);
@@ -706,10 +706,13 @@ impl<const D: usize> Edmd<D> {
             Search::Layer { axis, step, known } => {
                 self.cells
                     .gather_layer(&coords, axis, step, &mut candidates);
-                candidates.extend(known);
+                if let Some(j) = known {
+                    candidates.push(j);
+                }
             }
         }
-        prefetch_all(&self.grains, &candidates);
+        let candidates_now = candidates.as_slice();
+        prefetch_all(&self.grains, candidates_now);
         // The partner of the last collision is skipped while the two are each other's
         // last partners: they are separating, and round-off must not make them collide
         // again (at restitution 0 they would, forever, at zero time intervals).
@@ -732,12 +735,12 @@ impl<const D: usize> Edmd<D> {
             (best_pair, partner) = earliest_contact(
                 &self.grains,
                 &self.kind_radius,
-                &candidates,
+                candidates_now,
                 &probe,
                 best_pair,
             );
         } else {
-            for &j in &candidates {
+            for &j in candidates_now {
                 if j == i as u32 || j == skip {
                     continue;
                 }
