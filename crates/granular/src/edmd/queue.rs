@@ -181,6 +181,14 @@ impl EventQueue {
         }
     }
 
+    /// Starts loading both list links of particle `i` (a hint), which its next update
+    /// reads to unlink it.
+    #[inline(always)]
+    pub fn prefetch_links(&self, i: u32) {
+        prefetch_all(&self.next, &[i]);
+        prefetch_all(&self.prev, &[i]);
+    }
+
     /// Starts loading the list link and key of entry `i` (a hint; any index is harmless).
     #[inline(always)]
     fn prefetch_entry(&self, i: u32) {
