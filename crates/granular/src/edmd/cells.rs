@@ -271,12 +271,11 @@ impl<const D: usize> CellGrid<D> {
     /// the new end, or `None` when `out` is too short.
     #[inline(always)]
     fn write_list(&self, first: u32, out: &mut [u32], mut k: usize) -> Option<usize> {
-        let mut j = first;
-        while j != NONE {
-            *out.get_mut(k)? = j;
+        self.try_for_each_in_list(first, |j| {
+            *out.get_mut(k)? = j as u32;
             k += 1;
-            j = self.next[j as usize];
-        }
+            Some(())
+        })?;
         Some(k)
     }
 
@@ -418,11 +417,26 @@ impl<const D: usize> CellGrid<D> {
     /// Calls `f(j)` for every particle of the cell list starting at `first`.
     #[inline(always)]
     fn for_each_in_list(&self, first: u32, f: &mut impl FnMut(usize)) {
+        let _ = self.try_for_each_in_list(first, |j| {
+            f(j);
+            Some(())
+        });
+    }
+
+    /// Calls `f(j)` for the particles of the cell list starting at `first`, in order,
+    /// until `f` returns `None` (then returns `None`).
+    #[inline(always)]
+    fn try_for_each_in_list(
+        &self,
+        first: u32,
+        mut f: impl FnMut(usize) -> Option<()>,
+    ) -> Option<()> {
         let mut j = first;
         while j != NONE {
-            f(j as usize);
+            f(j as usize)?;
             j = self.next[j as usize];
         }
+        Some(())
     }
 }
 
