@@ -559,6 +559,32 @@ mod tests {
         }
     }
 
+    /// Crowded cells (a cluster, or a few wide cells) overflow the candidate buffer,
+    /// which grows and gathers again: every grain is still listed once, after the
+    /// candidates already in the list.
+    #[test]
+    fn gather_grows_its_buffer_for_crowded_cells() {
+        let bx = SimulationBox::<2>::uniform(Vector([5.0; 2]), AxisKind::Wall);
+        let n = 300;
+        let mut g = CellGrid::<2>::new(&bx, 1.0, n);
+        // Grain i in cell (i mod 3, 0): 100 grains in each of three neighbouring cells.
+        for i in 0..n {
+            g.insert(i, [(i % 3) as u32, 0]);
+        }
+        let mut out = Candidates::default();
+        out.push(u32::MAX - 7);
+        g.gather_neighbours(&[1, 0], &mut out);
+        let listed = out.as_slice();
+        assert_eq!(listed.len(), n + 1);
+        assert_eq!(listed[0], u32::MAX - 7);
+        let unique: BTreeSet<u32> = listed[1..].iter().copied().collect();
+        assert_eq!(unique, (0..n as u32).collect());
+        out.clear();
+        g.gather_layer(&[1, 0], 0, 1, &mut out);
+        assert_eq!(out.as_slice().len(), 100);
+        assert!(out.as_slice().iter().all(|&j| j % 3 == 2));
+    }
+
     #[test]
     fn crossing_layer_completes_the_neighbourhood() {
         layer_completes_the_neighbourhood::<2>(AxisKind::Wall, 5.0);
