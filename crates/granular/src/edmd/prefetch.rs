@@ -1,5 +1,6 @@
-//! Software prefetch: one of the two places the crate uses `unsafe` (a hint to the processor that
-//! cannot fault or change any state).
+//! Software prefetch: one of the two places the crate uses `unsafe` (a hint to the
+//! processor that cannot fault or change any state; the other is the AVX2 contact search in
+//! `candidates`).
 
 /// Asks the processor to start loading the records of all `slots` at once, so that
 /// their cache misses overlap instead of being met one candidate at a time: in large
