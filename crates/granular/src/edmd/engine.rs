@@ -28,7 +28,7 @@ use crate::stats::Histogram;
 use crate::vector::Vector;
 use serde::{Deserialize, Serialize};
 
-/// What a particle's scheduled event is (the public, decoded form of [`Scheduled`]).
+/// What a particle's scheduled event is (the public, decoded form of the internal `Scheduled`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum EventKind {
     /// Nothing will ever happen to this particle (it is at rest, without gravity).
@@ -234,7 +234,7 @@ const COLLAPSE_WINDOW: u64 = 1 << 16;
 /// Event-driven molecular dynamics of hard disks (`D = 2`) or spheres (`D = 3`).
 ///
 /// Memory layout (what `granular bench edmd` reports as bytes per particle): one
-/// [`Grain`] record per grain (48 bytes in 2D, 64 in 3D), an 8-byte scheduled event, the
+/// `Grain` record per grain (48 bytes in 2D, 64 in 3D), an 8-byte scheduled event, the
 /// last partner (4), the event queue (16), the cell grid (about 12) and the grain id of
 /// each slot (4); radii and masses live in a table of grain kinds (distinct `(radius,
 /// mass, species)`), and the TC model's last-collision times are kept only when the model
