@@ -28,7 +28,8 @@ use crate::stats::Histogram;
 use crate::vector::Vector;
 use serde::{Deserialize, Serialize};
 
-/// What a particle's scheduled event is (the public, decoded form of the internal `Scheduled`).
+/// What a particle's scheduled event is (the public, decoded form of the internal
+/// `Scheduled`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum EventKind {
     /// Nothing will ever happen to this particle (it is at rest, without gravity).
