@@ -954,13 +954,13 @@ impl<const D: usize> Edmd<D> {
     /// Prefetch in stages for the events about to come, which in large systems are cache
     /// misses (+8-29 % at 10^5-10^6 grains; see `docs/edmd.md`). First stage: the grain
     /// the queue's look-ahead has reached (its event comes up in the next bucket): its
-    /// record, its scheduled event and its cell index. Second stage, one event later, for the grain
-    /// of the first stage (whose event and cell index are now in cache): its partner's
-    /// record and queue links (which the partner's update reads to unlink it from its
-    /// bucket: +1-3 % at 10^6 grains) and the cell heads around it. `coming` carries the
-    /// first stage's grain to the second, `earlier` the second's to the third. Hints
-    /// only: a grain relabelled or re-predicted meanwhile costs a useless prefetch, never
-    /// a wrong result.
+    /// record, its scheduled event and its cell index. Second stage, one event later, for
+    /// the grain of the first stage (whose event and cell index are now in cache): its
+    /// partner's record and queue links (which the partner's update reads to unlink it
+    /// from its bucket: +1-3 % at 10^6 grains) and the cell heads around it. `coming`
+    /// carries the first stage's grain to the second, `earlier` the second's to the
+    /// third. Hints only: a grain relabelled or re-predicted meanwhile costs a useless
+    /// prefetch, never a wrong result.
     #[inline(always)]
     fn prefetch_coming(&self, coming: &mut usize, earlier: &mut usize) {
         // Third stage, in 2D only, one more event later (the heads are now in cache): the
