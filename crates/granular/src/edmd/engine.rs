@@ -610,10 +610,86 @@ impl<const D: usize> Edmd<D> {
         } = self.grains[i];
         let ri = self.radius_now(i);
         let rate_i = self.base_radius(i) * self.growth;
+        let coords = self.cells.coords(i);
+        let (best, code) = self.boundary_event(i, &coords);
+        // The earliest pair at any time (not only before the boundary event): a crossing
+        // keeps it as the bound for its own prediction.
+        let mut best_pair = f64::INFINITY;
+        let mut partner = NONE;
+        let now = self.now;
+        let mut candidates = std::mem::take(&mut self.candidates);
+        candidates.clear();
+        match search {
+            Search::Full => self.cells.gather_neighbours(&coords, &mut candidates),
+            Search::Layer { axis, step, known } => {
+                self.cells
+                    .gather_layer(&coords, axis, step, &mut candidates);
+                if let Some(j) = known {
+                    candidates.push(j);
+                }
+            }
+        }
+        let candidates_now = candidates.as_slice();
+        prefetch_all(&self.grains, candidates_now);
+        let skip = self.separating_partner(i);
+        if self.growth == 0.0 {
+            let probe = Probe {
+                slot: i as u32,
+                skip,
+                pos: xi,
+                vel: vi,
+                radius: ri,
+                now,
+                gravity: self.has_gravity.then_some(self.gravity),
+                bx: &self.bx,
+            };
+            (best_pair, partner) = earliest_contact(
+                &self.grains,
+                &self.kind_radius,
+                candidates_now,
+                &probe,
+                best_pair,
+            );
+        } else {
+            for &j in candidates_now {
+                if j == i as u32 || j == skip {
+                    continue;
+                }
+                let xj = self.position_raw(j as usize);
+                let dx = self.bx.separation(&xi, &xj);
+                let dv = self.velocity_slot(j as usize) - vi;
+                let rj = self.base_radius(j as usize);
+                let t = pair_contact_time(
+                    dx.dot(&dv),
+                    dx.norm_squared(),
+                    dv.norm_squared(),
+                    ri + rj * (1.0 + self.growth * now),
+                    rate_i + rj * self.growth,
+                )
+                .unwrap_or(f64::INFINITY);
+                if t < best_pair {
+                    best_pair = t;
+                    partner = j;
+                }
+            }
+        }
+        self.candidates = candidates;
+        self.schedule(i, best, code, best_pair, partner);
+    }
+
+    /// The earliest boundary event of slot `i` (in cell `coords`, its state stored at
+    /// the current time): a cell crossing or a wall collision, as (time from now, code),
+    /// or `(∞, NOTHING)`.
+    #[inline(always)]
+    fn boundary_event(&self, i: usize, coords: &[u32; D]) -> (f64, u32) {
+        let Grain {
+            pos: xi, vel: vi, ..
+        } = self.grains[i];
+        let ri = self.radius_now(i);
+        let rate_i = self.base_radius(i) * self.growth;
         let half_g = self.gravity * 0.5;
         let mut best = f64::INFINITY;
         let mut code = NOTHING;
-        let coords = self.cells.coords(i);
         for k in 0..D {
             let n = self.cells.counts[k];
             let periodic = self.bx.is_periodic(k);
@@ -694,76 +770,29 @@ impl<const D: usize> Edmd<D> {
                 }
             }
         }
-        let partner_of_i = self.last_partner[i];
-        // The earliest pair at any time (not only before the boundary event): a crossing
-        // keeps it as the bound for its own prediction.
-        let mut best_pair = f64::INFINITY;
-        let mut partner = NONE;
-        let now = self.now;
-        let mut candidates = std::mem::take(&mut self.candidates);
-        candidates.clear();
-        match search {
-            Search::Full => self.cells.gather_neighbours(&coords, &mut candidates),
-            Search::Layer { axis, step, known } => {
-                self.cells
-                    .gather_layer(&coords, axis, step, &mut candidates);
-                if let Some(j) = known {
-                    candidates.push(j);
-                }
-            }
-        }
-        let candidates_now = candidates.as_slice();
-        prefetch_all(&self.grains, candidates_now);
-        // The partner of the last collision is skipped while the two are each other's
-        // last partners: they are separating, and round-off must not make them collide
-        // again (at restitution 0 they would, forever, at zero time intervals).
-        let skip = if partner_of_i != NONE && self.last_partner[partner_of_i as usize] == i as u32 {
-            partner_of_i
+        (best, code)
+    }
+
+    /// The partner slot `i` must not be tested against: the partner of its last
+    /// collision while the two are each other's last partners (they are separating, and
+    /// round-off must not make them collide again: at restitution 0 they would, forever,
+    /// at zero time intervals), or `NONE`.
+    #[inline(always)]
+    fn separating_partner(&self, i: usize) -> u32 {
+        let p = self.last_partner[i];
+        if p != NONE && self.last_partner[p as usize] == i as u32 {
+            p
         } else {
             NONE
-        };
-        if self.growth == 0.0 {
-            let probe = Probe {
-                slot: i as u32,
-                skip,
-                pos: xi,
-                vel: vi,
-                radius: ri,
-                now,
-                gravity: self.has_gravity.then_some(self.gravity),
-                bx: &self.bx,
-            };
-            (best_pair, partner) = earliest_contact(
-                &self.grains,
-                &self.kind_radius,
-                candidates_now,
-                &probe,
-                best_pair,
-            );
-        } else {
-            for &j in candidates_now {
-                if j == i as u32 || j == skip {
-                    continue;
-                }
-                let xj = self.position_raw(j as usize);
-                let dx = self.bx.separation(&xi, &xj);
-                let dv = self.velocity_slot(j as usize) - vi;
-                let rj = self.base_radius(j as usize);
-                let t = pair_contact_time(
-                    dx.dot(&dv),
-                    dx.norm_squared(),
-                    dv.norm_squared(),
-                    ri + rj * (1.0 + self.growth * now),
-                    rate_i + rj * self.growth,
-                )
-                .unwrap_or(f64::INFINITY);
-                if t < best_pair {
-                    best_pair = t;
-                    partner = j;
-                }
-            }
         }
-        self.candidates = candidates;
+    }
+
+    /// Schedules slot `i`'s earliest event: the boundary event `(best, code)` or, if
+    /// earlier, the pair contact `(best_pair, partner)` (`partner == NONE`: none found).
+    /// A crossing carries the pair as the hint of its layer search.
+    #[inline(always)]
+    fn schedule(&mut self, i: usize, mut best: f64, mut code: u32, best_pair: f64, partner: u32) {
+        let now = self.now;
         let mut partner_counter = 0;
         if partner != NONE && best_pair < best {
             best = best_pair;
