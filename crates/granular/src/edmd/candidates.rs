@@ -43,6 +43,10 @@ pub(super) struct Probe<'a, const D: usize> {
     pub gravity: Option<Vector<D>>,
     /// The box (minimum image on its periodic axes).
     pub bx: &'a SimulationBox<D>,
+    /// Whether a candidate may be nearer through a periodic face than directly, so that
+    /// the minimum image must be taken; `false` (`CellGrid::without_wrap`) lets the
+    /// search skip it (the plain difference is then the minimum image: same values).
+    pub wrap: bool,
 }
 
 /// Fewest candidates for which the packed (AVX2) search is used. Measured (collisions per
@@ -68,7 +72,13 @@ pub(super) fn earliest_contact<const D: usize>(
         #[allow(unsafe_code)]
         // SAFETY: the only requirement of a `#[target_feature]` function is that the
         // processor has the feature, checked on the line above.
-        return unsafe { avx2::earliest_contact(grains, kind_radius, candidates, probe, limit) };
+        return unsafe {
+            if probe.wrap {
+                avx2::earliest_contact::<D, true>(grains, kind_radius, candidates, probe, limit)
+            } else {
+                avx2::earliest_contact::<D, false>(grains, kind_radius, candidates, probe, limit)
+            }
+        };
     }
     earliest_contact_scalar(grains, kind_radius, candidates, probe, limit)
 }
@@ -76,6 +86,22 @@ pub(super) fn earliest_contact<const D: usize>(
 /// [`earliest_contact`] one candidate at a time (any processor).
 #[inline(always)]
 pub(super) fn earliest_contact_scalar<const D: usize>(
+    grains: &[Grain<D>],
+    kind_radius: &[f64],
+    candidates: &[u32],
+    probe: &Probe<'_, D>,
+    limit: f64,
+) -> (f64, u32) {
+    if probe.wrap {
+        scalar_search::<D, true>(grains, kind_radius, candidates, probe, limit)
+    } else {
+        scalar_search::<D, false>(grains, kind_radius, candidates, probe, limit)
+    }
+}
+
+/// [`earliest_contact_scalar`], with the minimum image (`WRAP`) or without.
+#[inline(always)]
+fn scalar_search<const D: usize, const WRAP: bool>(
     grains: &[Grain<D>],
     kind_radius: &[f64],
     candidates: &[u32],
@@ -102,6 +128,9 @@ pub(super) fn earliest_contact_scalar<const D: usize>(
         // The packed lanes compute the same values as `d - 1 L`, `d + 1 L` or `d - 0 + 0`.
         let mut dx = xj - probe.pos;
         for k in 0..D {
+            if !WRAP {
+                break;
+            }
             if dx[k] > half[k] {
                 dx[k] -= probe.bx.lengths[k];
             } else if dx[k] < -half[k] {
@@ -171,10 +200,10 @@ mod avx2 {
         ]
     }
 
-    /// [`super::earliest_contact`] over blocks of four candidates; the caller checks
-    /// that the processor has AVX2.
+    /// [`super::earliest_contact`] over blocks of four candidates, with the minimum image
+    /// (`WRAP`) or without; the caller checks that the processor has AVX2.
     #[target_feature(enable = "avx2")]
-    pub(super) fn earliest_contact<const D: usize>(
+    pub(super) fn earliest_contact<const D: usize, const WRAP: bool>(
         grains: &[Grain<D>],
         kind_radius: &[f64],
         candidates: &[u32],
@@ -223,14 +252,16 @@ mod avx2 {
                     xj = _mm256_add_pd(xj, _mm256_mul_pd(half_dt2, g));
                     vj = _mm256_add_pd(vj, _mm256_mul_pd(dt, g));
                 }
-                let d = _mm256_sub_pd(xj, _mm256_set1_pd(probe.pos[k]));
-                let l_k = _mm256_set1_pd(probe.bx.lengths[k]);
-                let up = _mm256_cmp_pd::<_CMP_GT_OQ>(d, _mm256_set1_pd(half[k]));
-                let down = _mm256_cmp_pd::<_CMP_LT_OQ>(d, _mm256_set1_pd(-half[k]));
-                let d = _mm256_add_pd(
-                    _mm256_sub_pd(d, _mm256_and_pd(up, l_k)),
-                    _mm256_and_pd(down, l_k),
-                );
+                let mut d = _mm256_sub_pd(xj, _mm256_set1_pd(probe.pos[k]));
+                if WRAP {
+                    let l_k = _mm256_set1_pd(probe.bx.lengths[k]);
+                    let up = _mm256_cmp_pd::<_CMP_GT_OQ>(d, _mm256_set1_pd(half[k]));
+                    let down = _mm256_cmp_pd::<_CMP_LT_OQ>(d, _mm256_set1_pd(-half[k]));
+                    d = _mm256_add_pd(
+                        _mm256_sub_pd(d, _mm256_and_pd(up, l_k)),
+                        _mm256_and_pd(down, l_k),
+                    );
+                }
                 let u = _mm256_sub_pd(vj, _mm256_set1_pd(probe.vel[k]));
                 b = _mm256_add_pd(b, _mm256_mul_pd(d, u));
                 dx2 = _mm256_add_pd(dx2, _mm256_mul_pd(d, d));
@@ -281,14 +312,8 @@ mod tests {
         }
     }
 
-    #[cfg(target_arch = "x86_64")]
-    fn check<const D: usize>() {
-        use crate::boundary::AxisKind;
-        let mut rng = stream(5, &[D as u64]);
-        let n = 64;
-        let periodic = SimulationBox::<D>::uniform(Vector([3.0; D]), AxisKind::Periodic);
-        let walled = SimulationBox::<D>::uniform(Vector([3.0; D]), AxisKind::Wall);
-        let kind_radius = [0.5, 0.3];
+    /// `n` grains of two kinds at random in a box of side 3, with clocks in the past.
+    fn random_grains<const D: usize>(rng: &mut impl RngExt, n: usize) -> Vec<Grain<D>> {
         let mut grains = Vec::new();
         for j in 0..n {
             let mut g = Grain {
@@ -306,6 +331,18 @@ mod tests {
         }
         // Two candidates with identical states: a tie, won by the first in the list.
         grains[7] = grains[6];
+        grains
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    fn check<const D: usize>() {
+        use crate::boundary::AxisKind;
+        let mut rng = stream(5, &[D as u64]);
+        let n = 64;
+        let periodic = SimulationBox::<D>::uniform(Vector([3.0; D]), AxisKind::Periodic);
+        let walled = SimulationBox::<D>::uniform(Vector([3.0; D]), AxisKind::Wall);
+        let kind_radius = [0.5, 0.3];
+        let grains = random_grains::<D>(&mut rng, n);
         let mut found = 0;
         for trial in 0..2000 {
             let len = trial % 30;
@@ -327,6 +364,7 @@ mod tests {
                     g
                 }),
                 bx: if trial % 2 == 0 { &periodic } else { &walled },
+                wrap: true,
             };
             for k in 0..D {
                 probe.pos[k] = 3.0 * rng.random::<f64>();
@@ -337,7 +375,7 @@ mod tests {
             #[allow(unsafe_code)]
             // SAFETY: AVX2 checked by the caller.
             let packed = unsafe {
-                avx2::earliest_contact(&grains, &kind_radius, &candidates, &probe, limit)
+                avx2::earliest_contact::<D, true>(&grains, &kind_radius, &candidates, &probe, limit)
             };
             assert_eq!(scalar.0.to_bits(), packed.0.to_bits(), "trial {trial}");
             assert_eq!(scalar.1, packed.1, "trial {trial}");

@@ -134,6 +134,25 @@ impl<const D: usize> CellGrid<D> {
         c
     }
 
+    /// Whether the grains of the cells around all of `cells` (each cell and its
+    /// neighbours) are nearer to each other directly than through any periodic face: on
+    /// every periodic axis those cells lie inside the grid without wrapping around, and
+    /// span less than half the box. Then the minimum image of two such grains is their
+    /// plain difference, and a search among them may skip it.
+    #[inline(always)]
+    pub fn without_wrap(&self, cells: &[[u32; D]]) -> bool {
+        (0..D).all(|k| {
+            if !self.periodic[k] {
+                return true;
+            }
+            let lo = cells.iter().map(|c| c[k]).min().unwrap_or(0) as usize;
+            let hi = cells.iter().map(|c| c[k]).max().unwrap_or(0) as usize;
+            let n = self.counts[k];
+            // `hi - lo + 3` cells, each `L / n` wide, against `L / 2`.
+            lo >= 1 && hi + 2 <= n && 2 * (hi - lo + 3) < n
+        })
+    }
+
     /// Starts loading the cell index of particle `i` (a hint).
     #[inline(always)]
     pub fn prefetch_cell_index(&self, i: usize) {
@@ -583,6 +602,39 @@ mod tests {
         g.gather_layer(&[1, 0], 0, 1, &mut out);
         assert_eq!(out.as_slice().len(), 100);
         assert!(out.as_slice().iter().all(|&j| j % 3 == 2));
+    }
+
+    /// Where `without_wrap` holds, every two points of the cells around the given cells
+    /// are nearer directly than through the periodic faces (the minimum image is the
+    /// plain difference); it holds away from the faces of a large grid.
+    #[test]
+    fn without_wrap_means_plain_differences() {
+        let bx = SimulationBox::<2>::uniform(Vector([12.0, 9.0]), AxisKind::Periodic);
+        let g = CellGrid::<2>::new(&bx, 1.0, 200);
+        assert_eq!(g.counts, [12, 9]);
+        let mut held = 0;
+        for a in 0..12 * 9 {
+            for b in 0..12 * 9 {
+                let (ca, cb) = ([a % 12, a / 12], [b % 12, b / 12]);
+                if !g.without_wrap(&[ca, cb]) {
+                    continue;
+                }
+                held += 1;
+                // Extreme points of the span of cells around both.
+                for k in 0..2 {
+                    let lo = ca[k].min(cb[k]) as f64 - 1.0;
+                    let hi = ca[k].max(cb[k]) as f64 + 2.0;
+                    let d = (hi - lo) * g.widths[k];
+                    assert!(lo >= 0.0 && hi * g.widths[k] <= bx.lengths[k]);
+                    assert!(d < 0.5 * bx.lengths[k], "{ca:?} {cb:?} axis {k}");
+                }
+            }
+        }
+        assert!(held > 100, "{held}");
+        assert!(g.without_wrap(&[[5, 4]]));
+        assert!(!g.without_wrap(&[[0, 4]]));
+        assert!(!g.without_wrap(&[[5, 8]]));
+        assert!(!g.without_wrap(&[[2, 4], [6, 4]]));
     }
 
     #[test]

@@ -642,6 +642,8 @@ impl<const D: usize> Edmd<D> {
                 now,
                 gravity: self.has_gravity.then_some(self.gravity),
                 bx: &self.bx,
+                // A layer search may test a hinted partner beyond the neighbouring cells.
+                wrap: !matches!(search, Search::Full) || !self.cells.without_wrap(&[coords]),
             };
             (best_pair, partner) = earliest_contact(
                 &self.grains,
