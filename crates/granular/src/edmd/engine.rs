@@ -16,7 +16,7 @@
 //! collisions per particle, so that after 10^9 collisions event times still carry full
 //! double precision.
 
-use super::candidates::{Grain, Probe, earliest_contact};
+use super::candidates::{Grain, Probe, earliest_contact, earliest_contacts_pair};
 use super::cells::{Candidates, CellGrid, NONE};
 use super::prediction::{downward_crossing, pair_contact_time, upward_crossing};
 use super::prefetch::prefetch_all;
@@ -679,6 +679,56 @@ impl<const D: usize> Edmd<D> {
         self.schedule(i, best, code, best_pair, partner);
     }
 
+    /// [`Edmd::predict`] for both grains of a pair collision (`i` first, then `j`, as
+    /// two calls would), in 2D: one gather of the union of their neighbourhoods and one
+    /// pass over it that tests each candidate against both (`earliest_contacts_pair`;
+    /// +3-6 % in 2D, slower in 3D). Each grain also tests its partner's neighbours, which
+    /// stays exact: a contact found with one of them is real (that grain must cross into
+    /// the neighbourhood first, which changes no velocity), and a pair beyond the grain's
+    /// own crossing only becomes the crossing's hint, whose bound then holds over more
+    /// grains than the layer search needs. Grains with growing radii take the one-grain
+    /// path.
+    fn predict_pair(&mut self, i: usize, j: usize) {
+        if D != 2 || self.growth != 0.0 {
+            self.predict(i);
+            self.predict(j);
+            return;
+        }
+        debug_assert!(self.grains[i].time == self.now && self.grains[j].time == self.now);
+        let coords_i = self.cells.coords(i);
+        let coords_j = self.cells.coords(j);
+        let (best_i, code_i) = self.boundary_event(i, &coords_i);
+        let (best_j, code_j) = self.boundary_event(j, &coords_j);
+        let mut candidates = std::mem::take(&mut self.candidates);
+        candidates.clear();
+        self.cells
+            .gather_pair(&coords_i, &coords_j, &mut candidates);
+        let candidates_now = candidates.as_slice();
+        prefetch_all(&self.grains, candidates_now);
+        let gravity = self.has_gravity.then_some(self.gravity);
+        let wrap = !self.cells.without_wrap(&[coords_i, coords_j]);
+        let probe = |s: usize| Probe {
+            slot: s as u32,
+            skip: self.separating_partner(s),
+            pos: self.grains[s].pos,
+            vel: self.grains[s].vel,
+            radius: self.radius_now(s),
+            now: self.now,
+            gravity,
+            bx: &self.bx,
+            wrap,
+        };
+        let [(pair_i, partner_i), (pair_j, partner_j)] = earliest_contacts_pair(
+            &self.grains,
+            &self.kind_radius,
+            candidates_now,
+            [&probe(i), &probe(j)],
+        );
+        self.candidates = candidates;
+        self.schedule(i, best_i, code_i, pair_i, partner_i);
+        self.schedule(j, best_j, code_j, pair_j, partner_j);
+    }
+
     /// The earliest boundary event of slot `i` (in cell `coords`, its state stored at
     /// the current time): a cell crossing or a wall collision, as (time from now, code),
     /// or `(∞, NOTHING)`.
@@ -834,8 +884,7 @@ impl<const D: usize> Edmd<D> {
             }
             self.advance_particle(j);
             self.collide_pair(i, j);
-            self.predict(i);
-            self.predict(j);
+            self.predict_pair(i, j);
         } else if code < CROSSING_END {
             self.advance_particle(i);
             let (k, upward, hint) = decode_crossing(code);

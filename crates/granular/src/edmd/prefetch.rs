@@ -1,6 +1,6 @@
-//! Software prefetch: one of the two places the crate uses `unsafe` (a hint to the
-//! processor that cannot fault or change any state; the other is the AVX2 contact search in
-//! `candidates`).
+//! Software prefetch: one of the three places the crate uses `unsafe` (a hint to the
+//! processor that cannot fault or change any state; the others are the calls of the AVX2
+//! and SSE2 contact searches in `candidates`).
 
 /// Asks the processor to start loading the records of all `slots` at once, so that
 /// their cache misses overlap instead of being met one candidate at a time: in large
