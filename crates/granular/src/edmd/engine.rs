@@ -631,20 +631,10 @@ impl<const D: usize> Edmd<D> {
         }
         let candidates_now = candidates.as_slice();
         prefetch_all(&self.grains, candidates_now);
-        let skip = self.separating_partner(i);
         if self.growth == 0.0 {
-            let probe = Probe {
-                slot: i as u32,
-                skip,
-                pos: xi,
-                vel: vi,
-                radius: ri,
-                now,
-                gravity: self.has_gravity.then_some(self.gravity),
-                bx: &self.bx,
-                // A layer search may test a hinted partner beyond the neighbouring cells.
-                wrap: !matches!(search, Search::Full) || !self.cells.without_wrap(&[coords]),
-            };
+            // A layer search may test a hinted partner beyond the neighbouring cells.
+            let wrap = !matches!(search, Search::Full) || !self.cells.without_wrap(&[coords]);
+            let probe = self.probe(i, wrap);
             (best_pair, partner) = earliest_contact(
                 &self.grains,
                 &self.kind_radius,
@@ -653,6 +643,7 @@ impl<const D: usize> Edmd<D> {
                 best_pair,
             );
         } else {
+            let skip = self.separating_partner(i);
             for &j in candidates_now {
                 if j == i as u32 || j == skip {
                     continue;
@@ -705,28 +696,34 @@ impl<const D: usize> Edmd<D> {
             .gather_pair(&coords_i, &coords_j, &mut candidates);
         let candidates_now = candidates.as_slice();
         prefetch_all(&self.grains, candidates_now);
-        let gravity = self.has_gravity.then_some(self.gravity);
         let wrap = !self.cells.without_wrap(&[coords_i, coords_j]);
-        let probe = |s: usize| Probe {
-            slot: s as u32,
-            skip: self.separating_partner(s),
-            pos: self.grains[s].pos,
-            vel: self.grains[s].vel,
-            radius: self.radius_now(s),
-            now: self.now,
-            gravity,
-            bx: &self.bx,
-            wrap,
-        };
         let [(pair_i, partner_i), (pair_j, partner_j)] = earliest_contacts_pair(
             &self.grains,
             &self.kind_radius,
             candidates_now,
-            [&probe(i), &probe(j)],
+            [&self.probe(i, wrap), &self.probe(j, wrap)],
         );
         self.candidates = candidates;
         self.schedule(i, best_i, code_i, pair_i, partner_i);
         self.schedule(j, best_j, code_j, pair_j, partner_j);
+    }
+
+    /// What a contact search needs to know about slot `i` (its state stored at the
+    /// current time) and the box; `wrap`: whether its candidates may need the minimum
+    /// image.
+    #[inline(always)]
+    fn probe(&self, i: usize, wrap: bool) -> Probe<'_, D> {
+        Probe {
+            slot: i as u32,
+            skip: self.separating_partner(i),
+            pos: self.grains[i].pos,
+            vel: self.grains[i].vel,
+            radius: self.radius_now(i),
+            now: self.now,
+            gravity: self.has_gravity.then_some(self.gravity),
+            bx: &self.bx,
+            wrap,
+        }
     }
 
     /// The earliest boundary event of slot `i` (in cell `coords`, its state stored at
