@@ -4,8 +4,10 @@
 //! A prediction tests every grain of the neighbouring cells (8 in dense 2D, 25 in 3D),
 //! each test a square root and a division. With many candidates (3D) the tests run four
 //! at a time in AVX2 registers (checked at run time; `avx2::earliest_contact`), otherwise
-//! one at a time. Both paths do the same operations in the same order (no fused
-//! multiply-add), so they give the same contact times to the last bit (tested).
+//! one at a time; after a 2D pair collision both grains are tested against each
+//! candidate at once, in two SSE2 lanes (`sse2::earliest_contacts_pair`). All paths do
+//! the same operations in the same order (no fused multiply-add), so they give the same
+//! contact times to the last bit (tested).
 
 use super::cells::NONE;
 use crate::boundary::SimulationBox;
