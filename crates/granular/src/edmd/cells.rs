@@ -277,9 +277,22 @@ impl<const D: usize> CellGrid<D> {
             heads[m..m + len].copy_from_slice(&self.head[first..first + len]);
             m += len;
         });
+        self.append_lists(&heads[..m], out);
+    }
+
+    /// Whether cell `c` is away from the grid's faces: its neighbours are at fixed flat
+    /// offsets, without wrapping or clipping.
+    #[inline(always)]
+    fn interior(&self, c: &[u32; D]) -> bool {
+        (0..D).all(|k| c[k] >= 1 && (c[k] as usize) + 2 <= self.counts[k])
+    }
+
+    /// Appends to `out` the particles of the cell lists starting at `heads`, in order.
+    #[inline(always)]
+    fn append_lists(&self, heads: &[u32], out: &mut Candidates) {
         out.append(|buf| {
             let mut k = 0;
-            for &h in &heads[..m] {
+            for &h in heads {
                 k = self.write_list(h, buf, k)?;
             }
             Some(k)
@@ -291,9 +304,11 @@ impl<const D: usize> CellGrid<D> {
     /// one gather (in dense 2D about 11 grains instead of twice 8).
     #[inline(always)]
     pub fn gather_pair(&self, a: &[u32; D], b: &[u32; D], out: &mut Candidates) {
-        let interior =
-            |c: &[u32; D]| (0..D).all(|k| c[k] >= 1 && (c[k] as usize) + 2 <= self.counts[k]);
-        if D == 2 && interior(a) && interior(b) && (0..D).all(|k| a[k].abs_diff(b[k]) <= 1) {
+        if D == 2
+            && self.interior(a)
+            && self.interior(b)
+            && (0..D).all(|k| a[k].abs_diff(b[k]) <= 1)
+        {
             // Fast path (two grains in contact away from the grid's faces): rows of three
             // or four consecutive cells at fixed flat offsets, heads first (as in
             // `gather_neighbours`). At most 4 rows of 4 cells in 2D.
@@ -320,13 +335,7 @@ impl<const D: usize> CellGrid<D> {
                     m += 1;
                 }
             }
-            out.append(|buf| {
-                let mut k = 0;
-                for &h in &heads[..m] {
-                    k = self.write_list(h, buf, k)?;
-                }
-                Some(k)
-            });
+            self.append_lists(&heads[..m], out);
             return;
         }
         // Any other case: the cells of `a`'s neighbourhood, then those of `b`'s that are
@@ -341,23 +350,16 @@ impl<const D: usize> CellGrid<D> {
         }
         out.append(|buf| {
             let mut k = Some(0);
-            self.for_each_cell_of(&ranges_a, &lens_a, |flat| {
+            self.for_each_cell_of(&ranges_a, &lens_a, |flat, _| {
                 k = k.and_then(|k| self.write_list(self.head[flat], buf, k));
             });
-            let mut idx = [0usize; D];
-            loop {
-                let in_a = (0..D).all(|q| ranges_a[q][..lens_a[q]].contains(&ranges_b[q][idx[q]]));
+            self.for_each_cell_of(&ranges_b, &lens_b, |flat, c| {
+                let in_a = (0..D).all(|q| ranges_a[q][..lens_a[q]].contains(&c[q]));
                 if !in_a {
-                    let mut flat = 0usize;
-                    for q in (0..D).rev() {
-                        flat = flat * self.counts[q] + ranges_b[q][idx[q]];
-                    }
                     k = k.and_then(|k| self.write_list(self.head[flat], buf, k));
                 }
-                if !odometer_step(&mut idx, &lens_b) {
-                    return k;
-                }
-            }
+            });
+            k
         });
     }
 
@@ -390,7 +392,7 @@ impl<const D: usize> CellGrid<D> {
     fn for_each_neighbour_run(&self, c: &[u32; D], mut f: impl FnMut(usize, usize)) {
         // Fast path: a cell away from the grid's faces has its neighbours at fixed flat
         // offsets (no wrapping, no clipping): 3^(D-1) rows of three consecutive cells.
-        if (0..D).all(|k| c[k] >= 1 && (c[k] as usize) + 2 <= self.counts[k]) {
+        if self.interior(c) {
             let mut stride = [1usize; D];
             for k in 1..D {
                 stride[k] = stride[k - 1] * self.counts[k - 1];
@@ -416,7 +418,7 @@ impl<const D: usize> CellGrid<D> {
         for k in 0..D {
             lens[k] = self.adjacent(k, c[k] as usize, &mut ranges[k]);
         }
-        self.for_each_cell_of(&ranges, &lens, |flat| f(flat, 1));
+        self.for_each_cell_of(&ranges, &lens, |flat, _| f(flat, 1));
     }
 
     /// Appends to `out` every particle in the cells that became neighbours of cell `c`
@@ -443,7 +445,7 @@ impl<const D: usize> CellGrid<D> {
         }
         out.append(|buf| {
             let mut k = Some(0);
-            self.for_each_cell_of(&ranges, &lens, |flat| {
+            self.for_each_cell_of(&ranges, &lens, |flat, _| {
                 k = k.and_then(|k| self.write_list(self.head[flat], buf, k));
             });
             k
@@ -480,22 +482,23 @@ impl<const D: usize> CellGrid<D> {
         m
     }
 
-    /// Calls `f(flat)` for every cell whose coordinate along each axis `k` is one of
-    /// `ranges[k][..lens[k]]`.
+    /// Calls `f(flat, coordinates)` for every cell whose coordinate along each axis `k` is
+    /// one of `ranges[k][..lens[k]]`.
     #[inline(always)]
     fn for_each_cell_of(
         &self,
         ranges: &[[usize; 3]; D],
         lens: &[usize; D],
-        mut f: impl FnMut(usize),
+        mut f: impl FnMut(usize, &[usize; D]),
     ) {
         let mut idx = [0usize; D];
         loop {
+            let c: [usize; D] = std::array::from_fn(|k| ranges[k][idx[k]]);
             let mut flat = 0usize;
             for k in (0..D).rev() {
-                flat = flat * self.counts[k] + ranges[k][idx[k]];
+                flat = flat * self.counts[k] + c[k];
             }
-            f(flat);
+            f(flat, &c);
             if !odometer_step(&mut idx, lens) {
                 return;
             }

@@ -605,18 +605,12 @@ impl<const D: usize> Edmd<D> {
     /// [`Edmd::predict`] testing the partners `search` says.
     fn predict_with(&mut self, i: usize, search: Search) {
         debug_assert_eq!(self.grains[i].time, self.now);
-        let Grain {
-            pos: xi, vel: vi, ..
-        } = self.grains[i];
-        let ri = self.radius_now(i);
-        let rate_i = self.base_radius(i) * self.growth;
         let coords = self.cells.coords(i);
         let (best, code) = self.boundary_event(i, &coords);
         // The earliest pair at any time (not only before the boundary event): a crossing
         // keeps it as the bound for its own prediction.
         let mut best_pair = f64::INFINITY;
         let mut partner = NONE;
-        let now = self.now;
         let mut candidates = std::mem::take(&mut self.candidates);
         candidates.clear();
         match search {
@@ -643,6 +637,15 @@ impl<const D: usize> Edmd<D> {
                 best_pair,
             );
         } else {
+            // Lubachevsky-Stillinger compression: radii grow with time.
+            let Grain {
+                pos: xi, vel: vi, ..
+            } = self.grains[i];
+            let (ri, rate_i, now) = (
+                self.radius_now(i),
+                self.base_radius(i) * self.growth,
+                self.now,
+            );
             let skip = self.separating_partner(i);
             for &j in candidates_now {
                 if j == i as u32 || j == skip {
