@@ -274,6 +274,7 @@ impl EventQueue {
     /// of two; a 64-bit division costs tens of cycles on every update).
     #[inline(always)]
     fn slot_of(&self, b: i64) -> usize {
+        debug_assert!(self.nb.is_power_of_two());
         (b as u64 & (self.nb as u64 - 1)) as usize
     }
 
