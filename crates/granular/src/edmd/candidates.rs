@@ -123,14 +123,13 @@ fn scalar_search<const D: usize, const WRAP: bool>(
         // once per prediction rather than per candidate (2 % of the engine at 2D 10^4).
         // The packed lanes compute the same values as `d - 1 L`, `d + 1 L` or `d - 0 + 0`.
         let mut dx = xj - probe.pos;
-        for k in 0..D {
-            if !WRAP {
-                break;
-            }
-            if dx[k] > half[k] {
-                dx[k] -= probe.bx.lengths[k];
-            } else if dx[k] < -half[k] {
-                dx[k] += probe.bx.lengths[k];
+        if WRAP {
+            for k in 0..D {
+                if dx[k] > half[k] {
+                    dx[k] -= probe.bx.lengths[k];
+                } else if dx[k] < -half[k] {
+                    dx[k] += probe.bx.lengths[k];
+                }
             }
         }
         let dv = vj - probe.vel;

@@ -607,6 +607,18 @@ mod tests {
     use crate::vector::Vector;
     use std::collections::BTreeSet;
 
+    /// Coordinates of cell `f` (flat index, axis 0 fastest) of a grid with
+    /// `per_axis` cells along every axis.
+    fn cell_coords<const D: usize>(f: usize, per_axis: usize) -> [u32; D] {
+        let mut c = [0u32; D];
+        let mut r = f;
+        for ck in c.iter_mut() {
+            *ck = (r % per_axis) as u32;
+            r /= per_axis;
+        }
+        c
+    }
+
     fn neighbourhood<const D: usize>(g: &CellGrid<D>, c: &[u32; D]) -> BTreeSet<u32> {
         let mut out = Candidates::default();
         g.gather_neighbours(c, &mut out);
@@ -623,13 +635,7 @@ mod tests {
         // One grain per cell (grain = flat cell index).
         let mut g = CellGrid::<D>::new(&bx, 1.0, total);
         for f in 0..total {
-            let mut c = [0u32; D];
-            let mut r = f;
-            for ck in c.iter_mut() {
-                *ck = (r % cells_per_axis) as u32;
-                r /= cells_per_axis;
-            }
-            g.insert(f, c);
+            g.insert(f, cell_coords(f, cells_per_axis));
         }
         for f in 0..total {
             let old = g.coords(f);
@@ -690,15 +696,7 @@ mod tests {
         let total = cells_per_axis.pow(D as u32);
         // Two grains per cell (grains f and f + total in cell f).
         let mut g = CellGrid::<D>::new(&bx, 1.0, 2 * total);
-        let coords = |f: usize| {
-            let mut c = [0u32; D];
-            let mut r = f;
-            for ck in c.iter_mut() {
-                *ck = (r % cells_per_axis) as u32;
-                r /= cells_per_axis;
-            }
-            c
-        };
+        let coords = |f: usize| cell_coords::<D>(f, cells_per_axis);
         for f in 0..2 * total {
             g.insert(f, coords(f % total));
         }

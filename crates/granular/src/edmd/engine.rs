@@ -19,7 +19,7 @@
 use super::candidates::{Grain, Probe, earliest_contact, earliest_contacts_pair};
 use super::cells::{Candidates, CellGrid, NONE};
 use super::prediction::{downward_crossing, pair_contact_time, upward_crossing};
-use super::prefetch::prefetch_all;
+use super::prefetch::{CACHE_LINE, prefetch_all};
 use super::queue::{EventQueue, LOOK_AHEAD_MIN_GRAINS};
 use crate::boundary::SimulationBox;
 use crate::collision_law::CollisionLaw;
@@ -239,7 +239,7 @@ const COLLAPSE_WINDOW: u64 = 1 << 16;
 /// past a 64-byte boundary, which put every sphere record across two lines; aligned,
 /// 10^6 spheres run 14-17 % faster and 10^5 about 7 %. Disk records, 48 bytes, lie
 /// across two lines one time in two either way.)
-const RECORD_ALIGN: usize = 64;
+const RECORD_ALIGN: usize = CACHE_LINE;
 
 /// The grain records, aligned to [`RECORD_ALIGN`].
 type Records<const D: usize> = AVec<Grain<D>, ConstAlign<RECORD_ALIGN>>;
@@ -248,9 +248,8 @@ type Records<const D: usize> = AVec<Grain<D>, ConstAlign<RECORD_ALIGN>>;
 ///
 /// Memory layout (what `granular bench edmd` reports as bytes per particle): one
 /// `Grain` record per grain (48 bytes in 2D, 64 in 3D; the array starts at a cache-line
-/// boundary), an 8-byte scheduled event, the
-/// last partner (4), the event queue (16), the cell grid (about 12) and the grain id of
-/// each slot (4); radii and masses live in a table of grain kinds (distinct `(radius,
+/// boundary), an 8-byte scheduled event, the last partner (4), the event queue (16), the
+/// cell grid (about 12) and the grain id of each slot (4); radii and masses live in a table of grain kinds (distinct `(radius,
 /// mass, species)`), and the TC model's last-collision times are kept only when the model
 /// is on. The inverse map (slot of each id, 4 more) exists only between an output that
 /// asks for grains by id and the next reordering.

@@ -2,6 +2,9 @@
 //! processor that cannot fault or change any state; the others are the calls of the AVX2
 //! and SSE2 contact searches in `candidates`).
 
+/// Bytes per cache line (x86_64 and most other processors).
+pub const CACHE_LINE: usize = 64;
+
 /// Asks the processor to start loading the records of all `slots` at once, so that
 /// their cache misses overlap instead of being met one candidate at a time: in large
 /// systems the loads of the candidates' records are the largest cost of a prediction
@@ -21,7 +24,7 @@ pub fn prefetch_all<T>(records: &[T], slots: &[u32]) {
             unsafe {
                 let first = (r as *const T).cast::<i8>();
                 std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(first);
-                if 64 % std::mem::size_of::<T>() != 0 {
+                if CACHE_LINE % std::mem::size_of::<T>() != 0 {
                     std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(
                         first.wrapping_add(std::mem::size_of::<T>() - 1),
                     );

@@ -149,7 +149,7 @@ impl EventQueue {
             self.next[sentinel] = sentinel as u32;
             self.prev[sentinel] = sentinel as u32;
             if self.n >= LOOK_AHEAD_MIN_GRAINS {
-                let following = self.n + ((slot + 1) & (self.nb - 1));
+                let following = self.n + self.slot_of(self.current + 1);
                 self.ahead = self.next[following];
                 self.prefetch_entry(self.ahead);
             }
