@@ -162,18 +162,18 @@ where
         LegendPosition::LowerRight => Some(SeriesLabelPosition::LowerRight),
         LegendPosition::Auto => Some(auto_legend_position(frame, &body.points(), area)),
     };
-    if let Some(position) = position {
-        if frame.legend_extent.1 > 0 {
-            chart
-                .configure_series_labels()
-                .position(position)
-                .margin(m.margin / 2)
-                .legend_area_size((m.legend * 2.2) as u32)
-                .label_font(font(m.legend))
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK.mix(0.6))
-                .draw()?;
-        }
+    if let Some(position) = position
+        && frame.legend_extent.1 > 0
+    {
+        chart
+            .configure_series_labels()
+            .position(position)
+            .margin(m.margin / 2)
+            .legend_area_size((m.legend * 2.2) as u32)
+            .label_font(font(m.legend))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK.mix(0.6))
+            .draw()?;
     }
     Ok(())
 }

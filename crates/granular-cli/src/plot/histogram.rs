@@ -374,13 +374,13 @@ impl Draw for HistogramPlot {
                 "histogram bin edges must be finite and increasing".into(),
             ));
         }
-        if let Some(e) = &self.errors {
-            if e.len() != k {
-                return Err(PlotError::Data(format!(
-                    "{} error bars for {k} bins",
-                    e.len()
-                )));
-            }
+        if let Some(e) = &self.errors
+            && e.len() != k
+        {
+            return Err(PlotError::Data(format!(
+                "{} error bars for {k} bins",
+                e.len()
+            )));
         }
         for s in &self.theories {
             s.validate()?;

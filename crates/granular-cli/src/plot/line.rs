@@ -119,15 +119,15 @@ impl Series {
                 self.y.len()
             )));
         }
-        if let Some(e) = &self.y_err {
-            if e.len() != self.y.len() {
-                return Err(PlotError::Data(format!(
-                    "series `{}` has {} error bars for {} points",
-                    self.name,
-                    e.len(),
-                    self.y.len()
-                )));
-            }
+        if let Some(e) = &self.y_err
+            && e.len() != self.y.len()
+        {
+            return Err(PlotError::Data(format!(
+                "series `{}` has {} error bars for {} points",
+                self.name,
+                e.len(),
+                self.y.len()
+            )));
         }
         Ok(())
     }

@@ -395,10 +395,10 @@ impl Draw for SnapshotPicture<'_> {
         if !(lx.is_finite() && ly.is_finite() && lx > 0.0 && ly > 0.0) {
             return Err(PlotError::Data(format!("invalid box {lx} x {ly}")));
         }
-        if let ColourBy::Speed { max: Some(v) } = self.style.colour_by {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(PlotError::Data(format!("invalid colour-bar maximum {v}")));
-            }
+        if let ColourBy::Speed { max: Some(v) } = self.style.colour_by
+            && !(v.is_finite() && v > 0.0)
+        {
+            return Err(PlotError::Data(format!("invalid colour-bar maximum {v}")));
         }
         Ok(())
     }

@@ -500,7 +500,7 @@ mod tests {
         let candidates = (0..trial % 30)
             .map(|_| rng.random_range(0..GRAINS as u32))
             .collect();
-        let gravity = (trial % 5 == 0).then(|| {
+        let gravity = trial.is_multiple_of(5).then(|| {
             let mut g = Vector::zero();
             g[D - 1] = -1.0;
             g

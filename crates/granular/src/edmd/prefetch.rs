@@ -24,7 +24,7 @@ pub fn prefetch_all<T>(records: &[T], slots: &[u32]) {
             unsafe {
                 let first = (r as *const T).cast::<i8>();
                 std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(first);
-                if CACHE_LINE % std::mem::size_of::<T>() != 0 {
+                if !CACHE_LINE.is_multiple_of(std::mem::size_of::<T>()) {
                     std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(
                         first.wrapping_add(std::mem::size_of::<T>() - 1),
                     );

@@ -92,7 +92,7 @@ impl<const N: usize> TryFrom<GridSeriesData> for GridSeries<N> {
             v.try_into()
                 .map_err(|_| format!("grid series: expected {N} values, found {}", v.len()))
         };
-        if N == 0 || d.blocks.len() % N != 0 {
+        if N == 0 || !d.blocks.len().is_multiple_of(N) {
             return Err(format!(
                 "grid series: {} block values are not a multiple of {N}",
                 d.blocks.len()

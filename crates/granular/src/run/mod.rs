@@ -429,7 +429,7 @@ impl Run {
         self.state.last_scalars = scalars;
         self.record_observables(first)?;
         let every = self.scenario.output.snapshot_every;
-        if first || (every > 0 && self.state.outputs % every == 0) {
+        if first || (every > 0 && self.state.outputs.is_multiple_of(every)) {
             self.write_snapshot()?;
         }
         // Pool equilibrium speeds, samples far enough apart (appendix C.2).
@@ -636,7 +636,7 @@ impl Run {
     fn finish(mut self, stop_reason: &str) -> Result<Summary, RunError> {
         // Final snapshot (unless the last output already wrote one).
         let every = self.scenario.output.snapshot_every;
-        if every == 0 || self.state.outputs % every != 0 {
+        if every == 0 || !self.state.outputs.is_multiple_of(every) {
             self.write_snapshot()?;
         }
         let fits = self.write_histograms()?;

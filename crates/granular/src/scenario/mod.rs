@@ -926,15 +926,15 @@ impl Scenario {
                 _ => {}
             }
         }
-        if let Some(p) = self.initial.compress_from {
-            if !(p > 0.0 && p < 1.0) {
-                return Err(ScenarioError::new(
-                    "initial.compress_from",
-                    format!(
-                        "is {p}; give the packing fraction to start the compression from, in (0, 1)"
-                    ),
-                ));
-            }
+        if let Some(p) = self.initial.compress_from
+            && !(p > 0.0 && p < 1.0)
+        {
+            return Err(ScenarioError::new(
+                "initial.compress_from",
+                format!(
+                    "is {p}; give the packing fraction to start the compression from, in (0, 1)"
+                ),
+            ));
         }
         let stop = &self.stop;
         if stop.time.is_none()
@@ -949,15 +949,15 @@ impl Scenario {
                 "has no rule; set at least one of time, collisions, collisions_per_particle, events, energy_fraction, wall_seconds",
             ));
         }
-        if let Some(f) = stop.energy_fraction {
-            if !(f > 0.0 && f < 1.0) {
-                return Err(ScenarioError::new(
-                    "stop.energy_fraction",
-                    format!(
-                        "is {f}; give the fraction of the initial energy at which to stop, in (0, 1)"
-                    ),
-                ));
-            }
+        if let Some(f) = stop.energy_fraction
+            && !(f > 0.0 && f < 1.0)
+        {
+            return Err(ScenarioError::new(
+                "stop.energy_fraction",
+                format!(
+                    "is {f}; give the fraction of the initial energy at which to stop, in (0, 1)"
+                ),
+            ));
         }
         if self.output.interval.is_nan() || self.output.interval <= 0.0 {
             return Err(ScenarioError::new(
