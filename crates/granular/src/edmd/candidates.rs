@@ -2,12 +2,14 @@
 //! reads.
 //!
 //! A prediction tests every grain of the neighbouring cells (8 in dense 2D, 25 in 3D),
-//! each test a square root and a division. With many candidates (3D) the tests run four
-//! at a time in AVX2 registers (checked at run time; `avx2::earliest_contact`), otherwise
-//! one at a time; after a 2D pair collision both grains are tested against each
-//! candidate at once, in two SSE2 lanes (`sse2::earliest_contacts_pair`). All paths do
-//! the same operations in the same order (no fused multiply-add), so they give the same
-//! contact times to the last bit (tested).
+//! each test a square root and a division. With many candidates (3D) the tests run eight
+//! at a time in AVX-512 registers, each field of eight records loaded by one gather
+//! (`avx512::earliest_contact`), or four at a time in AVX2 registers on processors
+//! without AVX-512 (`avx2::earliest_contact`; both checked at run time), otherwise one
+//! at a time; after a 2D pair collision both grains are tested against each candidate at
+//! once, in two SSE2 lanes (`sse2::earliest_contacts_pair`). All paths do the same
+//! operations in the same order (no fused multiply-add), so they give the same contact
+//! times to the last bit (tested): trajectories do not depend on the processor.
 
 use super::cells::NONE;
 use crate::boundary::SimulationBox;
@@ -51,11 +53,13 @@ pub(super) struct Probe<'a, const D: usize> {
     pub wrap: bool,
 }
 
-/// Fewest candidates for which the packed (AVX2) search is used. Measured (collisions per
-/// CPU second, whole engine): with the 25 candidates of dense 3D it is 11-18 % faster (3D
-/// N = 10^5, φ = 0.45); for all 8 of dense 2D it was 6-8 % slower (the lanes are filled
-/// and emptied one value at a time, and eight one-candidate chains already overlap in
-/// the processor), so 2D predictions keep the one-at-a-time path.
+/// Fewest candidates for which a packed search is used. Measured (collisions per CPU
+/// second, whole engine): with the 25 candidates of dense 3D the AVX2 search is 11-18 %
+/// faster than the scalar one (3D N = 10^5, φ = 0.45), and the AVX-512 search another
+/// 9-11 % (+1 % at 3D N = 10^6); for all 8 of dense 2D the AVX2 search was 6-8 % slower
+/// (its lanes are filled and emptied one value at a time, and eight one-candidate chains
+/// already overlap in the processor) and the AVX-512 one no faster at 2D N = 10^4 and 6 %
+/// slower at 10^5, so 2D predictions keep the one-at-a-time path.
 pub(super) const PACKED_MIN: usize = 12;
 
 /// The candidate (slot) with the earliest contact strictly before `limit` and its time
@@ -69,6 +73,18 @@ pub(super) fn earliest_contact<const D: usize>(
     probe: &Probe<'_, D>,
     limit: f64,
 ) -> (f64, u32) {
+    #[cfg(target_arch = "x86_64")]
+    if candidates.len() >= PACKED_MIN && avx512::usable(grains) {
+        #[allow(unsafe_code)]
+        // SAFETY: `usable` checked the processor's features.
+        return unsafe {
+            if probe.wrap {
+                avx512::earliest_contact::<D, true>(grains, kind_radius, candidates, probe, limit)
+            } else {
+                avx512::earliest_contact::<D, false>(grains, kind_radius, candidates, probe, limit)
+            }
+        };
+    }
     #[cfg(target_arch = "x86_64")]
     if candidates.len() >= PACKED_MIN && std::arch::is_x86_feature_detected!("avx2") {
         #[allow(unsafe_code)]
@@ -310,6 +326,165 @@ fn half_lengths<const D: usize>(bx: &SimulationBox<D>) -> [f64; D] {
     })
 }
 
+/// The same search eight candidates at a time with AVX-512: each field of eight
+/// candidates' records comes in one gather, where the AVX2 search fills its four lanes one
+/// value at a time. No fused multiply-add: every operation rounds as in the scalar path,
+/// in the same order, so the time and partner are the same to the last bit (tested).
+#[cfg(target_arch = "x86_64")]
+mod avx512 {
+    use super::{Grain, NONE, Probe, half_lengths};
+    use std::arch::x86_64::*;
+    use std::mem::{offset_of, size_of};
+
+    /// Lanes of a register: candidates per block.
+    const LANES: usize = 8;
+
+    /// Whether the processor has the features of [`earliest_contact`] and the gathers'
+    /// 32-bit offsets (in units of 4 bytes, for the kind) reach every record of `grains`.
+    #[inline]
+    pub(super) fn usable<const D: usize>(grains: &[Grain<D>]) -> bool {
+        std::arch::is_x86_feature_detected!("avx512f")
+            && std::arch::is_x86_feature_detected!("avx512vl")
+            && grains.len() < i32::MAX as usize / size_of::<Grain<D>>() * 4
+    }
+
+    /// [`super::earliest_contact`] over blocks of eight candidates, with the minimum image
+    /// (`WRAP`) or without; the caller checks [`usable`].
+    #[target_feature(enable = "avx512f,avx512vl")]
+    pub(super) fn earliest_contact<const D: usize, const WRAP: bool>(
+        grains: &[Grain<D>],
+        kind_radius: &[f64],
+        candidates: &[u32],
+        probe: &Probe<'_, D>,
+        limit: f64,
+    ) -> (f64, u32) {
+        const { assert!(size_of::<Grain<D>>().is_multiple_of(8)) };
+        // Record layout in 8-byte words (the kind in 4-byte words).
+        let words = (size_of::<Grain<D>>() / 8) as i32;
+        let pos_at = (offset_of!(Grain<D>, pos) / 8) as i32;
+        let vel_at = (offset_of!(Grain<D>, vel) / 8) as i32;
+        let time_at = (offset_of!(Grain<D>, time) / 8) as i32;
+        let kind_at = (offset_of!(Grain<D>, kind) / 4) as i32;
+        let records = grains.as_ptr() as *const f64;
+        let half = half_lengths(probe.bx);
+        let up_from: [__m512d; D] = std::array::from_fn(|k| _mm512_set1_pd(half[k]));
+        let down_from: [__m512d; D] = std::array::from_fn(|k| _mm512_set1_pd(-half[k]));
+        let length: [__m512d; D] = std::array::from_fn(|k| _mm512_set1_pd(probe.bx.lengths[k]));
+        let pos: [__m512d; D] = std::array::from_fn(|k| _mm512_set1_pd(probe.pos[k]));
+        let vel: [__m512d; D] = std::array::from_fn(|k| _mm512_set1_pd(probe.vel[k]));
+        let radius = _mm512_set1_pd(probe.radius);
+        let now = _mm512_set1_pd(probe.now);
+        let zero = _mm512_setzero_pd();
+        let sign = _mm512_set1_epi64(i64::MIN);
+        let (own, skip) = (
+            _mm256_set1_epi32(probe.slot as i32),
+            _mm256_set1_epi32(probe.skip as i32),
+        );
+        let (n_grains, n_kinds) = (
+            _mm256_set1_epi32(grains.len() as i32),
+            _mm256_set1_epi32(kind_radius.len() as i32),
+        );
+        // Per lane: the earliest time so far and the position of its candidate in the list.
+        let mut best = _mm512_set1_pd(limit);
+        let mut best_at = _mm512_set1_epi64(i64::MAX);
+        let mut at = _mm512_set_epi64(7, 6, 5, 4, 3, 2, 1, 0);
+        for block in candidates.chunks(LANES) {
+            let in_block = (u16::MAX >> (16 - block.len())) as __mmask8;
+            #[allow(unsafe_code)]
+            // SAFETY: the mask reads the `block.len()` values of `block`.
+            let slot = unsafe { _mm256_maskz_loadu_epi32(in_block, block.as_ptr().cast()) };
+            // A candidate beyond the records panics, as slice indexing does (never expected).
+            let beyond = _mm256_mask_cmpge_epu32_mask(in_block, slot, n_grains);
+            assert!(beyond == 0, "candidate beyond the grain records");
+            let live = _mm256_mask_cmpneq_epu32_mask(
+                _mm256_mask_cmpneq_epu32_mask(in_block, slot, own),
+                slot,
+                skip,
+            );
+            let word = _mm256_mullo_epi32(slot, _mm256_set1_epi32(words));
+            #[allow(unsafe_code)]
+            // SAFETY: the gathers read the live lanes only, whose slots are below
+            // `grains.len()` (checked above), at `word + at`, a field of that slot's record
+            // (`usable` keeps the offsets within `i32`); a kind read is checked against
+            // `kind_radius` before it indexes it.
+            let (x, v, time, rj) = unsafe {
+                let field = |at: i32| {
+                    _mm512_mask_i32gather_pd::<8>(
+                        zero,
+                        live,
+                        _mm256_add_epi32(word, _mm256_set1_epi32(at)),
+                        records,
+                    )
+                };
+                let x: [__m512d; D] = std::array::from_fn(|k| field(pos_at + k as i32));
+                let v: [__m512d; D] = std::array::from_fn(|k| field(vel_at + k as i32));
+                let kind = _mm256_mmask_i32gather_epi32::<4>(
+                    _mm256_setzero_si256(),
+                    live,
+                    _mm256_add_epi32(_mm256_add_epi32(word, word), _mm256_set1_epi32(kind_at)),
+                    records.cast(),
+                );
+                let unknown = _mm256_mask_cmpge_epu32_mask(live, kind, n_kinds);
+                assert!(unknown == 0, "grain kind beyond the kind table");
+                let rj = _mm512_mask_i32gather_pd::<8>(zero, live, kind, kind_radius.as_ptr());
+                (x, v, field(time_at), rj)
+            };
+            // Each candidate brought to the current time, as `super::advanced` does.
+            let dt = _mm512_sub_pd(now, time);
+            let mut dot = zero;
+            let mut dx2 = zero;
+            let mut dv2 = zero;
+            for k in 0..D {
+                let mut xj = _mm512_add_pd(x[k], _mm512_mul_pd(dt, v[k]));
+                let mut vj = v[k];
+                if let Some(gravity) = &probe.gravity {
+                    let g = _mm512_set1_pd(gravity[k]);
+                    let half_dt2 = _mm512_mul_pd(_mm512_mul_pd(_mm512_set1_pd(0.5), dt), dt);
+                    xj = _mm512_add_pd(xj, _mm512_mul_pd(half_dt2, g));
+                    vj = _mm512_add_pd(vj, _mm512_mul_pd(dt, g));
+                }
+                let mut d = _mm512_sub_pd(xj, pos[k]);
+                if WRAP {
+                    // The minimum image as the scalar branches take it: `d - L` beyond half
+                    // the box, `d + L` below minus half.
+                    let up = _mm512_cmp_pd_mask::<_CMP_GT_OQ>(d, up_from[k]);
+                    let down = _mm512_cmp_pd_mask::<_CMP_LT_OQ>(d, down_from[k]);
+                    d = _mm512_mask_sub_pd(d, up, d, length[k]);
+                    d = _mm512_mask_add_pd(d, down, d, length[k]);
+                }
+                let u = _mm512_sub_pd(vj, vel[k]);
+                dot = _mm512_add_pd(dot, _mm512_mul_pd(d, u));
+                dx2 = _mm512_add_pd(dx2, _mm512_mul_pd(d, d));
+                dv2 = _mm512_add_pd(dv2, _mm512_mul_pd(u, u));
+            }
+            let sigma = _mm512_add_pd(radius, rj);
+            let c = _mm512_sub_pd(dx2, _mm512_mul_pd(sigma, sigma));
+            let disc = _mm512_sub_pd(_mm512_mul_pd(dot, dot), _mm512_mul_pd(dv2, c));
+            // `max(x, 0)` returns 0 for a NaN `x`, as `f64::max` does.
+            let s = _mm512_sqrt_pd(_mm512_max_pd(disc, zero));
+            let minus_dot = _mm512_castsi512_pd(_mm512_xor_si512(_mm512_castpd_si512(dot), sign));
+            let root = _mm512_max_pd(_mm512_div_pd(c, _mm512_add_pd(minus_dot, s)), zero);
+            let approaching = _mm512_mask_cmp_pd_mask::<_CMP_LT_OQ>(live, dot, zero)
+                & _mm512_cmp_pd_mask::<_CMP_GT_OQ>(disc, zero);
+            // Strictly earlier, as the scalar search: a lane keeps its first candidate of
+            // a tie.
+            let earlier = _mm512_mask_cmp_pd_mask::<_CMP_LT_OQ>(approaching, root, best);
+            best = _mm512_mask_mov_pd(best, earlier, root);
+            best_at = _mm512_mask_mov_epi64(best_at, earlier, at);
+            at = _mm512_add_epi64(at, _mm512_set1_epi64(LANES as i64));
+        }
+        // The earliest time over the lanes and, of the lanes that hold it, the candidate
+        // first in the list (none improved on `limit`: no lane holds a position).
+        let t = _mm512_reduce_min_pd(best);
+        let tied = _mm512_cmp_pd_mask::<_CMP_EQ_OQ>(best, _mm512_set1_pd(t));
+        let first = _mm512_mask_reduce_min_epi64(tied, best_at);
+        match usize::try_from(first).ok().and_then(|i| candidates.get(i)) {
+            Some(&j) => (t, j),
+            None => (limit, NONE),
+        }
+    }
+}
+
 /// The same search four candidates at a time with AVX2 (no fused multiply-add: every
 /// operation rounds as in the scalar path).
 #[cfg(target_arch = "x86_64")]
@@ -438,8 +613,8 @@ mod tests {
     use super::*;
     use crate::random::{RngExt, stream};
 
-    /// The packed search returns exactly (bit for bit) the time and partner of the scalar
-    /// one: random candidates around a probe, walled and periodic axes, with and without
+    /// The packed searches (AVX2, and AVX-512 where the processor has it) return exactly
+    /// (bit for bit) the time and partner of the scalar one: random candidates around a probe, walled and periodic axes, with and without
     /// gravity, lists of every length including partial blocks, skipped partners and ties.
     #[test]
     fn packed_search_matches_the_scalar_search() {
@@ -580,6 +755,29 @@ mod tests {
             assert_eq!(scalar.0.to_bits(), packed.0.to_bits(), "trial {trial}");
             assert_eq!(scalar.1, packed.1, "trial {trial}");
             found += usize::from(scalar.1 != NONE);
+            if avx512::usable(&grains) {
+                // Both forms of the eight-lane search, each against the scalar one.
+                let args = (
+                    &grains[..],
+                    &KIND_RADIUS[..],
+                    &candidates[..],
+                    &probe,
+                    limit,
+                );
+                #[allow(unsafe_code)]
+                // SAFETY: the features checked by `usable`.
+                let wide = unsafe {
+                    [
+                        avx512::earliest_contact::<D, true>(args.0, args.1, args.2, args.3, limit),
+                        avx512::earliest_contact::<D, false>(args.0, args.1, args.2, args.3, limit),
+                    ]
+                };
+                let plain = scalar_search::<D, false>(args.0, args.1, args.2, args.3, limit);
+                for (want, got) in [scalar, plain].into_iter().zip(wide) {
+                    assert_eq!(want.0.to_bits(), got.0.to_bits(), "trial {trial}");
+                    assert_eq!(want.1, got.1, "trial {trial}");
+                }
+            }
         }
         assert!(found > 500, "only {found} trials found a contact");
     }

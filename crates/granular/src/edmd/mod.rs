@@ -5,8 +5,8 @@
 //! * [`prediction`]: collision and crossing times (Eqs. 1, 2, 7-10);
 //! * [`queue`]: the event priority queue;
 //! * `candidates`: the grain record and the earliest contact among a prediction's
-//!   candidates (four at a time with AVX2 when there are many, for both grains of a 2D
-//!   pair collision at once);
+//!   candidates (eight at a time with AVX-512, or four with AVX2, when there are many;
+//!   for both grains of a 2D pair collision at once);
 //! * [`prefetch`]: software prefetch of the records a prediction is about to read;
 //! * [`cells`]: the cell grid for neighbour search;
 //! * [`init`]: placements, compression and initial velocities.

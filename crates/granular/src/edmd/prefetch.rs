@@ -1,6 +1,6 @@
-//! Software prefetch: one of the three places the crate uses `unsafe` (a hint to the
-//! processor that cannot fault or change any state; the others are the calls of the AVX2
-//! and SSE2 contact searches in `candidates`).
+//! Software prefetch: one of the four places the crate uses `unsafe` (a hint to the
+//! processor that cannot fault or change any state; the others are the AVX-512, AVX2 and
+//! SSE2 contact searches in `candidates`).
 
 /// Bytes per cache line (x86_64 and most other processors).
 pub const CACHE_LINE: usize = 64;
