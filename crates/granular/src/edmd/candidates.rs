@@ -404,15 +404,15 @@ mod avx512 {
             let word = _mm256_mullo_epi32(slot, _mm256_set1_epi32(words));
             #[allow(unsafe_code)]
             // SAFETY: the gathers read the live lanes only, whose slots are below
-            // `grains.len()` (checked above), at `word + at`, a field of that slot's record
-            // (`usable` keeps the offsets within `i32`); a kind read is checked against
-            // `kind_radius` before it indexes it.
+            // `grains.len()` (checked above), at `word + offset`, a field of that slot's
+            // record (`usable` keeps the offsets within `i32`); a kind read is checked
+            // against `kind_radius` before it indexes it.
             let (x, v, time, rj) = unsafe {
-                let field = |at: i32| {
+                let field = |offset: i32| {
                     _mm512_mask_i32gather_pd::<8>(
                         zero,
                         live,
-                        _mm256_add_epi32(word, _mm256_set1_epi32(at)),
+                        _mm256_add_epi32(word, _mm256_set1_epi32(offset)),
                         records,
                     )
                 };
@@ -614,8 +614,9 @@ mod tests {
     use crate::random::{RngExt, stream};
 
     /// The packed searches (AVX2, and AVX-512 where the processor has it) return exactly
-    /// (bit for bit) the time and partner of the scalar one: random candidates around a probe, walled and periodic axes, with and without
-    /// gravity, lists of every length including partial blocks, skipped partners and ties.
+    /// (bit for bit) the time and partner of the scalar one: random candidates around a
+    /// probe, walled and periodic axes, with and without gravity, lists of every length
+    /// including partial blocks, skipped partners and ties.
     #[test]
     fn packed_search_matches_the_scalar_search() {
         #[cfg(target_arch = "x86_64")]
@@ -757,22 +758,16 @@ mod tests {
             found += usize::from(scalar.1 != NONE);
             if avx512::usable(&grains) {
                 // Both forms of the eight-lane search, each against the scalar one.
-                let args = (
-                    &grains[..],
-                    &KIND_RADIUS[..],
-                    &candidates[..],
-                    &probe,
-                    limit,
-                );
+                let (g, r, c) = (&grains[..], &KIND_RADIUS[..], &candidates[..]);
                 #[allow(unsafe_code)]
                 // SAFETY: the features checked by `usable`.
                 let wide = unsafe {
                     [
-                        avx512::earliest_contact::<D, true>(args.0, args.1, args.2, args.3, limit),
-                        avx512::earliest_contact::<D, false>(args.0, args.1, args.2, args.3, limit),
+                        avx512::earliest_contact::<D, true>(g, r, c, &probe, limit),
+                        avx512::earliest_contact::<D, false>(g, r, c, &probe, limit),
                     ]
                 };
-                let plain = scalar_search::<D, false>(args.0, args.1, args.2, args.3, limit);
+                let plain = scalar_search::<D, false>(g, r, c, &probe, limit);
                 for (want, got) in [scalar, plain].into_iter().zip(wide) {
                     assert_eq!(want.0.to_bits(), got.0.to_bits(), "trial {trial}");
                     assert_eq!(want.1, got.1, "trial {trial}");
