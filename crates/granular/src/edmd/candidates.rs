@@ -74,29 +74,48 @@ pub(super) fn earliest_contact<const D: usize>(
     limit: f64,
 ) -> (f64, u32) {
     #[cfg(target_arch = "x86_64")]
-    if candidates.len() >= PACKED_MIN && avx512::usable(grains) {
-        #[allow(unsafe_code)]
-        // SAFETY: `usable` checked the processor's features.
-        return unsafe {
-            if probe.wrap {
-                avx512::earliest_contact::<D, true>(grains, kind_radius, candidates, probe, limit)
-            } else {
-                avx512::earliest_contact::<D, false>(grains, kind_radius, candidates, probe, limit)
-            }
-        };
-    }
-    #[cfg(target_arch = "x86_64")]
-    if candidates.len() >= PACKED_MIN && std::arch::is_x86_feature_detected!("avx2") {
-        #[allow(unsafe_code)]
-        // SAFETY: the only requirement of a `#[target_feature]` function is that the
-        // processor has the feature, checked on the line above.
-        return unsafe {
-            if probe.wrap {
-                avx2::earliest_contact::<D, true>(grains, kind_radius, candidates, probe, limit)
-            } else {
-                avx2::earliest_contact::<D, false>(grains, kind_radius, candidates, probe, limit)
-            }
-        };
+    if candidates.len() >= PACKED_MIN {
+        if avx512::usable(grains) {
+            #[allow(unsafe_code)]
+            // SAFETY: `usable` checked the processor's features.
+            return unsafe {
+                if probe.wrap {
+                    avx512::earliest_contact::<D, true>(
+                        grains,
+                        kind_radius,
+                        candidates,
+                        probe,
+                        limit,
+                    )
+                } else {
+                    avx512::earliest_contact::<D, false>(
+                        grains,
+                        kind_radius,
+                        candidates,
+                        probe,
+                        limit,
+                    )
+                }
+            };
+        }
+        if std::arch::is_x86_feature_detected!("avx2") {
+            #[allow(unsafe_code)]
+            // SAFETY: the only requirement of a `#[target_feature]` function is that the
+            // processor has the feature, checked on the line above.
+            return unsafe {
+                if probe.wrap {
+                    avx2::earliest_contact::<D, true>(grains, kind_radius, candidates, probe, limit)
+                } else {
+                    avx2::earliest_contact::<D, false>(
+                        grains,
+                        kind_radius,
+                        candidates,
+                        probe,
+                        limit,
+                    )
+                }
+            };
+        }
     }
     earliest_contact_scalar(grains, kind_radius, candidates, probe, limit)
 }

@@ -61,7 +61,6 @@ pub enum EventKind {
 
 /// First code of the non-pair events in [`Scheduled::code`]; grain indices stay below it.
 const FIRST_SPECIAL: u32 = 1 << 31;
-
 /// Cell-crossing codes: `CROSSING + ((2 axis + upward) << HINT_BITS) + hint`, where the
 /// hint is the best pair partner of the prediction that scheduled the crossing (see
 /// [`Search::Layer`]), [`HINT_NO_PAIR`] or [`HINT_NONE`].
@@ -266,9 +265,9 @@ type Records<const D: usize> = AVec<Grain<D>, ConstAlign<RECORD_ALIGN>>;
 /// Memory layout (what `granular bench edmd` reports as bytes per particle): one
 /// `Grain` record per grain (48 bytes in 2D, 64 in 3D; the array starts at a cache-line
 /// boundary), an 8-byte scheduled event, the last partner (4), the event queue (16), the
-/// cell grid (about 12) and the grain id of each slot (4); radii and masses live in a table of grain kinds (distinct `(radius,
-/// mass, species)`), and the TC model's last-collision times are kept only when the model
-/// is on. The inverse map (slot of each id, 4 more) exists only between an output that
+/// cell grid (about 12) and the grain id of each slot (4); radii and masses live in a
+/// table of grain kinds (distinct `(radius, mass, species)`), and the TC model's
+/// last-collision times are kept only when the model is on. The inverse map (slot of each id, 4 more) exists only between an output that
 /// asks for grains by id and the next reordering.
 ///
 /// Grains are stored in cell order and re-sorted every few collisions per grain (spatial
