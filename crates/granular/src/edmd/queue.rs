@@ -127,6 +127,12 @@ impl EventQueue {
                     earliest = earliest.min(self.bucket_of(self.keys[i]));
                     i = self.next[i] as usize;
                 }
+                if earliest == i64::MAX {
+                    // The overflow list is empty: the turn's last bucket was slot 0, whose
+                    // sorting of the overflow moved its events into the buckets ahead.
+                    scanned = 0;
+                    continue;
+                }
                 self.current = earliest - 1;
                 self.sort_overflow();
                 scanned = 0;
@@ -411,6 +417,29 @@ impl EventQueue {
 mod tests {
     use super::*;
     use crate::random::{RngExt, stream};
+
+    /// An event beyond the calendar, alone in the queue, is found, also when the turn
+    /// that reaches it moves it from the overflow list into a bucket at its last step;
+    /// and the calendar stays at its time, so that an earlier event added then comes
+    /// first.
+    #[test]
+    fn finds_a_lone_event_beyond_the_calendar() {
+        for n in [2, 64, 257] {
+            let mut q = EventQueue::new(n);
+            let span = q.nb as f64 * q.width;
+            for key in [0.5 * span, 1.27 * span, 1.5 * span, 2.0 * span, 37.3 * span] {
+                q.rebuild(0.0);
+                q.update(0, key);
+                assert_eq!(q.min(), Some((0, key)), "n = {n}, key = {key}");
+                let earlier = key * 0.999;
+                q.update(n - 1, earlier);
+                assert_eq!(q.min(), Some((n - 1, earlier)), "n = {n}, key = {key}");
+                q.update(0, f64::INFINITY);
+                q.update(n - 1, f64::INFINITY);
+                assert_eq!(q.min(), None);
+            }
+        }
+    }
 
     /// Random updates (earlier, later, infinite keys) interleaved with processing the
     /// minimum and moving time forward, as the engine does, checked against a brute-force
