@@ -3,9 +3,9 @@
 //! time.
 //!
 //! Time is cut into buckets of equal width. Events of the current bucket sit in a small
-//! binary heap (about a dozen entries), events of the next `nb - 1` buckets in unsorted
-//! doubly linked lists, one per bucket, and later events in an overflow list that is
-//! sorted into buckets once per turn of the calendar. Insertion and removal are O(1); the
+//! binary heap (a few entries), events of the next `nb - 1` buckets in unsorted doubly
+//! linked lists, one per bucket, and later events in an overflow list that is sorted
+//! into buckets once per turn of the calendar. Insertion and removal are O(1); the
 //! minimum is the top of the small heap. A binary heap over all N particles costs
 //! `log2 N` cache misses per update at N = 10^6; this costs about two.
 //!
@@ -31,14 +31,28 @@ const IN_HEAP: u32 = u32::MAX;
 /// `prev` of a particle with no finite event (key `+inf`): it is in no list.
 const PARKED: u32 = u32::MAX - 1;
 
+/// Buckets per particle below [`LOOK_AHEAD_MIN_GRAINS`] (rounded up to a power of two),
+/// where everything fits in cache: with about two events in the current bucket's heap
+/// instead of ten, 2D 10^4 ran 2-6 % faster in one process (`docs/performance.md`). Above
+/// it [`BUCKETS_PER_PARTICLE_LARGE`]: the larger bucket array measured 6-8 % slower
+/// there (2D 10^6, 3D 10^5).
+const BUCKETS_PER_PARTICLE_SMALL: f64 = 0.5;
+/// Buckets per particle from [`LOOK_AHEAD_MIN_GRAINS`] on.
+const BUCKETS_PER_PARTICLE_LARGE: f64 = 0.25;
+
 /// Calendar queue over particle indices `0..n`, ordered by `keys[i]`.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct EventQueue {
     /// Event time of each particle (`+inf`: none).
     keys: Vec<f64>,
-    /// Circular doubly linked lists; indices `n..n + nb` are the bucket sentinels and
-    /// `n + nb` the overflow sentinel.
+    /// The lists' forward links: `next[i]` for particle `i < n`, then the first element
+    /// of each bucket's list (`n..n + nb`) and of the overflow list (`n + nb`); `n` ends
+    /// a list. A bucket costs these 4 bytes only (no sentinel with its own back link),
+    /// which is what lets small systems have one bucket for every two particles within
+    /// the memory budget.
     next: Vec<u32>,
+    /// The back links of particles `0..n`: the element before, or the index in `next`
+    /// of the list's head; `prev[n]` is a scratch slot that the end of a list writes.
     prev: Vec<u32>,
     /// Particles of the current bucket, a binary min-heap by key.
     heap: Vec<u32>,
@@ -61,11 +75,18 @@ pub struct EventQueue {
 impl EventQueue {
     /// A queue of `n` particles, all with key `+inf`.
     pub fn new(n: usize) -> Self {
-        let nb = (n / 4).next_power_of_two().max(16);
+        let per_particle = if n < LOOK_AHEAD_MIN_GRAINS {
+            BUCKETS_PER_PARTICLE_SMALL
+        } else {
+            BUCKETS_PER_PARTICLE_LARGE
+        };
+        let nb = ((n as f64 * per_particle) as usize)
+            .next_power_of_two()
+            .max(16);
         let mut q = Self {
             keys: vec![f64::INFINITY; n],
             next: vec![0; n + nb + 1],
-            prev: vec![PARKED; n + nb + 1],
+            prev: vec![PARKED; n + 1],
             heap: Vec::new(),
             n,
             nb,
@@ -80,15 +101,21 @@ impl EventQueue {
         q
     }
 
+    /// The index that ends a list.
+    #[inline(always)]
+    fn end(&self) -> usize {
+        self.n
+    }
+
     fn reset_lists(&mut self) {
-        for s in self.n..self.n + self.nb + 1 {
-            self.next[s] = s as u32;
-            self.prev[s] = s as u32;
+        let end = self.end() as u32;
+        for h in self.n..self.n + self.nb + 1 {
+            self.next[h] = end;
         }
         for i in 0..self.n {
             self.prev[i] = PARKED;
         }
-        // The heap holds about a dozen entries; drop any capacity left from a transient.
+        // The heap holds a few entries; drop any capacity left from a transient.
         self.heap = Vec::with_capacity(64);
         self.linked = 0;
     }
@@ -121,9 +148,8 @@ impl EventQueue {
                 // A whole turn of empty buckets: every event is in the overflow list.
                 // Jump to the earliest.
                 let mut earliest = i64::MAX;
-                let sentinel = self.n + self.nb;
-                let mut i = self.next[sentinel] as usize;
-                while i != sentinel {
+                let mut i = self.next[self.n + self.nb] as usize;
+                while i != self.end() {
                     earliest = earliest.min(self.bucket_of(self.keys[i]));
                     i = self.next[i] as usize;
                 }
@@ -144,16 +170,15 @@ impl EventQueue {
             if slot == 0 {
                 self.sort_overflow();
             }
-            let sentinel = self.n + slot;
-            let mut i = self.next[sentinel] as usize;
-            while i != sentinel {
+            let head = self.n + slot;
+            let mut i = self.next[head] as usize;
+            while i != self.end() {
                 let after = self.next[i] as usize;
                 self.linked -= 1;
                 self.heap_push(i);
                 i = after;
             }
-            self.next[sentinel] = sentinel as u32;
-            self.prev[sentinel] = sentinel as u32;
+            self.next[head] = self.end() as u32;
             if self.n >= LOOK_AHEAD_MIN_GRAINS {
                 let following = self.n + self.slot_of(self.current + 1);
                 self.ahead = self.next[following];
@@ -226,8 +251,8 @@ impl EventQueue {
     }
 
     /// Re-sorts every particle with the bucket width adapted to the pending events: the
-    /// calendar spans four times their mean distance from `now`, so that a bucket holds
-    /// about 16 events and few fall in the overflow list.
+    /// calendar spans four times their mean distance from `now`, so that few fall in the
+    /// overflow list.
     pub fn rebuild(&mut self, now: f64) {
         let (mut sum, mut count) = (0.0, 0usize);
         for &k in &self.keys {
@@ -320,11 +345,10 @@ impl EventQueue {
 
     /// Moves the overflow events that now fall within the calendar into their buckets.
     fn sort_overflow(&mut self) {
-        let sentinel = self.n + self.nb;
-        let mut i = self.next[sentinel] as usize;
-        self.next[sentinel] = sentinel as u32;
-        self.prev[sentinel] = sentinel as u32;
-        while i != sentinel {
+        let head = self.n + self.nb;
+        let mut i = self.next[head] as usize;
+        self.next[head] = self.end() as u32;
+        while i != self.end() {
             let after = self.next[i] as usize;
             self.linked -= 1;
             self.insert(i);
@@ -332,13 +356,15 @@ impl EventQueue {
         }
     }
 
+    /// Puts particle `i` first in the list whose head is `next[head]`.
     #[inline(always)]
-    fn link(&mut self, sentinel: usize, i: usize) {
-        let first = self.next[sentinel];
+    fn link(&mut self, head: usize, i: usize) {
+        let first = self.next[head];
         self.next[i] = first;
-        self.prev[i] = sentinel as u32;
+        self.prev[i] = head as u32;
+        // At the end of a list, `first` is `n`: the scratch slot.
         self.prev[first as usize] = i as u32;
-        self.next[sentinel] = i as u32;
+        self.next[head] = i as u32;
     }
 
     #[inline(always)]

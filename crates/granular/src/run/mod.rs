@@ -33,8 +33,9 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// Version of the checkpoint format; bumped when the state layout changes (3: the event
-/// codes of cell crossings carry the partner bound of the cheap crossing).
-pub const CHECKPOINT_FORMAT: u32 = 3;
+/// codes of cell crossings carry the partner bound of the cheap crossing; 4: the event
+/// queue's bucket lists end at an index instead of a sentinel).
+pub const CHECKPOINT_FORMAT: u32 = 4;
 
 /// Why a run failed.
 #[derive(Debug, thiserror::Error)]
