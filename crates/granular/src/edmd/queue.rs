@@ -32,10 +32,10 @@ const IN_HEAP: u32 = u32::MAX;
 const PARKED: u32 = u32::MAX - 1;
 
 /// Buckets per particle below [`LOOK_AHEAD_MIN_GRAINS`] (rounded up to a power of two),
-/// where everything fits in cache: with about two events in the current bucket's heap
-/// instead of ten, 2D 10^4 ran 2-6 % faster in one process (`docs/performance.md`). Above
-/// it [`BUCKETS_PER_PARTICLE_LARGE`]: the larger bucket array measured 6-8 % slower
-/// there (2D 10^6, 3D 10^5).
+/// where everything fits in cache: with half as many events in the current bucket's heap
+/// as with [`BUCKETS_PER_PARTICLE_LARGE`], 2D 10^4 ran 3-5 % faster in one process
+/// (`docs/performance.md`). Above it, more buckets than that measured 4-8 % slower (2D
+/// 10^6, 3D 10^5).
 const BUCKETS_PER_PARTICLE_SMALL: f64 = 0.5;
 /// Buckets per particle from [`LOOK_AHEAD_MIN_GRAINS`] on.
 const BUCKETS_PER_PARTICLE_LARGE: f64 = 0.25;
