@@ -1,4 +1,4 @@
-//! The event queue: a calendar queue (Paul, J. Comput. Phys. 221, 615 (2007)) holding
+//! A calendar queue (Paul, J. Comput. Phys. 221, 615 (2007)) holding
 //! exactly one entry per particle (the earliest event predicted for it), keyed by event
 //! time.
 //!
@@ -13,17 +13,12 @@
 //! speed and needs decrease/increase-key on particle indices, which no general-purpose
 //! priority queue offers.
 //!
-//! The bucket width adapts to the dynamics: [`EventQueue::rebuild`] (called by the engine
+//! The bucket width adapts to the dynamics: [`CalendarQueue::rebuild`] (called by the engine
 //! every few collisions per particle) sets it from the mean time to the pending events.
 
-use super::prefetch::prefetch_all;
+use super::LOOK_AHEAD_MIN_GRAINS;
+use crate::edmd::prefetch::prefetch_all;
 use serde::{Deserialize, Serialize};
-
-/// Grains from which the queue (and the engine) look ahead at the events to come and
-/// prefetch what they will read ([`EventQueue::ahead`]). Below it everything fits in the
-/// processor's second-level cache and the look-ahead measured 3 % slower (2D, 10^4
-/// grains); above it, 8-29 % faster (2D and 3D, 10^5 and 10^6 grains).
-pub const LOOK_AHEAD_MIN_GRAINS: usize = 1 << 15;
 
 /// `prev` of a particle whose entry is in the current-bucket heap (`next` then holds its
 /// heap position).
@@ -31,18 +26,15 @@ const IN_HEAP: u32 = u32::MAX;
 /// `prev` of a particle with no finite event (key `+inf`): it is in no list.
 const PARKED: u32 = u32::MAX - 1;
 
-/// Buckets per particle below [`LOOK_AHEAD_MIN_GRAINS`] (rounded up to a power of two),
-/// where everything fits in cache: with half as many events in the current bucket's heap
-/// as with [`BUCKETS_PER_PARTICLE_LARGE`], 2D 10^4 ran 3-5 % faster in one process
-/// (`docs/performance.md`). Above it, more buckets than that measured 4-8 % slower (2D
-/// 10^6, 3D 10^5).
-const BUCKETS_PER_PARTICLE_SMALL: f64 = 0.5;
-/// Buckets per particle from [`LOOK_AHEAD_MIN_GRAINS`] on.
-const BUCKETS_PER_PARTICLE_LARGE: f64 = 0.25;
+/// Buckets per particle (rounded up to a power of two). The engine uses the calendar
+/// from [`super::TOURNAMENT_MAX_GRAINS`] on, where more buckets than this measured 4-8 %
+/// slower (2D 10^6, 3D 10^5); with everything in cache (10^4 grains) N/2 buckets had run
+/// 3-5 % faster (`docs/performance.md`).
+const BUCKETS_PER_PARTICLE: f64 = 0.25;
 
 /// Calendar queue over particle indices `0..n`, ordered by `keys[i]`.
 #[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct EventQueue {
+pub struct CalendarQueue {
     /// Event time of each particle (`+inf`: none).
     keys: Vec<f64>,
     /// The lists' forward links: `next[i]` for particle `i < n`, then the first element
@@ -67,20 +59,15 @@ pub struct EventQueue {
     current: i64,
     /// Particles in bucket lists or in the overflow list.
     linked: usize,
-    /// Look-ahead cursor in the next bucket's list (a hint only: see [`EventQueue::min`]).
+    /// Look-ahead cursor in the next bucket's list (a hint only: see [`CalendarQueue::min`]).
     #[serde(skip)]
     ahead: u32,
 }
 
-impl EventQueue {
+impl CalendarQueue {
     /// A queue of `n` particles, all with key `+inf`.
     pub fn new(n: usize) -> Self {
-        let per_particle = if n < LOOK_AHEAD_MIN_GRAINS {
-            BUCKETS_PER_PARTICLE_SMALL
-        } else {
-            BUCKETS_PER_PARTICLE_LARGE
-        };
-        let nb = ((n as f64 * per_particle) as usize)
+        let nb = ((n as f64 * BUCKETS_PER_PARTICLE) as usize)
             .next_power_of_two()
             .max(16);
         let mut q = Self {
@@ -451,7 +438,7 @@ mod tests {
     #[test]
     fn finds_a_lone_event_beyond_the_calendar() {
         for n in [2, 64, 257] {
-            let mut q = EventQueue::new(n);
+            let mut q = CalendarQueue::new(n);
             let span = q.nb as f64 * q.width;
             for key in [0.5 * span, 1.27 * span, 1.5 * span, 2.0 * span, 37.3 * span] {
                 q.rebuild(0.0);
@@ -474,7 +461,7 @@ mod tests {
     fn always_returns_the_minimum() {
         let mut rng = stream(3, &[0]);
         let n = 257;
-        let mut q = EventQueue::new(n);
+        let mut q = CalendarQueue::new(n);
         let mut keys = vec![f64::INFINITY; n];
         let mut now = 0.0;
         for step in 0..50_000 {
