@@ -611,14 +611,15 @@ fn large_projectile_in_a_bed_of_small_grains() {
     );
 }
 
-/// Systems above `LOOK_AHEAD_MIN_GRAINS` prefetch the events to come (hints that must
-/// never change the result): the trajectory of a large gas is exact (energy to round-off,
-/// no overlap) and the same whether it runs in one call or in many small ones.
+/// Systems above `TOURNAMENT_MAX_GRAINS` use the calendar queue, which from
+/// `LOOK_AHEAD_MIN_GRAINS` on prefetches the events to come (hints that must never change
+/// the result): the trajectory of a large gas is exact (energy to round-off, no overlap)
+/// and the same whether it runs in one call or in many small ones.
 #[test]
 fn large_systems_with_look_ahead_stay_exact_and_reproducible() {
     use granular::edmd::bench::{advance_collisions, equilibrated_fluid};
-    use granular::edmd::queue::LOOK_AHEAD_MIN_GRAINS;
-    let n = LOOK_AHEAD_MIN_GRAINS + 1000;
+    use granular::edmd::queue::{LOOK_AHEAD_MIN_GRAINS, TOURNAMENT_MAX_GRAINS};
+    let n = TOURNAMENT_MAX_GRAINS.max(LOOK_AHEAD_MIN_GRAINS) + 1000;
     let mut a = equilibrated_fluid::<2>(n, 0.6, 3).expect("bench state");
     let mut b = a.clone();
     let e0 = a.kinetic_energy_now();
