@@ -264,9 +264,10 @@ type Records<const D: usize> = AVec<Grain<D>, ConstAlign<RECORD_ALIGN>>;
 ///
 /// Memory layout (what `granular bench edmd` reports as bytes per particle): one
 /// `Grain` record per grain (48 bytes in 2D, 64 in 3D; the array starts at a cache-line
-/// boundary), an 8-byte scheduled event, the last partner (4), the event queue (16, and
-/// 4 per calendar bucket: 1.0-3.3 per grain), the cell grid (about 12) and the grain id
-/// of each slot (4); radii and masses live in a table of grain kinds (distinct `(radius,
+/// boundary), an 8-byte scheduled event, the last partner (4), the event queue (below
+/// 2^16 grains a tournament tree, 8 plus 4-8 for the winners; from there on a calendar,
+/// 16 plus 4 per bucket, 1.0-2.0 per grain), the cell grid (about 12) and the grain id of
+/// each slot (4); radii and masses live in a table of grain kinds (distinct `(radius,
 /// mass, species)`), and the TC model's last-collision times are kept only when the model
 /// is on. The inverse map (slot of each id, 4 more) exists only between an output that
 /// asks for grains by id and the next reordering.
