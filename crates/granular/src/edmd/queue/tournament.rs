@@ -140,12 +140,8 @@ impl TournamentQueue {
             // A sibling on the other path was stored just above.
             let (si, sj) = (winner[(ni ^ 1) & mask], winner[(nj ^ 1) & mask]);
             let (rsi, rsj) = (self.keys[si as usize], self.keys[sj as usize]);
-            let si_first = first(rsi, si, ri, wi);
-            let sj_first = first(rsj, sj, rj, wj);
-            wi = std::hint::select_unpredictable(si_first, si, wi);
-            ri = std::hint::select_unpredictable(si_first, rsi, ri);
-            wj = std::hint::select_unpredictable(sj_first, sj, wj);
-            rj = std::hint::select_unpredictable(sj_first, rsj, rj);
+            (wi, ri) = play(wi, ri, si, rsi);
+            (wj, rj) = play(wj, rj, sj, rsj);
             ni >>= 1;
             nj >>= 1;
         }
@@ -158,12 +154,7 @@ impl TournamentQueue {
     #[inline(always)]
     fn leaf_match(&self, i: usize, rank: u64) -> (u32, u64) {
         let s = (i ^ 1).min(self.len()) as u32;
-        let rs = self.keys[s as usize];
-        let s_first = first(rs, s, rank, i as u32);
-        (
-            std::hint::select_unpredictable(s_first, s, i as u32),
-            std::hint::select_unpredictable(s_first, rs, rank),
-        )
+        play(i as u32, rank, s, self.keys[s as usize])
     }
 
     /// Stores `w` (of rank `rw`) as the winner of inner node `node` and replays the
@@ -176,10 +167,7 @@ impl TournamentQueue {
         winner[node & mask] = w;
         while node > 1 {
             let s = winner[(node ^ 1) & mask];
-            let rs = self.keys[s as usize];
-            let s_first = first(rs, s, rw, w);
-            w = std::hint::select_unpredictable(s_first, s, w);
-            rw = std::hint::select_unpredictable(s_first, rs, rw);
+            (w, rw) = play(w, rw, s, self.keys[s as usize]);
             node >>= 1;
             winner[node & mask] = w;
         }
@@ -225,6 +213,17 @@ fn ordered(key: f64) -> u64 {
 #[inline(always)]
 fn from_ordered(rank: u64) -> f64 {
     f64::from_bits(rank ^ ((((!rank) as i64 >> 63) as u64) | (1 << 63)))
+}
+
+/// One match: the winner of particle `w` (of rank `rw`) against `s` (of rank `rs`), and
+/// its rank, by selects (no branch).
+#[inline(always)]
+fn play(w: u32, rw: u64, s: u32, rs: u64) -> (u32, u64) {
+    let s_first = first(rs, s, rw, w);
+    (
+        std::hint::select_unpredictable(s_first, s, w),
+        std::hint::select_unpredictable(s_first, rs, rw),
+    )
 }
 
 /// Whether `(ka, a)` comes before `(kb, b)`, without a branch.
