@@ -16,11 +16,12 @@ pub use calendar::CalendarQueue;
 use serde::{Deserialize, Serialize};
 pub use tournament::TournamentQueue;
 
-/// Grains from which the engine uses the calendar queue: below, the tournament tree
-/// (under 800 kB) stays in the processor's second-level cache, and
-/// it ran faster than the calendar in one process by 8-18 % at 2D 10^3-6 x 10^4 grains
-/// (φ = 0.2-0.7) and 2 % at 3D 10^4-3 x 10^4; at 2D 10^5 they were level, at 3D 6 x 10^4
-/// -1 % and 3D 10^5 -6 % (there the calendar's look-ahead pays).
+/// Grains from which the engine uses the calendar queue. Below, the tournament tree (at
+/// most 800 kB) stays in the second-level cache of the machine we measured on, and in one
+/// process it ran faster than the calendar by 8-18 % at 2D 10^3-6 x 10^4 grains (φ = 0.2
+/// and 0.7), 4 % at 2D 8 x 10^4 and 2 % at 3D 10^4-3 x 10^4; at 2D 10^5 it was level or
+/// up to 3.5 % slower, at 3D 6 x 10^4 1 % and at 3D 10^5 6 % slower (there the calendar's
+/// look-ahead pays).
 pub const TOURNAMENT_MAX_GRAINS: usize = 1 << 16;
 
 /// Grains from which the calendar queue (and the engine) look ahead at the events to

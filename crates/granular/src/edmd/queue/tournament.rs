@@ -229,8 +229,9 @@ fn play(w: u32, rw: u64, s: u32, rs: u64) -> (u32, u64) {
 /// Whether `(ka, a)` comes before `(kb, b)`, without a branch.
 #[inline(always)]
 fn first(ka: u64, a: u32, kb: u64, b: u32) -> bool {
-    // `ka < kb || (ka == kb && a < b)` (`a != b`) in a shorter chain of dependent
-    // instructions: an add with carry and a comparison.
+    // `ka < kb || (ka == kb && a < b)` in a shorter chain of dependent instructions: an
+    // add with carry and a comparison (which would wrap only at `kb == u64::MAX`, the
+    // rank of a NaN with every bit set, which no event time is).
     ka < kb.wrapping_add((a < b) as u64)
 }
 
