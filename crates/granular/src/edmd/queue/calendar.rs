@@ -39,9 +39,7 @@ pub struct CalendarQueue {
     keys: Vec<f64>,
     /// The lists' forward links: `next[i]` for particle `i < n`, then the first element
     /// of each bucket's list (`n..n + nb`) and of the overflow list (`n + nb`); `n` ends
-    /// a list. A bucket costs these 4 bytes only (no sentinel with its own back link),
-    /// which is what lets small systems have one bucket for every two particles within
-    /// the memory budget.
+    /// a list. A bucket costs these 4 bytes only (no sentinel with its own back link).
     next: Vec<u32>,
     /// The back links of particles `0..n`: the element before, or the index in `next`
     /// of the list's head; `prev[n]` is a scratch slot that the end of a list writes.
@@ -266,11 +264,7 @@ impl CalendarQueue {
     /// Relabels the particles: particle `i` becomes `new_of_old[i]`; rebuilds the
     /// calendar at the current time `now`.
     pub fn relabel(&mut self, new_of_old: &[u32], now: f64) {
-        let mut keys = vec![0.0; self.n];
-        for (i, &j) in new_of_old.iter().enumerate() {
-            keys[j as usize] = self.keys[i];
-        }
-        self.keys = keys;
+        self.keys = super::permuted(&self.keys, new_of_old);
         self.rebuild(now);
     }
 

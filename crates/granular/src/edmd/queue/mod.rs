@@ -30,6 +30,15 @@ pub const TOURNAMENT_MAX_GRAINS: usize = 1 << 16;
 /// (2D, 10^4 grains); above it, 8-29 % faster (2D and 3D, 10^5 and 10^6 grains).
 pub const LOOK_AHEAD_MIN_GRAINS: usize = 1 << 15;
 
+/// `values` relabelled: the value of particle `i` goes to `new_of_old[i]`.
+fn permuted<T: Copy + Default>(values: &[T], new_of_old: &[u32]) -> Vec<T> {
+    let mut out = vec![T::default(); values.len()];
+    for (&v, &j) in values.iter().zip(new_of_old) {
+        out[j as usize] = v;
+    }
+    out
+}
+
 /// The engine's event queue: a tournament tree below [`TOURNAMENT_MAX_GRAINS`]
 /// particles, a calendar queue from there on. Both order events by `(time, particle)`,
 /// so the choice never changes a trajectory.

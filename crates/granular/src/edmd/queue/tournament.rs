@@ -71,8 +71,7 @@ impl TournamentQueue {
     /// The better of two particles: the lesser key, ties to the lower index.
     #[inline(always)]
     fn better(&self, a: u32, b: u32) -> u32 {
-        let b_first = first(self.keys[b as usize], b, self.keys[a as usize], a);
-        std::hint::select_unpredictable(b_first, b, a)
+        play(a, self.keys[a as usize], b, self.keys[b as usize]).0
     }
 
     /// Recomputes every node's winner from the leaves up.
@@ -185,10 +184,9 @@ impl TournamentQueue {
 
     /// Relabels the particles: particle `i` becomes `new_of_old[i]`.
     pub fn relabel(&mut self, new_of_old: &[u32]) {
-        let mut keys = self.keys.clone();
-        for (i, &j) in new_of_old.iter().enumerate() {
-            keys[j as usize] = self.keys[i];
-        }
+        let n = self.len();
+        let mut keys = super::permuted(&self.keys[..n], new_of_old);
+        keys.push(self.keys[n]);
         self.keys = keys;
         self.replay_all();
     }
