@@ -185,9 +185,10 @@ impl TournamentQueue {
     /// Relabels the particles: particle `i` becomes `new_of_old[i]`.
     pub fn relabel(&mut self, new_of_old: &[u32]) {
         let n = self.len();
-        let mut keys = super::permuted(&self.keys[..n], new_of_old);
-        keys.push(self.keys[n]);
-        self.keys = keys;
+        // Copied back into the same buffer: a fresh vector of `n` with the sentinel
+        // pushed would double its capacity (8 bytes per particle more).
+        let keys = super::permuted(&self.keys[..n], new_of_old);
+        self.keys[..n].copy_from_slice(&keys);
         self.replay_all();
     }
 
