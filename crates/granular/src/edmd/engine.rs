@@ -247,7 +247,8 @@ struct CollapseWatch {
     window_start_time: f64,
 }
 
-/// Events per collapse-detector window.
+/// Events per collapse-detector window in systems of up to 2^14 grains; larger ones
+/// watch over 4 events per grain ([`Edmd::collapse_window`]).
 const COLLAPSE_WINDOW: u64 = 1 << 16;
 
 /// Alignment of the grain records in bytes: one cache line, so that a 64-byte sphere
@@ -1093,6 +1094,7 @@ impl<const D: usize> Edmd<D> {
         if let Some(e) = self.event.get(*coming) {
             if e.code < FIRST_SPECIAL {
                 prefetch_all(&self.grains, &[e.code]);
+                prefetch_all(&self.last_collision, &[e.code]);
                 self.queue.prefetch_links(e.code);
                 if D == 2 {
                     self.cells.prefetch_cell_index(e.code as usize);
@@ -1104,6 +1106,7 @@ impl<const D: usize> Edmd<D> {
             Some(h) => {
                 prefetch_all(&self.grains, &[h as u32]);
                 prefetch_all(&self.event, &[h as u32]);
+                prefetch_all(&self.last_collision, &[h as u32]);
                 self.cells.prefetch_cell_index(h);
                 h
             }
@@ -1241,9 +1244,17 @@ impl<const D: usize> Edmd<D> {
         }
     }
 
+    /// Events per collapse-detector window: at least 4 per grain, because each check
+    /// reads every grain (the kinetic energy and the total mass). With a fixed 2^16, 10^6
+    /// inelastic disks spent 14 % of their time on those reads and the cache misses after
+    /// them.
+    fn collapse_window(&self) -> u64 {
+        COLLAPSE_WINDOW.max(4 * self.len() as u64)
+    }
+
     fn check_collapse(&mut self) -> Result<(), EngineError> {
         let events = self.totals.events - self.collapse.window_start_events;
-        if events < COLLAPSE_WINDOW {
+        if events < self.collapse_window() {
             return Ok(());
         }
         let elapsed = self.now - self.collapse.window_start_time;
