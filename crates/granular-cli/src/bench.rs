@@ -1,7 +1,7 @@
 //! `granular bench`: collisions per second on standard cases, from equilibrated states.
 
 use clap::Subcommand;
-use granular::edmd::bench::{advance_collisions, equilibrated_fluid};
+use granular::edmd::bench::{FluidCase, advance_collisions, fluid};
 use granular::engine::Engine;
 use std::time::Instant;
 
@@ -34,7 +34,8 @@ pub enum BenchCommand {
         #[arg(long)]
         json: bool,
     },
-    /// Event-driven engine: elastic grains in a periodic box, collisions per CPU second.
+    /// Event-driven engine: elastic grains in a periodic box (or walls, inelastic
+    /// collisions, two kinds of grains), collisions per CPU second.
     Edmd {
         /// Only this dimension (2 or 3).
         #[arg(long)]
@@ -48,6 +49,19 @@ pub enum BenchCommand {
         /// Collisions per grain to measure over (after equilibration).
         #[arg(long, default_value_t = 50.0)]
         collisions_per_particle: f64,
+        /// Hard walls on every face instead of a periodic box.
+        #[arg(long)]
+        walls: bool,
+        /// Restitution of pair and wall collisions, in [0, 1]; below 1 with the TC model
+        /// (contact duration 10^-3 mean free times).
+        #[arg(long, default_value_t = 1.0)]
+        restitution: f64,
+        /// Radius of half of the grains over the other half's (a 50:50 size mixture).
+        #[arg(long, default_value_t = 1.0)]
+        size_ratio: f64,
+        /// Mass of half of the grains over the other half's (a 50:50 mass mixture).
+        #[arg(long, default_value_t = 1.0)]
+        mass_ratio: f64,
         /// One JSON object per case on standard output.
         #[arg(long)]
         json: bool,
@@ -138,8 +152,24 @@ pub fn run(cmd: BenchCommand) -> Result<(), String> {
             n,
             packing_fraction,
             collisions_per_particle,
+            walls,
+            restitution,
+            size_ratio,
+            mass_ratio,
             json,
         } => {
+            if !(0.0..=1.0).contains(&restitution) {
+                return Err(format!(
+                    "--restitution {restitution}: the restitution must lie in [0, 1] (1: elastic)"
+                ));
+            }
+            for (flag, value) in [("--size-ratio", size_ratio), ("--mass-ratio", mass_ratio)] {
+                if !(value.is_finite() && value > 0.0) {
+                    return Err(format!(
+                        "{flag} {value}: give a positive ratio (1: one kind of grain)"
+                    ));
+                }
+            }
             let mut cases: Vec<(usize, usize, f64, f64)> = CASES
                 .iter()
                 .copied()
@@ -157,11 +187,24 @@ pub fn run(cmd: BenchCommand) -> Result<(), String> {
                 ));
             }
             for (d, n, phi, reference) in cases {
+                let fluid_case = FluidCase {
+                    walls,
+                    restitution,
+                    size_ratio,
+                    mass_ratio,
+                    ..FluidCase::standard(n, phi)
+                };
                 let mut r = match d {
-                    2 => case::<2>(n, phi, collisions_per_particle),
-                    3 => case::<3>(n, phi, collisions_per_particle),
+                    2 => case::<2>(&fluid_case, collisions_per_particle),
+                    3 => case::<3>(&fluid_case, collisions_per_particle),
                     _ => return Err(format!("--dimension {d}: use 2 or 3")),
                 }?;
+                // The reference figures are for the standard case only.
+                let reference = if fluid_case.is_standard() {
+                    reference
+                } else {
+                    f64::NAN
+                };
                 if reference.is_finite() {
                     r["reference_collisions_per_second"] = reference.into();
                 }
@@ -169,14 +212,19 @@ pub fn run(cmd: BenchCommand) -> Result<(), String> {
                     println!("{}", serde_json::to_string(&r).unwrap_or_default());
                 } else {
                     println!(
-                        "edmd {}D N = {:>8} phi = {:.2}: {:.3e} collisions/s, {:.3e} events/s (per CPU second), {:.0} bytes/particle, reference {:.1e} (setup {:.1} s)",
+                        "edmd {}D N = {:>8} phi = {:.2}{}: {:.3e} collisions/s, {:.3e} events/s (per CPU second), {:.0} bytes/particle{} (setup {:.1} s)",
                         r["dimension"],
                         r["n"],
                         r["packing_fraction"].as_f64().unwrap_or(0.0),
+                        describe(&fluid_case),
                         r["collisions_per_second"].as_f64().unwrap_or(0.0),
                         r["events_per_second"].as_f64().unwrap_or(0.0),
                         r["bytes_per_particle"].as_f64().unwrap_or(0.0),
-                        reference,
+                        if reference.is_finite() {
+                            format!(", reference {reference:.1e}")
+                        } else {
+                            String::new()
+                        },
                         r["setup_seconds"].as_f64().unwrap_or(0.0)
                     );
                 }
@@ -187,9 +235,10 @@ pub fn run(cmd: BenchCommand) -> Result<(), String> {
 }
 
 /// Times one case from the library's equilibrated fluid (`granular::edmd::bench`).
-fn case<const D: usize>(n: usize, phi: f64, cpp: f64) -> Result<serde_json::Value, String> {
+fn case<const D: usize>(c: &FluidCase, cpp: f64) -> Result<serde_json::Value, String> {
+    let (n, phi) = (c.n, c.packing_fraction);
     let setup = Instant::now();
-    let mut e = equilibrated_fluid::<D>(n, phi, 2024).map_err(|e| e.to_string())?;
+    let mut e = fluid::<D>(c, 2024).map_err(|e| e.to_string())?;
     let setup_seconds = setup.elapsed().as_secs_f64();
     let (c0, ev0) = (e.collisions(), e.events());
     let start = Instant::now();
@@ -216,7 +265,29 @@ fn case<const D: usize>(n: usize, phi: f64, cpp: f64) -> Result<serde_json::Valu
         "collisions_per_second": collisions as f64 / secs,
         "events_per_second": events as f64 / secs,
         "bytes_per_particle": e.memory_bytes() as f64 / n as f64,
+        "walls": c.walls,
+        "restitution": c.restitution,
+        "size_ratio": c.size_ratio,
+        "mass_ratio": c.mass_ratio,
         "setup_seconds": setup_seconds,
         "threads": 1,
     }))
+}
+
+/// What sets a case apart from the standard one, for the text output (empty for it).
+fn describe(c: &FluidCase) -> String {
+    let mut out = String::new();
+    if c.walls {
+        out.push_str(", walls");
+    }
+    if c.restitution != 1.0 {
+        out.push_str(&format!(", restitution {} (TC)", c.restitution));
+    }
+    if c.size_ratio != 1.0 {
+        out.push_str(&format!(", size ratio {}", c.size_ratio));
+    }
+    if c.mass_ratio != 1.0 {
+        out.push_str(&format!(", mass ratio {}", c.mass_ratio));
+    }
+    out
 }

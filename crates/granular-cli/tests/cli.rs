@@ -153,8 +153,56 @@ fn bench_prints_one_json_object_per_case() {
         "packing_fraction",
         "collisions_per_second",
         "bytes_per_particle",
+        "walls",
+        "restitution",
+        "size_ratio",
+        "mass_ratio",
     ] {
         assert!(v.get(key).is_some(), "{key} missing in {v}");
+    }
+}
+
+#[test]
+fn bench_runs_the_general_cases_and_refuses_bad_ones() {
+    let args = [
+        "bench",
+        "edmd",
+        "--dimension",
+        "2",
+        "--n",
+        "1000",
+        "--packing-fraction",
+        "0.7",
+        "--collisions-per-particle",
+        "5",
+        "--json",
+    ];
+    let out = granular()
+        .args(args)
+        .args(["--walls", "--restitution", "0.8", "--size-ratio", "1.4"])
+        .args(["--mass-ratio", "3"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value =
+        serde_json::from_str(String::from_utf8_lossy(&out.stdout).trim()).unwrap();
+    assert_eq!(v["walls"], true);
+    assert_eq!(v["restitution"], 0.8);
+    assert_eq!(v["size_ratio"], 1.4);
+    assert_eq!(v["mass_ratio"], 3.0);
+    for (flag, value) in [
+        ("--restitution", "1.5"),
+        ("--size-ratio", "0"),
+        ("--mass-ratio", "0"),
+    ] {
+        let out = granular().args(args).args([flag, value]).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success());
+        assert!(err.contains(flag) && err.contains(value), "{err}");
     }
 }
 

@@ -665,3 +665,51 @@ fn memory_stays_within_the_target_per_grain() {
     check::<2>(TOURNAMENT_MAX_GRAINS + 1000, 0.7, 100.0);
     check::<3>(TOURNAMENT_MAX_GRAINS + 1000, 0.45, 120.0);
 }
+
+/// The benchmark's general cases (`granular bench edmd --walls --restitution ...`) build
+/// what they say: no overlap, the requested packing fraction reached through compression
+/// where two sizes do not fit on a lattice, a 50:50 mixture of the two kinds, and the
+/// inelastic law with the TC model in force (energy is dissipated, none created).
+#[test]
+fn general_benchmark_states_are_what_they_say() {
+    use granular::edmd::bench::{FluidCase, advance_collisions, fluid};
+    use granular::edmd::init::packing_fraction;
+    fn check<const D: usize>(n: usize, phi: f64) {
+        let case = FluidCase {
+            walls: true,
+            restitution: 0.9,
+            size_ratio: 1.4,
+            mass_ratio: 4.0,
+            ..FluidCase::standard(n, phi)
+        };
+        assert!(!case.is_standard());
+        let mut e = fluid::<D>(&case, 5).expect("bench state");
+        assert!(e.max_overlap() < 1e-12, "overlap {}", e.max_overlap());
+        let reached = packing_fraction::<D>(&e.radii(), e.simulation_box().volume());
+        assert!((reached - phi).abs() < 1e-9 * phi, "{D}D: phi {reached}");
+        let radii = e.radii();
+        let r_min = radii.iter().cloned().fold(f64::INFINITY, f64::min);
+        let large = radii.iter().filter(|&&r| r > 1.2 * r_min).count();
+        assert_eq!(large, n / 2);
+        let heavy = e.masses().iter().filter(|&&m| m == 4.0).count();
+        assert_eq!(heavy, n / 2);
+        let law = e.collision_law();
+        assert_eq!(law.restitution, 0.9);
+        assert!(law.contact_duration > 0.0);
+        let k0 = e.kinetic_energy_now();
+        advance_collisions(&mut e, 5 * n as u64).expect("engine");
+        let k1 = e.kinetic_energy_now();
+        let dissipated = e.totals().dissipated_energy;
+        assert!(
+            dissipated > 0.1 * k0,
+            "{D}D: dissipated {dissipated} of {k0}"
+        );
+        assert!(
+            ((k0 - k1 - dissipated) / k0).abs() < 1e-9,
+            "energy bookkeeping"
+        );
+        assert!(e.max_overlap() < 1e-12, "overlap {}", e.max_overlap());
+    }
+    check::<2>(2000, 0.7);
+    check::<3>(2000, 0.45);
+}
