@@ -62,6 +62,9 @@ pub enum BenchCommand {
         /// Mass of half of the grains over the other half's (a 50:50 mass mixture).
         #[arg(long, default_value_t = 1.0)]
         mass_ratio: f64,
+        /// Gravity along the last axis, downwards (needs --walls).
+        #[arg(long, default_value_t = 0.0)]
+        gravity: f64,
         /// One JSON object per case on standard output.
         #[arg(long)]
         json: bool,
@@ -156,11 +159,22 @@ pub fn run(cmd: BenchCommand) -> Result<(), String> {
             restitution,
             size_ratio,
             mass_ratio,
+            gravity,
             json,
         } => {
             if !(0.0..=1.0).contains(&restitution) {
                 return Err(format!(
                     "--restitution {restitution}: the restitution must lie in [0, 1] (1: elastic)"
+                ));
+            }
+            if !(gravity.is_finite() && gravity >= 0.0) {
+                return Err(format!(
+                    "--gravity {gravity}: give the magnitude, a number >= 0 (it points down the last axis)"
+                ));
+            }
+            if gravity > 0.0 && !walls {
+                return Err(format!(
+                    "--gravity {gravity} needs --walls: in a periodic box the grains would fall forever"
                 ));
             }
             for (flag, value) in [("--size-ratio", size_ratio), ("--mass-ratio", mass_ratio)] {
@@ -192,6 +206,7 @@ pub fn run(cmd: BenchCommand) -> Result<(), String> {
                     restitution,
                     size_ratio,
                     mass_ratio,
+                    gravity,
                     ..FluidCase::standard(n, phi)
                 };
                 let mut r = match d {
@@ -269,6 +284,7 @@ fn case<const D: usize>(c: &FluidCase, cpp: f64) -> Result<serde_json::Value, St
         "restitution": c.restitution,
         "size_ratio": c.size_ratio,
         "mass_ratio": c.mass_ratio,
+        "gravity": c.gravity,
         "setup_seconds": setup_seconds,
         "threads": 1,
     }))
@@ -288,6 +304,9 @@ fn describe(c: &FluidCase) -> String {
     }
     if c.mass_ratio != 1.0 {
         out.push_str(&format!(", mass ratio {}", c.mass_ratio));
+    }
+    if c.gravity != 0.0 {
+        out.push_str(&format!(", gravity {}", c.gravity));
     }
     out
 }

@@ -157,6 +157,7 @@ fn bench_prints_one_json_object_per_case() {
         "restitution",
         "size_ratio",
         "mass_ratio",
+        "gravity",
     ] {
         assert!(v.get(key).is_some(), "{key} missing in {v}");
     }
@@ -180,7 +181,7 @@ fn bench_runs_the_general_cases_and_refuses_bad_ones() {
     let out = granular()
         .args(args)
         .args(["--walls", "--restitution", "0.8", "--size-ratio", "1.4"])
-        .args(["--mass-ratio", "3"])
+        .args(["--mass-ratio", "3", "--gravity", "0.1"])
         .output()
         .unwrap();
     assert!(
@@ -194,10 +195,12 @@ fn bench_runs_the_general_cases_and_refuses_bad_ones() {
     assert_eq!(v["restitution"], 0.8);
     assert_eq!(v["size_ratio"], 1.4);
     assert_eq!(v["mass_ratio"], 3.0);
+    assert_eq!(v["gravity"], 0.1);
     for (flag, value) in [
         ("--restitution", "1.5"),
         ("--size-ratio", "0"),
         ("--mass-ratio", "0"),
+        ("--gravity", "0.5"),
     ] {
         let out = granular().args(args).args([flag, value]).output().unwrap();
         let err = String::from_utf8_lossy(&out.stderr);

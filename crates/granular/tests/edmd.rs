@@ -669,7 +669,8 @@ fn memory_stays_within_the_target_per_grain() {
 /// The benchmark's general cases (`granular bench edmd --walls --restitution ...`) build
 /// what they say: no overlap, the requested packing fraction reached through compression
 /// where two sizes do not fit on a lattice, a 50:50 mixture of the two kinds, and the
-/// inelastic law with the TC model in force (energy is dissipated, none created).
+/// inelastic law with the TC model and gravity in force (energy is dissipated, and
+/// kinetic plus potential energy falls by exactly what the collisions dissipated).
 #[test]
 fn general_benchmark_states_are_what_they_say() {
     use granular::edmd::bench::{FluidCase, advance_collisions, fluid};
@@ -680,6 +681,7 @@ fn general_benchmark_states_are_what_they_say() {
             restitution: 0.9,
             size_ratio: 1.4,
             mass_ratio: 4.0,
+            gravity: 0.1,
             ..FluidCase::standard(n, phi)
         };
         assert!(!case.is_standard());
@@ -696,17 +698,25 @@ fn general_benchmark_states_are_what_they_say() {
         let law = e.collision_law();
         assert_eq!(law.restitution, 0.9);
         assert!(law.contact_duration > 0.0);
-        let k0 = e.kinetic_energy_now();
+        // Kinetic plus potential energy, the potential m g x_{D-1}.
+        let energy = |e: &granular::edmd::Edmd<D>| {
+            let masses = e.masses();
+            e.kinetic_energy_now()
+                + (0..n)
+                    .map(|i| masses[i] * 0.1 * e.position(i)[D - 1])
+                    .sum::<f64>()
+        };
+        let (k0, e0) = (e.kinetic_energy_now(), energy(&e));
+        let dissipated0 = e.totals().dissipated_energy;
         advance_collisions(&mut e, 5 * n as u64).expect("engine");
-        let k1 = e.kinetic_energy_now();
-        let dissipated = e.totals().dissipated_energy;
+        let dissipated = e.totals().dissipated_energy - dissipated0;
         assert!(
             dissipated > 0.1 * k0,
             "{D}D: dissipated {dissipated} of {k0}"
         );
         assert!(
-            ((k0 - k1 - dissipated) / k0).abs() < 1e-9,
-            "energy bookkeeping"
+            ((e0 - energy(&e) - dissipated) / e0).abs() < 1e-9,
+            "{D}D: energy bookkeeping"
         );
         assert!(e.max_overlap() < 1e-12, "overlap {}", e.max_overlap());
     }
