@@ -723,3 +723,72 @@ fn general_benchmark_states_are_what_they_say() {
     check::<2>(2000, 0.7);
     check::<3>(2000, 0.45);
 }
+
+/// Long validation of exactness (about 2 minutes in release):
+/// `cargo test --release -p granular --test physics -- --ignored long_runs`.
+/// 10^8 pair collisions of 10^4 elastic disks at φ = 0.70 (the tournament-tree queue),
+/// 3 x 10^7 at φ = 0.76, 3 x 10^7 of 10^5 spheres at φ = 0.45 (the calendar queue with
+/// its look-ahead), and 10^7 of the benchmark's general case (walls, gravity, ξ = 0.9
+/// with the TC model, two sizes and masses), each checked ten times on the way: the
+/// energy (kinetic, plus potential and dissipated where they apply) to round-off, no
+/// overlap, and the clock moving on (no stuck events). Prints what it measured.
+#[test]
+#[ignore = "long validation, about 2 minutes in release"]
+fn long_runs_stay_exact() {
+    use granular::edmd::bench::{FluidCase, advance_collisions, fluid};
+    fn run<const D: usize>(case: FluidCase, collisions: u64) {
+        let g = case.gravity;
+        let n = case.n;
+        let mut e = fluid::<D>(&case, 11).expect("bench state");
+        let energy = |e: &Edmd<D>| {
+            let masses = e.masses();
+            e.kinetic_energy_now()
+                + e.totals().dissipated_energy
+                + (0..n)
+                    .map(|i| masses[i] * g * e.position(i)[D - 1])
+                    .sum::<f64>()
+        };
+        let e0 = energy(&e);
+        let r_min = e.radii().iter().cloned().fold(f64::INFINITY, f64::min);
+        let (mut drift, mut overlap) = (0.0f64, 0.0f64);
+        let c0 = e.collisions();
+        let start = std::time::Instant::now();
+        for _ in 0..10 {
+            let t = e.time();
+            advance_collisions(&mut e, collisions / 10).expect("engine");
+            assert!(e.time() > t, "the clock is stuck at {t}");
+            drift = drift.max(((energy(&e) - e0) / e0).abs());
+            overlap = overlap.max(e.max_overlap());
+            assert!(
+                drift < 1e-11,
+                "{D}D {case:?}: relative energy drift {drift:e}"
+            );
+            assert!(
+                overlap < 1e-10 * r_min,
+                "{D}D {case:?}: overlap {overlap:e} (radius {r_min})"
+            );
+        }
+        eprintln!(
+            "{D}D N = {n} phi = {}: {} collisions, {} events in {:.0} s; largest energy drift {drift:.1e}, largest overlap {:.1e} radii",
+            case.packing_fraction,
+            e.collisions() - c0,
+            e.events(),
+            start.elapsed().as_secs_f64(),
+            overlap / r_min,
+        );
+    }
+    run::<2>(FluidCase::standard(10_000, 0.70), 100_000_000);
+    run::<2>(FluidCase::standard(10_000, 0.76), 30_000_000);
+    run::<3>(FluidCase::standard(100_000, 0.45), 30_000_000);
+    run::<2>(
+        FluidCase {
+            walls: true,
+            restitution: 0.9,
+            size_ratio: 1.4,
+            mass_ratio: 4.0,
+            gravity: 0.1,
+            ..FluidCase::standard(10_000, 0.7)
+        },
+        10_000_000,
+    );
+}
