@@ -728,8 +728,9 @@ fn general_benchmark_states_are_what_they_say() {
 /// `cargo test --release -p granular --test physics -- --ignored long_runs`.
 /// 10^8 pair collisions of 10^4 elastic disks at φ = 0.70 (the tournament-tree queue),
 /// 3 x 10^7 at φ = 0.76, 3 x 10^7 of 10^5 spheres at φ = 0.45 (the calendar queue with
-/// its look-ahead), and 10^7 of the benchmark's general case (walls, gravity, ξ = 0.9
-/// with the TC model, two sizes and masses), each checked ten times on the way: the
+/// its look-ahead), 10^7 of the benchmark's general case (walls, gravity, ξ = 0.9 with
+/// the TC model, two sizes and masses), and 2 x 10^7 of 10^4 disks with three intruders
+/// 8 times larger (kept out of the cell lists), each checked ten times on the way: the
 /// energy (kinetic, plus potential and dissipated where they apply) to round-off, no
 /// overlap, and the clock moving on (no stuck events). Prints what it measured.
 #[test]
@@ -790,5 +791,55 @@ fn long_runs_stay_exact() {
             ..FluidCase::standard(10_000, 0.7)
         },
         10_000_000,
+    );
+    // Three intruders 8 times larger (and 64 times heavier) among 10^4 disks, kept out of
+    // the cell lists (`cells::large_grain_cut`): elastic, periodic, 2 x 10^7 collisions.
+    let (bx, mut p) = gas::<2>(10_000, 0.3, AxisKind::Periodic, 31, false);
+    let r0 = p.radii[0];
+    let intruders = [[0.25, 0.25], [0.75, 0.5], [0.4, 0.8]];
+    let clear = |x: &Vector<2>| {
+        intruders.iter().all(|c| {
+            let d = bx.separation(x, &Vector(*c)).norm();
+            d > 9.0 * r0 + 1e-12
+        })
+    };
+    let keep: Vec<usize> = (0..p.len()).filter(|&i| clear(&p.positions[i])).collect();
+    p = ParticleSet {
+        positions: keep.iter().map(|&i| p.positions[i]).collect(),
+        velocities: keep.iter().map(|&i| p.velocities[i]).collect(),
+        radii: keep.iter().map(|&i| p.radii[i]).collect(),
+        masses: keep.iter().map(|&i| p.masses[i]).collect(),
+        species: keep.iter().map(|&i| p.species[i]).collect(),
+        species_names: p.species_names,
+    };
+    for c in intruders {
+        p.positions.push(Vector(c));
+        p.velocities.push(Vector([0.1, -0.05]));
+        p.radii.push(8.0 * r0);
+        p.masses.push(64.0);
+        p.species.push(0);
+    }
+    assert!(init::packing_fraction::<2>(&p.radii, 1.0) > 0.3);
+    assert!(granular::edmd::cells::large_grain_cut::<2>(&p.radii, 1.0).is_some());
+    let n = p.len();
+    let mut e = Edmd::new(bx, p, CollisionLaw::default(), EdmdOptions::default());
+    let k0 = e.kinetic_energy_now();
+    let start = std::time::Instant::now();
+    let (mut drift, mut overlap) = (0.0f64, 0.0f64);
+    for _ in 0..10 {
+        let t = e.time();
+        advance_collisions(&mut e, 2_000_000).expect("engine");
+        assert!(e.time() > t, "the clock is stuck at {t}");
+        drift = drift.max(((e.kinetic_energy_now() - k0) / k0).abs());
+        overlap = overlap.max(e.max_overlap());
+        assert!(drift < 1e-11, "intruders: relative energy drift {drift:e}");
+        assert!(overlap < 1e-10 * r0, "intruders: overlap {overlap:e}");
+    }
+    eprintln!(
+        "2D N = {n} with 3 intruders: {} collisions, {} events in {:.0} s; largest energy drift {drift:.1e}, largest overlap {:.1e} radii",
+        e.collisions(),
+        e.events(),
+        start.elapsed().as_secs_f64(),
+        overlap / r0,
     );
 }

@@ -182,6 +182,44 @@ fn small_gas<const D: usize>(
     (bx, set)
 }
 
+/// `n` small grains and `large` grains `ratio` times larger (and `ratio^D` heavier),
+/// placed largest first: a few intruders that the engine keeps out of its cell lists
+/// (`cells::large_grain_cut`).
+fn intruder_gas<const D: usize>(
+    n: usize,
+    large: usize,
+    ratio: f64,
+    kind: AxisKind,
+    phi: f64,
+    seed: u64,
+) -> (SimulationBox<D>, ParticleSet<D>) {
+    let bx = SimulationBox::<D>::uniform(Vector([1.0; D]), kind);
+    let unit = init::ball_volume::<D>(1.0);
+    let weights = n as f64 + large as f64 * ratio.powi(D as i32);
+    let r0 = (phi / (weights * unit)).powf(1.0 / D as f64);
+    let big = |i: usize| i < large;
+    let radii: Vec<f64> = (0..n + large)
+        .map(|i| if big(i) { ratio * r0 } else { r0 })
+        .collect();
+    let masses: Vec<f64> = (0..n + large)
+        .map(|i| if big(i) { ratio.powi(D as i32) } else { 1.0 })
+        .collect();
+    let mut rng = stream(seed, &[0]);
+    let positions =
+        init::random_placement(&bx, &Region::whole(&bx), &radii, &[], &mut rng, 100_000)
+            .expect("placement");
+    let velocities = init::maxwell_boltzmann::<D>(&masses, 1.0, &mut rng);
+    let set = ParticleSet {
+        positions,
+        velocities,
+        species: (0..n + large).map(|i| (!big(i)) as u32).collect(),
+        radii,
+        masses,
+        species_names: vec!["large".into(), "small".into()],
+    };
+    (bx, set)
+}
+
 /// Runs both engines for `collisions` collisions and compares them event by event.
 fn compare<const D: usize>(
     n: usize,
@@ -191,6 +229,17 @@ fn compare<const D: usize>(
     collisions: usize,
 ) {
     let (bx, set) = small_gas::<D>(n, kind, phi, 11);
+    compare_set(bx, set, restitution, collisions);
+}
+
+/// [`compare`] from a given state.
+fn compare_set<const D: usize>(
+    bx: SimulationBox<D>,
+    set: ParticleSet<D>,
+    restitution: f64,
+    collisions: usize,
+) {
+    let n = set.len();
     let mut reference = Reference {
         bx: bx.clone(),
         x: set.positions.clone(),
@@ -269,4 +318,24 @@ fn optimised_engine_matches_the_reference_in_a_dilute_gas() {
 fn optimised_engine_matches_the_reference_away_from_the_faces() {
     compare::<2>(200, AxisKind::Periodic, 0.35, 1.0, 400);
     compare::<3>(400, AxisKind::Periodic, 0.2, 1.0, 300);
+}
+
+/// A few large grains among many small ones: the engine keeps them out of its cell lists
+/// (cells sized for the small grains; every small grain's prediction tests all large
+/// grains, each large grain searches the cells within its reach), a path the gases above
+/// never take (`cells::large_grain_cut` returns a cut here, checked first).
+#[test]
+fn optimised_engine_matches_the_reference_with_large_intruders() {
+    use granular::edmd::cells::large_grain_cut;
+    let cases_2d = [(AxisKind::Periodic, 1.0, 4.0), (AxisKind::Wall, 0.9, 6.0)];
+    for (kind, restitution, ratio) in cases_2d {
+        let (bx, set) = intruder_gas::<2>(200, 3, ratio, kind, 0.3, 21);
+        assert!(large_grain_cut::<2>(&set.radii, bx.volume()).is_some());
+        compare_set(bx, set, restitution, 300);
+    }
+    for (kind, restitution) in [(AxisKind::Periodic, 1.0), (AxisKind::Wall, 0.9)] {
+        let (bx, set) = intruder_gas::<3>(300, 2, 3.0, kind, 0.15, 22);
+        assert!(large_grain_cut::<3>(&set.radii, bx.volume()).is_some());
+        compare_set(bx, set, restitution, 250);
+    }
 }

@@ -17,7 +17,7 @@
 //! double precision.
 
 use super::candidates::{Grain, Probe, earliest_contact, earliest_contacts_pair};
-use super::cells::{Candidates, CellGrid, NONE};
+use super::cells::{Candidates, CellGrid, NONE, large_grain_cut};
 use super::prediction::{downward_crossing, pair_contact_time, upward_crossing};
 use super::prefetch::{CACHE_LINE, prefetch_all};
 use super::queue::EventQueue;
@@ -386,7 +386,15 @@ impl<const D: usize> Edmd<D> {
                 kind,
             });
         }
-        let cells = CellGrid::new(&bx, 2.0 * max_radius * radius_scale * (1.0 + 1e-9), n);
+        // A few grains much larger than the rest stay out of the cell lists, so that
+        // the cells fit the others (`cells::large_grain_cut`; not while radii grow).
+        let cut = if growth == 0.0 {
+            large_grain_cut::<D>(&particles.radii, bx.volume())
+        } else {
+            None
+        };
+        let cell_radius = cut.unwrap_or(max_radius);
+        let cells = CellGrid::new(&bx, 2.0 * cell_radius * radius_scale * (1.0 + 1e-9), n);
         let impact = Histogram::new(0.0, 1.0 + 1e-12, options.impact_bins.max(1));
         let last_collision = if law.contact_duration > 0.0 {
             vec![f64::NEG_INFINITY; n]
@@ -426,7 +434,11 @@ impl<const D: usize> Edmd<D> {
         };
         for i in 0..n {
             let c = engine.cells.coords_of(&engine.grains[i].pos.0);
-            engine.cells.insert(i, c);
+            let r = engine.base_radius(i);
+            match cut {
+                Some(cut) if r > cut => engine.cells.insert_large(i, c, (r + cut) * (1.0 + 1e-9)),
+                _ => engine.cells.insert(i, c),
+            }
         }
         engine.reorder();
         for i in 0..n {
@@ -646,21 +658,28 @@ impl<const D: usize> Edmd<D> {
         let mut partner = NONE;
         let mut candidates = std::mem::take(&mut self.candidates);
         candidates.clear();
-        match search {
-            Search::Full => self.cells.gather_neighbours(&coords, &mut candidates),
-            Search::Layer { axis, step, known } => {
-                self.cells
-                    .gather_layer(&coords, axis, step, &mut candidates);
-                if let Some(j) = known {
-                    candidates.push(j);
+        let has_large = !self.cells.large().is_empty();
+        if has_large {
+            self.gather_with_large(i, &coords, search, &mut candidates);
+        } else {
+            match search {
+                Search::Full => self.cells.gather_neighbours(&coords, &mut candidates),
+                Search::Layer { axis, step, known } => {
+                    self.cells
+                        .gather_layer(&coords, axis, step, &mut candidates);
+                    if let Some(j) = known {
+                        candidates.push(j);
+                    }
                 }
             }
         }
         let candidates_now = candidates.as_slice();
         prefetch_all(&self.grains, candidates_now);
         if self.growth == 0.0 {
-            // A layer search may test a hinted partner beyond the neighbouring cells.
-            let wrap = !matches!(search, Search::Full) || !self.cells.without_wrap(&[coords]);
+            // A layer search may test a hinted partner beyond the neighbouring cells, and
+            // large grains lie anywhere.
+            let wrap =
+                has_large || !matches!(search, Search::Full) || !self.cells.without_wrap(&[coords]);
             let probe = self.probe(i, wrap);
             (best_pair, partner) = earliest_contact(
                 &self.grains,
@@ -706,6 +725,35 @@ impl<const D: usize> Edmd<D> {
         self.schedule(i, best, code, best_pair, partner)
     }
 
+    /// The candidates of slot `i` (in cell `coords`) in a system with large grains
+    /// (`cells::large_grain_cut`): for a large grain, the cells within its reach and the
+    /// other large grains; for any other grain, what `search` says and every large grain.
+    /// Out of line, so that the usual systems' predictions stay as they were.
+    #[inline(never)]
+    #[cold]
+    fn gather_with_large(
+        &self,
+        i: usize,
+        coords: &[u32; D],
+        search: Search,
+        candidates: &mut Candidates,
+    ) {
+        if self.cells.is_large(i) {
+            self.cells.gather_reach(i, coords, candidates);
+            return;
+        }
+        match search {
+            Search::Full => self.cells.gather_neighbours(coords, candidates),
+            Search::Layer { axis, step, known } => {
+                self.cells.gather_layer(coords, axis, step, candidates);
+                if let Some(j) = known {
+                    candidates.push(j);
+                }
+            }
+        }
+        candidates.extend_from(self.cells.large());
+    }
+
     /// [`Edmd::predict`] for both grains of a pair collision (`i` first, then `j`, as
     /// two calls would), in 2D: one gather of the union of their neighbourhoods and one
     /// pass over it that tests each candidate against both (`earliest_contacts_pair`;
@@ -713,10 +761,10 @@ impl<const D: usize> Edmd<D> {
     /// stays exact: a contact found with one of them is real (that grain must cross into
     /// the neighbourhood first, which changes no velocity), and a pair beyond the grain's
     /// own crossing only becomes the crossing's hint, whose bound then holds over more
-    /// grains than the layer search needs. Grains with growing radii take the one-grain
-    /// path.
+    /// grains than the layer search needs. Grains with growing radii, and systems with
+    /// large grains (`cells::large_grain_cut`), take the one-grain path.
     fn predict_pair(&mut self, i: usize, j: usize) {
-        if D != 2 || self.growth != 0.0 {
+        if D != 2 || self.growth != 0.0 || !self.cells.large().is_empty() {
             let key_i = self.predict_with(i, Search::Full);
             let key_j = self.predict_with(j, Search::Full);
             self.queue.update_pair(i, key_i, j, key_j);
@@ -1224,7 +1272,7 @@ impl<const D: usize> Edmd<D> {
                     worst = worst.max(ri - xi[k]).max(xi[k] + ri - self.bx.lengths[k]);
                 }
             }
-            self.cells.for_each_neighbour(&self.cells.coords(i), |j| {
+            self.cells.for_each_candidate(i, |j| {
                 if j > i {
                     let d = self.bx.separation(&xi, &self.position_raw(j)).norm();
                     worst = worst.max(ri + self.radius_now(j) - d);

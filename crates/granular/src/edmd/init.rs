@@ -246,20 +246,27 @@ pub fn random_placement<const D: usize>(
     max_attempts: usize,
 ) -> Result<Vec<Vector<D>>, InitError> {
     let n = radii.len();
-    let r_max = radii
+    // Two grids: one sized for the grains placed now, one for the existing grains larger
+    // than all of them (a projectile above a bed). A single grid sized for the largest
+    // grain made every test of a small grain scan hundreds of cells (10^5 bed grains
+    // under a 22 times larger projectile: 26 s instead of a fraction of one).
+    let r_new = radii.iter().cloned().fold(0.0, f64::max);
+    let r_big = existing
         .iter()
-        .chain(existing.iter().map(|(_, r)| r))
-        .cloned()
+        .map(|&(_, r)| r)
+        .filter(|&r| r > r_new)
         .fold(0.0, f64::max);
-    let mut grid = PlacementGrid::new(
-        bx,
-        2.0 * radii.iter().cloned().fold(0.0, f64::max).max(1e-300),
-        n + existing.len(),
-    );
+    let n_big = existing.iter().filter(|&&(_, r)| r > r_new).count();
+    let mut grid = PlacementGrid::new(bx, 2.0 * r_new.max(1e-300), n + existing.len() - n_big);
+    let mut big_grid = PlacementGrid::new(bx, 2.0 * r_big.max(1e-300), n_big.max(1));
     let mut all_pos: Vec<Vector<D>> = Vec::with_capacity(n + existing.len());
     let mut all_r: Vec<f64> = Vec::with_capacity(n + existing.len());
     for (x, r) in existing {
-        grid.insert(x, all_pos.len());
+        if *r > r_new {
+            big_grid.insert(x, all_pos.len());
+        } else {
+            grid.insert(x, all_pos.len());
+        }
         all_pos.push(*x);
         all_r.push(*r);
     }
@@ -287,7 +294,9 @@ pub fn random_placement<const D: usize>(
                 x[k] = ranges[k].0 + (ranges[k].1 - ranges[k].0) * rng.random::<f64>();
             }
             bx.wrap(&mut x);
-            if !grid.overlaps(bx, &x, r, r + r_max, &all_pos, &all_r) {
+            if !grid.overlaps(bx, &x, r, r + r_new, &all_pos, &all_r)
+                && (n_big == 0 || !big_grid.overlaps(bx, &x, r, r + r_big, &all_pos, &all_r))
+            {
                 grid.insert(&x, all_pos.len());
                 all_pos.push(x);
                 all_r.push(r);

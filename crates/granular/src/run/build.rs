@@ -257,17 +257,22 @@ fn check_overlaps<const D: usize>(
     bx: &SimulationBox<D>,
     set: &ParticleSet<D>,
 ) -> Result<(), BuildError> {
+    use crate::edmd::cells::{CellGrid, large_grain_cut};
     let n = set.len();
     let r_max = set.radii.iter().cloned().fold(0.0, f64::max);
-    let grid = crate::edmd::cells::CellGrid::<D>::new(bx, 2.0 * r_max, n);
-    let mut grid = grid;
+    // The cells fit all but a few large grains, as in the engine.
+    let cut = large_grain_cut::<D>(&set.radii, bx.volume());
+    let mut grid = CellGrid::<D>::new(bx, 2.0 * cut.unwrap_or(r_max), n);
     for i in 0..n {
         let c = grid.coords_of(&set.positions[i].0);
-        grid.insert(i, c);
+        match cut {
+            Some(cut) if set.radii[i] > cut => grid.insert_large(i, c, set.radii[i] + cut),
+            _ => grid.insert(i, c),
+        }
     }
     for i in 0..n {
         let mut bad = None;
-        grid.for_each_neighbour(&grid.coords(i), |j| {
+        grid.for_each_candidate(i, |j| {
             if j > i && bad.is_none() {
                 let d = bx.separation(&set.positions[i], &set.positions[j]).norm();
                 let sigma = set.radii[i] + set.radii[j];

@@ -35,8 +35,9 @@ use std::time::Instant;
 /// Version of the checkpoint format; bumped when the state layout changes (3: the event
 /// codes of cell crossings carry the partner bound of the cheap crossing; 4: the event
 /// queue's bucket lists end at an index instead of a sentinel; 5: the event queue is a
-/// tournament tree or a calendar, by the number of grains).
-pub const CHECKPOINT_FORMAT: u32 = 5;
+/// tournament tree or a calendar, by the number of grains; 6: the cell grid keeps a few
+/// large grains out of its lists).
+pub const CHECKPOINT_FORMAT: u32 = 6;
 
 /// Why a run failed.
 #[derive(Debug, thiserror::Error)]
