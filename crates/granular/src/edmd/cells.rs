@@ -1,5 +1,6 @@
 //! The cell grid: the box is cut into cells at least one contact distance wide, so that a
-//! grain can only touch grains in its own or a neighbouring cell. Each cell holds a singly
+//! grain can only touch grains in its own or a neighbouring cell, or one of a few large
+//! grains kept out of the cells ([`large_grain_cut`]). Each cell holds a singly
 //! linked list of its grains (4 bytes per grain; cells hold about one grain, so unlinking
 //! by walking the list is as fast as a doubly linked list and half the memory).
 //!
