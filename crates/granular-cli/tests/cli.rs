@@ -122,31 +122,30 @@ fn check_prints_the_resolved_scenario() {
     );
 }
 
-#[test]
-fn bench_prints_one_json_object_per_case() {
-    let out = granular()
-        .args([
-            "bench",
-            "edmd",
-            "--dimension",
-            "2",
-            "--n",
-            "2000",
-            "--packing-fraction",
-            "0.5",
-            "--collisions-per-particle",
-            "5",
-            "--json",
-        ])
+/// `granular bench edmd` on a small 2D case with `extra` options: its output.
+fn bench_edmd(n: &str, phi: &str, extra: &[&str]) -> std::process::Output {
+    granular()
+        .args(["bench", "edmd", "--dimension", "2", "--n", n])
+        .args(["--packing-fraction", phi, "--collisions-per-particle", "5"])
+        .arg("--json")
+        .args(extra)
         .output()
-        .unwrap();
+        .unwrap()
+}
+
+/// The one JSON object of a successful `bench edmd`.
+fn bench_json(out: &std::process::Output) -> serde_json::Value {
     assert!(
         out.status.success(),
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let line = String::from_utf8_lossy(&out.stdout);
-    let v: serde_json::Value = serde_json::from_str(line.trim()).unwrap();
+    serde_json::from_str(String::from_utf8_lossy(&out.stdout).trim()).unwrap()
+}
+
+#[test]
+fn bench_prints_one_json_object_per_case() {
+    let v = bench_json(&bench_edmd("2000", "0.5", &[]));
     for key in [
         "dimension",
         "n",
@@ -165,32 +164,18 @@ fn bench_prints_one_json_object_per_case() {
 
 #[test]
 fn bench_runs_the_general_cases_and_refuses_bad_ones() {
-    let args = [
-        "bench",
-        "edmd",
-        "--dimension",
-        "2",
-        "--n",
-        "1000",
-        "--packing-fraction",
-        "0.7",
-        "--collisions-per-particle",
-        "5",
-        "--json",
+    let general = [
+        "--walls",
+        "--restitution",
+        "0.8",
+        "--size-ratio",
+        "1.4",
+        "--mass-ratio",
+        "3",
+        "--gravity",
+        "0.1",
     ];
-    let out = granular()
-        .args(args)
-        .args(["--walls", "--restitution", "0.8", "--size-ratio", "1.4"])
-        .args(["--mass-ratio", "3", "--gravity", "0.1"])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let v: serde_json::Value =
-        serde_json::from_str(String::from_utf8_lossy(&out.stdout).trim()).unwrap();
+    let v = bench_json(&bench_edmd("1000", "0.7", &general));
     assert_eq!(v["walls"], true);
     assert_eq!(v["restitution"], 0.8);
     assert_eq!(v["size_ratio"], 1.4);
@@ -202,7 +187,7 @@ fn bench_runs_the_general_cases_and_refuses_bad_ones() {
         ("--mass-ratio", "0"),
         ("--gravity", "0.5"),
     ] {
-        let out = granular().args(args).args([flag, value]).output().unwrap();
+        let out = bench_edmd("1000", "0.7", &[flag, value]);
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(!out.status.success());
         assert!(err.contains(flag) && err.contains(value), "{err}");

@@ -166,20 +166,33 @@ fn small_gas<const D: usize>(
         .map(|i| if i % 2 == 0 { r0 } else { 1.5 * r0 })
         .collect();
     let masses: Vec<f64> = (0..n).map(|i| if i % 2 == 0 { 1.0 } else { 3.0 }).collect();
+    let species = (0..n as u32).map(|i| i % 2).collect();
+    let set = placed(&bx, radii, masses, species, ["small", "large"], seed);
+    (bx, set)
+}
+
+/// Grains of the given radii, masses and species (two names), placed at random in the
+/// whole box (largest first), with Maxwell-Boltzmann velocities at temperature 1.
+fn placed<const D: usize>(
+    bx: &SimulationBox<D>,
+    radii: Vec<f64>,
+    masses: Vec<f64>,
+    species: Vec<u32>,
+    names: [&str; 2],
+    seed: u64,
+) -> ParticleSet<D> {
     let mut rng = stream(seed, &[0]);
-    let positions =
-        init::random_placement(&bx, &Region::whole(&bx), &radii, &[], &mut rng, 100_000)
-            .expect("placement");
+    let positions = init::random_placement(bx, &Region::whole(bx), &radii, &[], &mut rng, 100_000)
+        .expect("placement");
     let velocities = init::maxwell_boltzmann::<D>(&masses, 1.0, &mut rng);
-    let set = ParticleSet {
+    ParticleSet {
         positions,
         velocities,
         radii,
         masses,
-        species: (0..n as u32).map(|i| i % 2).collect(),
-        species_names: vec!["small".into(), "large".into()],
-    };
-    (bx, set)
+        species,
+        species_names: names.map(String::from).to_vec(),
+    }
 }
 
 /// `n` small grains and `large` grains `ratio` times larger (and `ratio^D` heavier),
@@ -204,19 +217,8 @@ fn intruder_gas<const D: usize>(
     let masses: Vec<f64> = (0..n + large)
         .map(|i| if big(i) { ratio.powi(D as i32) } else { 1.0 })
         .collect();
-    let mut rng = stream(seed, &[0]);
-    let positions =
-        init::random_placement(&bx, &Region::whole(&bx), &radii, &[], &mut rng, 100_000)
-            .expect("placement");
-    let velocities = init::maxwell_boltzmann::<D>(&masses, 1.0, &mut rng);
-    let set = ParticleSet {
-        positions,
-        velocities,
-        species: (0..n + large).map(|i| (!big(i)) as u32).collect(),
-        radii,
-        masses,
-        species_names: vec!["large".into(), "small".into()],
-    };
+    let species = (0..n + large).map(|i| (!big(i)) as u32).collect();
+    let set = placed(&bx, radii, masses, species, ["large", "small"], seed);
     (bx, set)
 }
 
