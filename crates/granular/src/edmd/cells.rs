@@ -28,8 +28,9 @@ pub const MAX_LARGE_GRAINS: usize = 16;
 /// The radius above which grains are *large*, or `None` when no such split pays: a few
 /// grains much larger than the rest (a projectile in a bed, an intruder in a bath) would
 /// otherwise set the cell width, the largest contact distance, so that every prediction
-/// of the small grains would test hundreds of them (a crater run with 10^5 bed grains and
-/// a 22 times larger projectile ran at 3.6 x 10^3 collisions per second).
+/// of the small grains would test hundreds of them (a crater run with 10^5 bed grains
+/// under a 22 times larger projectile: about 3 s in the engine for 10^5 collisions, 0.1 s
+/// with the split).
 ///
 /// With a cut at `r_c`, the cells are `2 r_c` wide, the grains above `r_c` (at most
 /// [`MAX_LARGE_GRAINS`]) stay out of the cell lists, every other prediction tests them
