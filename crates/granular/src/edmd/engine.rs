@@ -1023,29 +1023,31 @@ impl<const D: usize> Edmd<D> {
         let dv = self.grains[j].vel - self.grains[i].vel;
         let d2 = dx.norm_squared();
         let b = dx.dot(&dv);
-        let d = d2.sqrt();
         let (mi, mj) = (self.mass(i), self.mass(j));
         let mu = mi * mj / (mi + mj);
-        // Normal relative velocity u_n (negative when approaching) and its change.
-        let un = b / d;
-        let du = if self.growth == 0.0 {
+        // The normal relative velocity is u_n = b / d (negative when approaching), and
+        // its change du = g d along the unit normal dx / d, so the velocities change by
+        // -+ (mu / m) g dx: with g = -(1 + xi) b / d², no square root on the way from
+        // one event to the next.
+        let g = if self.growth == 0.0 {
             let xi = self.effective_restitution(self.law.restitution, i, Some(j));
             if xi == 1.0 && self.law.restitution != 1.0 {
                 self.totals.tc_elastic_collisions += 1;
             }
-            -(1.0 + xi) * un
+            -(1.0 + xi) * b / d2
         } else {
             // Lubachevsky-Stillinger: elastic reflection in the frame of the growing
             // surfaces, so that they separate at least as fast as they grow.
             let rate = (self.base_radius(i) + self.base_radius(j)) * self.growth;
-            2.0 * (rate - un)
+            let d = d2.sqrt();
+            2.0 * (rate - b / d) / d
         };
-        let n = dx * (1.0 / d);
-        self.grains[i].vel = self.grains[i].vel.add_scaled(-mu / mi * du, &n);
-        self.grains[j].vel = self.grains[j].vel.add_scaled(mu / mj * du, &n);
-        let un_after = un + du;
-        self.totals.dissipated_energy += 0.5 * mu * (un * un - un_after * un_after);
-        self.totals.virial += mu * du * d;
+        self.grains[i].vel = self.grains[i].vel.add_scaled(-mu / mi * g, &dx);
+        self.grains[j].vel = self.grains[j].vel.add_scaled(mu / mj * g, &dx);
+        // u_n² - u_n'² = (b² - (b + g d²)²) / d², and the virial mu du d = mu g d².
+        let b_after = b + g * d2;
+        self.totals.dissipated_energy += 0.5 * mu * (b * b - b_after * b_after) / d2;
+        self.totals.virial += mu * g * d2;
         self.totals.pair_collisions += 1;
         let dv2 = dv.norm_squared();
         if dv2 > 0.0 {
