@@ -26,9 +26,9 @@ pub enum BenchError {
 /// A benchmark state: `n` grains at packing fraction `packing_fraction` in a square
 /// (cubic) box of side `n^(1/D)`. [`FluidCase::standard`] is the case of the
 /// engine-performance issue (elastic, monodisperse, periodic); the other fields choose
-/// the engine's general paths, so that `granular bench edmd` can show what they cost.
-/// The engine-performance issue asks for speed that holds beyond its standard case
-/// (walls, gravity, polydispersity, restitution and the TC model).
+/// the engine's general paths (walls, gravity, polydispersity, restitution and the TC
+/// model, where the engine-performance issue asks for the same speed), so that `granular
+/// bench edmd` can show what they cost.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FluidCase {
     /// Number of grains.
@@ -48,8 +48,8 @@ pub struct FluidCase {
     pub mass_ratio: f64,
     /// Acceleration of gravity along the last axis, downwards (0: none; with periodic
     /// boundaries the grains would fall forever, so use it with walls). In the units of
-    /// the bench (temperature 1, lighter mass 1, box side `n^(1/D)`), `g` = 0.1 makes
-    /// the barometric height `T / (m g)` ten grain spacings.
+    /// the bench (temperature 1, the first kind's mass 1, box side `n^(1/D)`), `g` = 0.1
+    /// makes the barometric height `T / (m g)` of that kind ten grain spacings.
     pub gravity: f64,
 }
 
@@ -88,9 +88,9 @@ pub fn equilibrated_fluid<const D: usize>(
 ///
 /// Placement: random below packing fraction 0.4; above, a square (cubic) lattice at the
 /// target density, or, where the grains do not fit on it (two sizes, walls), a lattice of
-/// shrunken grains compressed to the target ([`init::compress`]). Velocities: Maxwell-Boltzmann at
-/// temperature 1, without drift. With two sizes or masses, grain `i` belongs to the
-/// second species for odd `i`.
+/// shrunken grains compressed to the target ([`init::compress`]). Velocities:
+/// Maxwell-Boltzmann at temperature 1, without drift. With two sizes or masses, grain `i`
+/// belongs to the second species for odd `i`.
 pub fn fluid<const D: usize>(case: &FluidCase, seed: u64) -> Result<Edmd<D>, BenchError> {
     let &FluidCase {
         n,
