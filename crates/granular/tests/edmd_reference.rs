@@ -149,50 +149,8 @@ fn small_gas<const D: usize>(
     phi: f64,
     seed: u64,
 ) -> (SimulationBox<D>, ParticleSet<D>) {
-    let bx = SimulationBox::<D>::uniform(Vector([1.0; D]), kind);
-    let unit = init::ball_volume::<D>(1.0);
     // Half the grains 1.5x larger and 3x heavier than the others.
-    let weights: f64 = (0..n)
-        .map(|i| {
-            if i % 2 == 0 {
-                1.0
-            } else {
-                1.5f64.powi(D as i32)
-            }
-        })
-        .sum();
-    let r0 = (phi / (weights * unit)).powf(1.0 / D as f64);
-    let radii: Vec<f64> = (0..n)
-        .map(|i| if i % 2 == 0 { r0 } else { 1.5 * r0 })
-        .collect();
-    let masses: Vec<f64> = (0..n).map(|i| if i % 2 == 0 { 1.0 } else { 3.0 }).collect();
-    let species = (0..n as u32).map(|i| i % 2).collect();
-    let set = placed(&bx, radii, masses, species, ["small", "large"], seed);
-    (bx, set)
-}
-
-/// Grains of the given radii, masses and species (two names), placed at random in the
-/// whole box (largest first), with Maxwell-Boltzmann velocities at temperature 1.
-fn placed<const D: usize>(
-    bx: &SimulationBox<D>,
-    radii: Vec<f64>,
-    masses: Vec<f64>,
-    species: Vec<u32>,
-    names: [&str; 2],
-    seed: u64,
-) -> ParticleSet<D> {
-    let mut rng = stream(seed, &[0]);
-    let positions = init::random_placement(bx, &Region::whole(bx), &radii, &[], &mut rng, 100_000)
-        .expect("placement");
-    let velocities = init::maxwell_boltzmann::<D>(&masses, 1.0, &mut rng);
-    ParticleSet {
-        positions,
-        velocities,
-        radii,
-        masses,
-        species,
-        species_names: names.map(String::from).to_vec(),
-    }
+    two_kinds(n, |i| i % 2 == 1, 1.5, 3.0, kind, phi, seed)
 }
 
 /// `n` small grains and `large` grains `ratio` times larger (and `ratio^D` heavier),
@@ -206,19 +164,45 @@ fn intruder_gas<const D: usize>(
     phi: f64,
     seed: u64,
 ) -> (SimulationBox<D>, ParticleSet<D>) {
+    let mass = ratio.powi(D as i32);
+    two_kinds(n + large, |i| i < large, ratio, mass, kind, phi, seed)
+}
+
+/// `n` grains at packing fraction `phi` in a unit box: those for which `second` holds
+/// `size_ratio` times larger and `mass_ratio` times heavier than the others (species
+/// "small" and "large"), placed at random (largest first), with Maxwell-Boltzmann
+/// velocities at temperature 1.
+fn two_kinds<const D: usize>(
+    n: usize,
+    second: impl Fn(usize) -> bool,
+    size_ratio: f64,
+    mass_ratio: f64,
+    kind: AxisKind,
+    phi: f64,
+    seed: u64,
+) -> (SimulationBox<D>, ParticleSet<D>) {
     let bx = SimulationBox::<D>::uniform(Vector([1.0; D]), kind);
     let unit = init::ball_volume::<D>(1.0);
-    let weights = n as f64 + large as f64 * ratio.powi(D as i32);
+    let pick = |i: usize, a: f64, b: f64| if second(i) { b } else { a };
+    let weights: f64 = (0..n)
+        .map(|i| pick(i, 1.0, size_ratio.powi(D as i32)))
+        .sum();
     let r0 = (phi / (weights * unit)).powf(1.0 / D as f64);
-    let big = |i: usize| i < large;
-    let radii: Vec<f64> = (0..n + large)
-        .map(|i| if big(i) { ratio * r0 } else { r0 })
-        .collect();
-    let masses: Vec<f64> = (0..n + large)
-        .map(|i| if big(i) { ratio.powi(D as i32) } else { 1.0 })
-        .collect();
-    let species = (0..n + large).map(|i| (!big(i)) as u32).collect();
-    let set = placed(&bx, radii, masses, species, ["large", "small"], seed);
+    let radii: Vec<f64> = (0..n).map(|i| pick(i, r0, size_ratio * r0)).collect();
+    let masses: Vec<f64> = (0..n).map(|i| pick(i, 1.0, mass_ratio)).collect();
+    let mut rng = stream(seed, &[0]);
+    let positions =
+        init::random_placement(&bx, &Region::whole(&bx), &radii, &[], &mut rng, 100_000)
+            .expect("placement");
+    let velocities = init::maxwell_boltzmann::<D>(&masses, 1.0, &mut rng);
+    let set = ParticleSet {
+        positions,
+        velocities,
+        species: (0..n).map(|i| second(i) as u32).collect(),
+        radii,
+        masses,
+        species_names: vec!["small".into(), "large".into()],
+    };
     (bx, set)
 }
 

@@ -151,6 +151,35 @@ impl<const D: usize> CellGrid<D> {
         }
     }
 
+    /// An empty grid for grains of `radii` (times `scale`, for growing radii), with cells
+    /// one largest contact distance wide, and a margin of 1e-9 for round-off; with `split`,
+    /// the cells fit all but the large grains of [`large_grain_cut`], whose cut it returns
+    /// (grains go in with [`CellGrid::insert_grain`]).
+    pub fn for_radii(
+        bx: &SimulationBox<D>,
+        radii: &[f64],
+        scale: f64,
+        split: bool,
+    ) -> (Self, Option<f64>) {
+        let cut = if split {
+            large_grain_cut::<D>(radii, bx.volume())
+        } else {
+            None
+        };
+        let r_max = radii.iter().cloned().fold(0.0, f64::max);
+        let width = 2.0 * cut.unwrap_or(r_max) * scale * (1.0 + 1e-9);
+        (Self::new(bx, width, radii.len()), cut)
+    }
+
+    /// Puts grain `i`, of radius `radius`, into cell `c`: into the cell's list, or, above
+    /// the grid's large-grain cut `cut` (from [`CellGrid::for_radii`]), as a large grain.
+    pub fn insert_grain(&mut self, i: usize, c: [u32; D], radius: f64, cut: Option<f64>) {
+        match cut {
+            Some(cut) if radius > cut => self.insert_large(i, c, (radius + cut) * (1.0 + 1e-9)),
+            _ => self.insert(i, c),
+        }
+    }
+
     /// Heap memory in bytes (cell heads, lists and cell indices).
     pub fn memory_bytes(&self) -> usize {
         (self.head.capacity()
@@ -987,15 +1016,10 @@ mod tests {
             .iter()
             .map(|_| Vector(std::array::from_fn(|_| side * rng.random::<f64>())))
             .collect();
-        let cut = large_grain_cut::<D>(&radii, bx.volume()).expect("a split");
-        let mut g = CellGrid::<D>::new(&bx, 2.0 * cut, radii.len());
+        let (mut g, cut) = CellGrid::<D>::for_radii(&bx, &radii, 1.0, true);
+        assert!(cut.is_some(), "a split");
         for (i, x) in positions.iter().enumerate() {
-            let c = g.coords_of(&x.0);
-            if radii[i] > cut {
-                g.insert_large(i, c, radii[i] + cut);
-            } else {
-                g.insert(i, c);
-            }
+            g.insert_grain(i, g.coords_of(&x.0), radii[i], cut);
         }
         assert_eq!(g.large(), &[600, 601]);
         let mut offered = BTreeSet::new();

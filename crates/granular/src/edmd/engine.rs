@@ -17,7 +17,7 @@
 //! double precision.
 
 use super::candidates::{Grain, Probe, earliest_contact, earliest_contacts_pair};
-use super::cells::{Candidates, CellGrid, NONE, large_grain_cut};
+use super::cells::{Candidates, CellGrid, NONE};
 use super::prediction::{downward_crossing, pair_contact_time, upward_crossing};
 use super::prefetch::{CACHE_LINE, prefetch_all};
 use super::queue::EventQueue;
@@ -388,13 +388,7 @@ impl<const D: usize> Edmd<D> {
         }
         // A few grains much larger than the rest stay out of the cell lists, so that
         // the cells fit the others (`cells::large_grain_cut`; not while radii grow).
-        let cut = if growth == 0.0 {
-            large_grain_cut::<D>(&particles.radii, bx.volume())
-        } else {
-            None
-        };
-        let cell_radius = cut.unwrap_or(max_radius);
-        let cells = CellGrid::new(&bx, 2.0 * cell_radius * radius_scale * (1.0 + 1e-9), n);
+        let (cells, cut) = CellGrid::for_radii(&bx, &particles.radii, radius_scale, growth == 0.0);
         let impact = Histogram::new(0.0, 1.0 + 1e-12, options.impact_bins.max(1));
         let last_collision = if law.contact_duration > 0.0 {
             vec![f64::NEG_INFINITY; n]
@@ -435,10 +429,7 @@ impl<const D: usize> Edmd<D> {
         for i in 0..n {
             let c = engine.cells.coords_of(&engine.grains[i].pos.0);
             let r = engine.base_radius(i);
-            match cut {
-                Some(cut) if r > cut => engine.cells.insert_large(i, c, (r + cut) * (1.0 + 1e-9)),
-                _ => engine.cells.insert(i, c),
-            }
+            engine.cells.insert_grain(i, c, r, cut);
         }
         engine.reorder();
         for i in 0..n {
@@ -662,16 +653,7 @@ impl<const D: usize> Edmd<D> {
         if has_large {
             self.gather_with_large(i, &coords, search, &mut candidates);
         } else {
-            match search {
-                Search::Full => self.cells.gather_neighbours(&coords, &mut candidates),
-                Search::Layer { axis, step, known } => {
-                    self.cells
-                        .gather_layer(&coords, axis, step, &mut candidates);
-                    if let Some(j) = known {
-                        candidates.push(j);
-                    }
-                }
-            }
+            self.gather(&coords, search, &mut candidates);
         }
         let candidates_now = candidates.as_slice();
         prefetch_all(&self.grains, candidates_now);
@@ -742,6 +724,13 @@ impl<const D: usize> Edmd<D> {
             self.cells.gather_reach(i, coords, candidates);
             return;
         }
+        self.gather(coords, search, candidates);
+        candidates.extend_from(self.cells.large());
+    }
+
+    /// The candidates `search` says, around cell `coords` (large grains aside).
+    #[inline(always)]
+    fn gather(&self, coords: &[u32; D], search: Search, candidates: &mut Candidates) {
         match search {
             Search::Full => self.cells.gather_neighbours(coords, candidates),
             Search::Layer { axis, step, known } => {
@@ -751,7 +740,6 @@ impl<const D: usize> Edmd<D> {
                 }
             }
         }
-        candidates.extend_from(self.cells.large());
     }
 
     /// [`Edmd::predict`] for both grains of a pair collision (`i` first, then `j`, as

@@ -257,18 +257,12 @@ fn check_overlaps<const D: usize>(
     bx: &SimulationBox<D>,
     set: &ParticleSet<D>,
 ) -> Result<(), BuildError> {
-    use crate::edmd::cells::{CellGrid, large_grain_cut};
     let n = set.len();
-    let r_max = set.radii.iter().cloned().fold(0.0, f64::max);
     // The cells fit all but a few large grains, as in the engine.
-    let cut = large_grain_cut::<D>(&set.radii, bx.volume());
-    let mut grid = CellGrid::<D>::new(bx, 2.0 * cut.unwrap_or(r_max), n);
+    let (mut grid, cut) = crate::edmd::cells::CellGrid::<D>::for_radii(bx, &set.radii, 1.0, true);
     for i in 0..n {
         let c = grid.coords_of(&set.positions[i].0);
-        match cut {
-            Some(cut) if set.radii[i] > cut => grid.insert_large(i, c, set.radii[i] + cut),
-            _ => grid.insert(i, c),
-        }
+        grid.insert_grain(i, c, set.radii[i], cut);
     }
     for i in 0..n {
         let mut bad = None;
