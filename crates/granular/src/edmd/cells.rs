@@ -104,7 +104,7 @@ pub struct CellGrid<const D: usize> {
 /// index and count (Lemire, Kaser and Kurz, "Faster remainder by direct computation",
 /// Softw. Pract. Exper. 49, 953 (2019), Theorem 1 with N = 32, F = 64). A grain's cell
 /// coordinates come from its flat index at every prediction, where a 32-bit division sat
-/// on the way from one event to the next: +1.5 % at 2D N = 10^4, φ = 0.7 (22 pairs of
+/// on the way from one event to the next: +1.5 % at 2D N = 10^4, φ = 0.7 (32 pairs of
 /// alternating runs), none measurable at 3D N = 10^5 or 2D φ = 0.2.
 /// Serialised as its count.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
