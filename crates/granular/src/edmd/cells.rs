@@ -71,8 +71,7 @@ pub fn large_grain_cut<const D: usize>(radii: &[f64], volume: f64) -> Option<f64
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct CellGrid<const D: usize> {
     /// Cells per axis.
-    #[serde(with = "crate::vector::serde_array")]
-    pub counts: [usize; D],
+    pub counts: CellCounts<D>,
     /// Cell width per axis.
     #[serde(with = "crate::vector::serde_array")]
     pub widths: [f64; D],
@@ -94,9 +93,53 @@ pub struct CellGrid<const D: usize> {
     /// touch while it stays in its cell.
     #[serde(default)]
     reach: Vec<u32>,
-    /// `counts` as divisors of flat indices (all but the last axis are used).
-    #[serde(with = "crate::vector::serde_array")]
+}
+
+/// Cells per axis (`counts[k]`), each also ready to divide flat cell indices by
+/// ([`CountDivisor`]). Stored, and checkpointed, as the counts alone.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "Vec<usize>", into = "Vec<usize>")]
+pub struct CellCounts<const D: usize> {
+    counts: [usize; D],
     divisors: [CountDivisor; D],
+}
+
+impl<const D: usize> From<[usize; D]> for CellCounts<D> {
+    fn from(counts: [usize; D]) -> Self {
+        let divisors = counts.map(|c| CountDivisor::from(c as u32));
+        Self { counts, divisors }
+    }
+}
+
+impl<const D: usize> TryFrom<Vec<usize>> for CellCounts<D> {
+    type Error = String;
+    fn try_from(v: Vec<usize>) -> Result<Self, String> {
+        let n = v.len();
+        let counts: [usize; D] = v
+            .try_into()
+            .map_err(|_| format!("expected {D} cell counts, found {n}"))?;
+        Ok(counts.into())
+    }
+}
+
+impl<const D: usize> From<CellCounts<D>> for Vec<usize> {
+    fn from(c: CellCounts<D>) -> Vec<usize> {
+        c.counts.to_vec()
+    }
+}
+
+impl<const D: usize> std::ops::Index<usize> for CellCounts<D> {
+    type Output = usize;
+    #[inline(always)]
+    fn index(&self, k: usize) -> &usize {
+        &self.counts[k]
+    }
+}
+
+impl<const D: usize> PartialEq<[usize; D]> for CellCounts<D> {
+    fn eq(&self, other: &[usize; D]) -> bool {
+        self.counts == *other
+    }
 }
 
 /// Division of a flat cell index by a cell count without a division instruction: the
@@ -106,9 +149,7 @@ pub struct CellGrid<const D: usize> {
 /// coordinates come from its flat index at every prediction, where a 32-bit division sat
 /// on the way from one event to the next: +1.5 % at 2D N = 10^4, φ = 0.7 (32 pairs of
 /// alternating runs), none measurable at 3D N = 10^5 or 2D φ = 0.2.
-/// Serialised as its count.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(from = "u32", into = "u32")]
+#[derive(Clone, Copy, Debug, PartialEq)]
 struct CountDivisor {
     n: u32,
     /// `ceil(2^64 / n)`, or 0 for `n = 1` (whose quotient is the index itself).
@@ -120,12 +161,6 @@ impl From<u32> for CountDivisor {
         let n = n.max(1);
         let magic = if n > 1 { u64::MAX / n as u64 + 1 } else { 0 };
         Self { n, magic }
-    }
-}
-
-impl From<CountDivisor> for u32 {
-    fn from(d: CountDivisor) -> u32 {
-        d.n
     }
 }
 
@@ -186,7 +221,7 @@ impl<const D: usize> CellGrid<D> {
         }
         let ncells = counts.iter().product();
         Self {
-            counts,
+            counts: counts.into(),
             widths,
             periodic,
             head: vec![NONE; ncells],
@@ -194,7 +229,6 @@ impl<const D: usize> CellGrid<D> {
             cell: vec![0; n],
             large: Vec::new(),
             reach: Vec::new(),
-            divisors: counts.map(|c| CountDivisor::from(c as u32)),
         }
     }
 
@@ -352,7 +386,7 @@ impl<const D: usize> CellGrid<D> {
             if k + 1 == D {
                 *ck = f;
             } else {
-                (f, *ck) = self.divisors[k].div_rem(f);
+                (f, *ck) = self.counts.divisors[k].div_rem(f);
             }
         }
         c
@@ -983,7 +1017,7 @@ mod tests {
 
     /// The multiplication gives the quotient and remainder of `/` and `%` for counts and
     /// indices over the whole 32-bit range (powers of two, 1 and the extremes included),
-    /// and a checkpoint stores the count alone.
+    /// and a checkpoint stores the cell counts alone.
     #[test]
     fn count_divisor_divides_every_index_exactly() {
         use crate::random::{RngExt, stream};
@@ -1011,14 +1045,16 @@ mod tests {
             for f in indices {
                 assert_eq!(d.div_rem(f), (f / n, f % n), "{f} / {n}");
             }
-            // Serialised as the count alone, rebuilt on reading.
-            let bytes = rmp_serde::to_vec(&d).expect("serialise");
-            assert_eq!(rmp_serde::from_slice::<u32>(&bytes).expect("a count"), n);
-            assert_eq!(
-                rmp_serde::from_slice::<CountDivisor>(&bytes).expect("read"),
-                d
-            );
         }
+        // Stored as the counts alone, the divisors rebuilt on reading.
+        let grid = CellCounts::from([105, 7, 65_537]);
+        let bytes = rmp_serde::to_vec(&grid).expect("serialise");
+        let stored: Vec<usize> = rmp_serde::from_slice(&bytes).expect("counts");
+        assert_eq!(stored, [105, 7, 65_537]);
+        assert_eq!(
+            rmp_serde::from_slice::<CellCounts<3>>(&bytes).expect("read"),
+            grid
+        );
     }
 
     /// Where `without_wrap` holds, every two points of the cells around the given cells

@@ -36,8 +36,8 @@ use std::time::Instant;
 /// codes of cell crossings carry the partner bound of the cheap crossing; 4: the event
 /// queue's bucket lists end at an index instead of a sentinel; 5: the event queue is a
 /// tournament tree or a calendar, by the number of grains; 6: the cell grid keeps a few
-/// large grains out of its lists; 7: the cell grid stores its counts as divisors too).
-pub const CHECKPOINT_FORMAT: u32 = 7;
+/// large grains out of its lists).
+pub const CHECKPOINT_FORMAT: u32 = 6;
 
 /// Why a run failed.
 #[derive(Debug, thiserror::Error)]
