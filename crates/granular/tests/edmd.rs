@@ -418,6 +418,87 @@ fn collapse_detector_fires_and_names_the_tc_model() {
     collapsing_gas(1e-5).expect("TC model prevents the collapse");
 }
 
+/// 200 disks of radius 0.005 falling to the floor of a 0.2 x 1 box under gravity 1, at
+/// restitution 0.5 and TC model `t_c` (0: off), until t = 10; the run's error message on
+/// a collapse, or its final kinetic energy over the initial one.
+fn settling_bed(seed: u64, contact_duration: f64) -> Result<f64, String> {
+    use granular::run::Run;
+    use granular::scenario::Scenario;
+    let text = format!(
+        r#"
+engine = "edmd"
+dimension = 2
+seed = {seed}
+gravity = [0.0, -1.0]
+[box]
+lengths = [0.2, 1.0]
+boundary = "wall"
+[[species]]
+name = "grain"
+count = 200
+radius = 0.005
+[collisions]
+restitution = 0.5
+contact_duration = {contact_duration:e}
+[stop]
+time = 10.0
+[output]
+interval = 0.5
+checkpoint_seconds = 1e9
+"#
+    );
+    let scenario = Scenario::from_toml(&text, &[]).expect("valid scenario");
+    let dir = std::env::temp_dir().join(format!(
+        "granular-test-{}-bed-{seed}-{contact_duration:e}",
+        std::process::id()
+    ));
+    let _ = std::fs::remove_dir_all(&dir);
+    let result = Run::create(&dir, scenario)
+        .expect("run directory")
+        .run_to_end(&mut |_| {}, None);
+    let _ = std::fs::remove_dir_all(&dir);
+    let summary = result.map_err(|e| e.to_string())?;
+    let final_energy = summary.final_observables["kinetic_energy"]
+        .as_f64()
+        .expect("kinetic energy");
+    Ok(final_energy / summary.initial_kinetic_energy)
+}
+
+/// The `t_c` a collapse message advises (`collisions.contact_duration = X`).
+fn advised_contact_duration(message: &str) -> f64 {
+    let key = "collisions.contact_duration = ";
+    let at = message
+        .find(key)
+        .unwrap_or_else(|| panic!("no advice in: {message}"));
+    let value = &message[at + key.len()..];
+    let end = value.find([' ', ',']).unwrap_or(value.len());
+    value[..end]
+        .parse()
+        .unwrap_or_else(|_| panic!("no number in: {message}"))
+}
+
+#[test]
+fn collapse_advice_lets_a_bed_settle_under_gravity() {
+    // Without the TC model a disk bouncing on the floor collapses at t = 0.38. The advice
+    // under gravity (0.1 of the mean free time; 1e-3 of it collapses again once the bed
+    // forms, at t = 2.2) lets the bed come to rest: after a few collisions per grain at
+    // restitution 0.5 almost all of its initial energy is gone.
+    let message = settling_bed(7, 0.0).expect_err("collapse without the TC model");
+    let advised = advised_contact_duration(&message);
+    assert!(
+        (1e-3..1e-1).contains(&advised),
+        "advice {advised} is not about a tenth of the mean free time (0.068): {message}"
+    );
+    let left = settling_bed(7, advised).expect("the advised t_c lets the bed settle");
+    assert!(left < 1e-3, "kinetic energy left: {left} of the initial");
+    // With the TC model on but too short, the advice is a longer t_c, never a shorter one
+    // (an earlier version advised 1e-3 of the mean free time, which the collapse itself
+    // had shrunk below the t_c that failed).
+    let message = settling_bed(7, 1e-4).expect_err("t_c = 1e-4 collapses when the bed forms");
+    let advised = advised_contact_duration(&message);
+    assert!((advised / 1e-3 - 1.0).abs() < 1e-9, "{message}");
+}
+
 // ---------------------------------------------------------------- initial states
 
 /// Places `n` grains at packing fraction `start`, compresses to `phi`, and checks overlaps.

@@ -245,6 +245,13 @@ struct LastSample {
 struct CollapseWatch {
     window_start_events: u64,
     window_start_time: f64,
+    /// Pair collisions and time since the start of the run at the starts of the last two
+    /// windows (the earlier one first), for the mean free time before a collapse: the
+    /// collapse's own collisions, in the window that detects it and perhaps the one before,
+    /// would shrink it by orders of magnitude. Only for the advice, so not in checkpoints:
+    /// the first windows after a resume fall back to the run's mean free time.
+    #[serde(skip)]
+    starts: [Option<(u64, f64)>; 2],
 }
 
 /// Events per collapse-detector window in systems of up to 2^14 grains; larger ones
@@ -1298,6 +1305,11 @@ impl<const D: usize> Edmd<D> {
         let elapsed = self.now - self.collapse.window_start_time;
         self.collapse.window_start_events = self.totals.events;
         self.collapse.window_start_time = self.now;
+        let before = self.collapse.starts[0];
+        self.collapse.starts = [
+            self.collapse.starts[1],
+            Some((self.totals.pair_collisions, self.origin + self.now)),
+        ];
         if self.law.is_elastic() || self.growth != 0.0 {
             return Ok(());
         }
@@ -1310,23 +1322,60 @@ impl<const D: usize> Edmd<D> {
         // cross its own diameter at the typical speed: a generous upper bound on rates.
         let natural = events as f64 / self.len() as f64 * 2.0 * self.min_radius / v_typ;
         if elapsed < self.options.collapse_ratio * natural {
-            let tau = self.mean_free_time_so_far();
-            let suggestion = if tau.is_finite() {
-                1e-3 * tau
+            // The mean free time up to two windows ago, before the collapse began.
+            let tau = match before {
+                Some((c, t)) if c > 0 => self.len() as f64 * t / (2.0 * c as f64),
+                _ => self.mean_free_time_so_far(),
+            };
+            let tau = if tau.is_finite() {
+                tau
             } else {
-                1e-3 * 2.0 * self.min_radius / v_typ
+                2.0 * self.min_radius / v_typ
             };
             return Err(EngineError::Collapse(format!(
-                "inelastic collapse at t = {:.6e}: the last {events} events advanced the time by only {elapsed:.3e} \
-                 (grains collide ever faster in a shrinking cluster; restitution {}, contact_duration (t_c) {}). \
-                 Enable the TC model with collisions.contact_duration = {suggestion:.1e} \
-                 (about 1e-3 of the mean free time {tau:.3e}), or raise the restitution.",
+                "inelastic collapse at t = {:.6e}: the last {events} events advanced the time by \
+                 only {elapsed:.3e} (grains collide ever faster in a shrinking cluster; \
+                 restitution {}). {}",
                 self.origin + self.now,
                 self.law.restitution,
-                self.law.contact_duration,
+                self.collapse_advice(tau),
             )));
         }
         Ok(())
+    }
+
+    /// What to change after a collapse, given the mean free time `tau` so far. Without
+    /// the TC model: `t_c` = 10^-3 `tau` for a freely cooling gas, and 0.1 `tau` under
+    /// gravity, where the grains come to rest in a bed that rattles ever faster at any
+    /// smaller `t_c` (10^-3 `tau` only delays the collapse to the bed's formation). With
+    /// the model on, a larger `t_c`: advising one from `tau` would advise a smaller one,
+    /// since `tau` has shrunk with the collapse. Collisions closer than `t_c` are elastic
+    /// (section 2.3 of the hard-disk seed), so every advice trades some dissipation for
+    /// stability.
+    fn collapse_advice(&self, tau: f64) -> String {
+        let t_c = self.law.contact_duration;
+        if t_c > 0.0 {
+            format!(
+                "The TC model is on (t_c = {t_c}) but too short to stop it: set \
+                 collisions.contact_duration = {:.1e} (ten times longer; keep it well below \
+                 the mean free time of the grains in motion, since collisions closer than t_c \
+                 are elastic), or raise the restitution.",
+                10.0 * t_c
+            )
+        } else if self.has_gravity {
+            format!(
+                "Enable the TC model: grains that come to rest under gravity need \
+                 collisions.contact_duration = {:.1e} (about 0.1 of the mean free time \
+                 {tau:.3e}; collisions closer than t_c are elastic), or raise the restitution.",
+                0.1 * tau
+            )
+        } else {
+            format!(
+                "Enable the TC model with collisions.contact_duration = {:.1e} (about 1e-3 of \
+                 the mean free time {tau:.3e}), or raise the restitution.",
+                1e-3 * tau
+            )
+        }
     }
 
     /// Ends Lubachevsky-Stillinger growth: radii are frozen at their current values.
