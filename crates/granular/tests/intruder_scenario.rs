@@ -163,6 +163,11 @@ interval = 500.0
         .unwrap();
     assert_eq!(a.final_observables, b.final_observables);
     assert_eq!(a.stop_reason, "collisions");
+    // Killed between two outputs (checkpoints come between chunks of events).
+    crate::spine::assert_resume_mid_interval(
+        "intruder-1d",
+        with(&["output.interval=1e9", "stop.events=1000000"]),
+    );
 }
 
 fn ratio(s: &Summary) -> (f64, f64) {

@@ -1,5 +1,6 @@
 //! The scenario format, run directory, determinism and resume.
 
+use granular::engine::Engine;
 use granular::run::Run;
 use granular::scenario::Scenario;
 use std::path::PathBuf;
@@ -174,6 +175,91 @@ fn resume_equals_the_uninterrupted_run() {
         snap_a.species_names,
         vec!["light".to_string(), "heavy".to_string()]
     );
+}
+
+/// Copies a run directory (its files and `snapshots/`): what a process killed at that
+/// moment leaves behind.
+fn copy_run_dir(from: &std::path::Path, to: &std::path::Path) {
+    std::fs::create_dir_all(to.join("snapshots")).unwrap();
+    for sub in [from.to_path_buf(), from.join("snapshots")] {
+        for entry in std::fs::read_dir(&sub).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_file() {
+                let rel = path.strip_prefix(from).unwrap();
+                std::fs::copy(&path, to.join(rel)).unwrap();
+            }
+        }
+    }
+}
+
+/// Runs `s` whole, and again killed after its third chunk of events (the directory then
+/// holds the second chunk's checkpoint), resumed from there, and finished: the two must
+/// agree. `s` should have one output interval longer than the whole run, which stops by
+/// its event count, and `checkpoint_seconds = 0`, so that each checkpoint falls inside
+/// the interval.
+pub(crate) fn assert_resume_mid_interval(name: &str, s: Scenario) {
+    let (full, cut, killed) = (
+        tmp(&format!("{name}-mid-full")),
+        tmp(&format!("{name}-mid-cut")),
+        tmp(&format!("{name}-mid-killed")),
+    );
+    let a = Run::create(&full, s.clone())
+        .unwrap()
+        .run_to_end(&mut |_| {}, None)
+        .unwrap();
+    let mut chunks = 0;
+    let mut killed_at = 0.0;
+    Run::create(&cut, s)
+        .unwrap()
+        .run_to_end(
+            &mut |p| {
+                chunks += 1;
+                if chunks == 3 {
+                    copy_run_dir(&cut, &killed);
+                    killed_at = p.time;
+                }
+            },
+            None,
+        )
+        .unwrap();
+    assert!(
+        chunks > 3,
+        "{name}: the run must take more than three chunks ({chunks})"
+    );
+    let mut resumed = Run::resume(&killed).unwrap();
+    let t = resumed.engine().time();
+    assert!(
+        t > 0.0 && t < killed_at,
+        "{name}: the checkpoint must lie inside the first interval, before the kill: \
+         t = {t}, killed at {killed_at}"
+    );
+    let b = resumed.run_to_end(&mut |_| {}, None).unwrap();
+    assert_eq!(a.final_observables, b.final_observables, "{name}");
+    assert_eq!(a.events, b.events, "{name}");
+    assert_eq!(final_state(&full), final_state(&killed), "{name}");
+}
+
+#[test]
+fn resume_from_the_middle_of_an_output_interval_equals_the_uninterrupted_run() {
+    let o: Vec<String> = vec![
+        "collisions.restitution=1.0".into(),
+        "output.interval=1e6".into(),
+        "stop.events=1000000".into(),
+    ];
+    assert_resume_mid_interval("edmd", Scenario::from_toml(GOOD, &o).unwrap());
+    let text = std::fs::read_to_string(
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/dsmc-cooling.toml"),
+    )
+    .unwrap();
+    let o: Vec<String> = vec![
+        "species[0].count=3000".into(),
+        // Elastic: a cooled gas takes ever longer steps, with ever fewer collisions each.
+        "collisions.restitution=1.0".into(),
+        "output.interval=1e6".into(),
+        "output.checkpoint_seconds=0".into(),
+        "stop.events=800000".into(),
+    ];
+    assert_resume_mid_interval("dsmc", Scenario::from_toml(&text, &o).unwrap());
 }
 
 #[test]

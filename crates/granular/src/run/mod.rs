@@ -572,6 +572,15 @@ impl Run {
                     events,
                     events_per_second: rate,
                 });
+                // Between chunks, not only at outputs: a dense bed under gravity can spend
+                // hours of events on one output interval. The engine's state between two
+                // chunks is as complete as at an output (resume continues the interval).
+                if last_checkpoint.elapsed().as_secs_f64()
+                    >= self.scenario.output.checkpoint_seconds
+                {
+                    self.checkpoint()?;
+                    last_checkpoint = Instant::now();
+                }
                 if progress == Progress::Reached {
                     break;
                 }
@@ -620,10 +629,6 @@ impl Run {
             if stop.wall_seconds.is_some_and(|w| self.wall_seconds() >= w) {
                 stop_reason = "wall_seconds";
                 break;
-            }
-            if last_checkpoint.elapsed().as_secs_f64() >= self.scenario.output.checkpoint_seconds {
-                self.checkpoint()?;
-                last_checkpoint = Instant::now();
             }
             if interrupt_after_outputs.is_some_and(|k| self.state.outputs >= k) {
                 self.checkpoint()?;
