@@ -1344,14 +1344,14 @@ impl<const D: usize> Edmd<D> {
         Ok(())
     }
 
-    /// What to change after a collapse, given the mean free time `tau` so far. Without
+    /// What to change after a collapse, given the mean free time `tau` before it. Without
     /// the TC model: `t_c` = 10^-3 `tau` for a freely cooling gas, and 0.1 `tau` under
-    /// gravity, where the grains come to rest in a bed that rattles ever faster at any
-    /// smaller `t_c` (10^-3 `tau` only delays the collapse to the bed's formation). With
-    /// the model on, a larger `t_c`: advising one from `tau` would advise a smaller one,
-    /// since `tau` has shrunk with the collapse. Collisions closer than `t_c` are elastic
-    /// (section 2.3 of the hard-disk seed), so every advice trades some dissipation for
-    /// stability.
+    /// gravity, where the grains come to rest in a bed that rattles ever faster (there
+    /// 10^-3 `tau` only delays the collapse until the bed forms; measured in
+    /// `docs/edmd.md`). With the model on, ten times its `t_c`: one taken from `tau` could
+    /// be shorter than the `t_c` that failed, when the collapse has shrunk `tau`.
+    /// Collisions closer than `t_c` are elastic (section 2.3 of the hard-disk seed), so
+    /// every advice trades some dissipation for stability.
     fn collapse_advice(&self, tau: f64) -> String {
         let t_c = self.law.contact_duration;
         if t_c > 0.0 {
