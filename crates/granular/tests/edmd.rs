@@ -499,6 +499,36 @@ fn collapse_advice_lets_a_bed_settle_under_gravity() {
     assert!((advised / 1e-3 - 1.0).abs() < 1e-9, "{message}");
 }
 
+#[test]
+fn a_perfectly_inelastic_floor_is_named_as_the_cause() {
+    // With wall restitution 0 a landed grain hits the floor again at once, forever; the TC
+    // model cannot help, and the advice says so instead of asking for a longer t_c.
+    let bx = SimulationBox::<2> {
+        lengths: Vector([0.2, 1.0]),
+        axes: [AxisKind::Wall, AxisKind::Wall],
+    };
+    let mut law = CollisionLaw::uniform(0.5);
+    law.wall_restitution = 0.0;
+    law.contact_duration = 1e-2;
+    let options = EdmdOptions {
+        gravity: vec![0.0, -1.0],
+        ..EdmdOptions::default()
+    };
+    let grain = set(
+        vec![Vector([0.1, 0.5])],
+        vec![Vector([0.0, 0.0])],
+        vec![0.05],
+        vec![1.0],
+    );
+    let mut e = Edmd::new(bx, grain, law, options);
+    match e.advance(10.0, 1 << 20) {
+        Err(EngineError::Collapse(msg)) => {
+            assert!(msg.contains("collisions.wall_restitution above 0"), "{msg}")
+        }
+        other => panic!("expected the zero-interval wall collisions to be caught: {other:?}"),
+    }
+}
+
 // ---------------------------------------------------------------- initial states
 
 /// Places `n` grains at packing fraction `start`, compresses to `phi`, and checks overlaps.

@@ -1315,7 +1315,9 @@ impl<const D: usize> Edmd<D> {
         }
         let total_mass: f64 = (0..self.len()).map(|s| self.mass(s)).sum();
         let v_typ = (2.0 * self.kinetic_energy_now() / total_mass).sqrt();
-        if v_typ == 0.0 {
+        // Grains all at rest have no time scale, unless their events took no time at all
+        // (a grain stopped on a perfectly inelastic floor under gravity).
+        if v_typ == 0.0 && elapsed > 0.0 {
             return Ok(());
         }
         // Time those events take at one collision per grain per time a grain needs to
@@ -1354,7 +1356,16 @@ impl<const D: usize> Edmd<D> {
     /// every advice trades some dissipation for stability.
     fn collapse_advice(&self, tau: f64) -> String {
         let t_c = self.law.contact_duration;
-        if t_c > 0.0 {
+        let falls_on_a_wall = (0..D).any(|k| self.gravity[k] != 0.0 && !self.bx.is_periodic(k));
+        if falls_on_a_wall && self.law.wall_restitution == 0.0 {
+            // A grain that lands keeps no normal velocity, gravity presses it into the wall
+            // again at once, and an elastic reflection of nothing is nothing: no t_c helps.
+            "With collisions.wall_restitution = 0 under gravity, a grain that lands on a wall \
+             stops there and hits it again at zero intervals, which no TC model can stop: \
+             set collisions.wall_restitution above 0 (a landed grain then bounces ever lower \
+             until the TC model makes its bounces elastic)."
+                .to_string()
+        } else if t_c > 0.0 {
             format!(
                 "The TC model is on (t_c = {t_c}) but too short to stop it: set \
                  collisions.contact_duration = {:.1e} (ten times longer; keep it well below \
