@@ -16,7 +16,7 @@ pub enum InitError {
     /// Random sequential placement ran out of attempts.
     #[error(
         "could not place grain {placed_plus_one} of {total} without overlap after {attempts} random attempts \
-         (packing fraction {packing_fraction:.3} of the region is too high for random placement); \
+         (packing fraction {packing_fraction:.3} of the region, with the grains placed before, is too high for random placement); \
          use placement = \"lattice\", or initial.compress_from (random placement at a lower density, then compression)"
     )]
     Placement {
@@ -26,7 +26,8 @@ pub enum InitError {
         total: usize,
         /// Attempts made for that grain.
         attempts: usize,
-        /// Packing fraction of the grains in the region.
+        /// Packing fraction of the region once all grains are placed (those placed before
+        /// in the region included).
         packing_fraction: f64,
     },
     /// A grain is larger than the region that should hold it.
@@ -273,7 +274,13 @@ pub fn random_placement<const D: usize>(
     let mut order: Vec<usize> = (0..n).collect();
     order.sort_by(|&a, &b| radii[b].total_cmp(&radii[a]).then(a.cmp(&b)));
     let mut out = vec![Vector::zero(); n];
-    let phi = packing_fraction::<D>(radii, region.volume());
+    // What the region holds in the end, grains placed before (of other species) included.
+    let before: f64 = existing
+        .iter()
+        .filter(|(x, _)| (0..D).all(|k| region.lo[k] <= x[k] && x[k] <= region.hi[k]))
+        .map(|&(_, r)| ball_volume::<D>(r))
+        .sum();
+    let phi = packing_fraction::<D>(radii, region.volume()) + before / region.volume();
     for (placed, &i) in order.iter().enumerate() {
         let r = radii[i];
         let mut ranges = [(0.0, 0.0); D];
