@@ -448,11 +448,7 @@ checkpoint_seconds = 1e9
 "#
     );
     let scenario = Scenario::from_toml(&text, &[]).expect("valid scenario");
-    let dir = std::env::temp_dir().join(format!(
-        "granular-test-{}-bed-{seed}-{contact_duration:e}",
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&dir);
+    let dir = crate::spine::tmp(&format!("bed-{seed}-{contact_duration:e}"));
     let result = Run::create(&dir, scenario)
         .expect("run directory")
         .run_to_end(&mut |_| {}, None);

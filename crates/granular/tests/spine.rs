@@ -40,7 +40,7 @@ snapshot_every = 10
 checkpoint_seconds = 0.0
 "#;
 
-fn tmp(name: &str) -> PathBuf {
+pub(crate) fn tmp(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("granular-test-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
     d

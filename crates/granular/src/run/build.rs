@@ -180,10 +180,12 @@ pub fn initial_particles<const D: usize>(
     // `compress_from`: two species at 0.3 made 0.6, beyond random placement.)
     let shrink = match compress {
         Some(start) => {
-            let all: Vec<f64> = (0..scenario.species.len())
-                .flat_map(|s| std::iter::repeat_n(scenario.radius(s), scenario.species[s].count))
-                .collect();
-            let target = init::packing_fraction::<D>(&all, bx.volume());
+            let grains: f64 = (0..scenario.species.len())
+                .map(|s| {
+                    scenario.species[s].count as f64 * init::ball_volume::<D>(scenario.radius(s))
+                })
+                .sum();
+            let target = grains / bx.volume();
             (target / start).powf(1.0 / D as f64).max(1.0)
         }
         None => 1.0,
