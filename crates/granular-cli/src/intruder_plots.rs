@@ -53,9 +53,7 @@ pub fn plot_run(dir: &Path) -> Result<Vec<PathBuf>, String> {
         .ok()
         .and_then(|t| serde_json::from_str(&t).ok());
     let block = summary.as_ref().and_then(|s| s.intruder.clone());
-    let theory = block
-        .as_ref()
-        .and_then(|b| b["theory_temperature_ratio"].as_f64());
+    let theory = block.as_ref().and_then(|b| b.theory_temperature_ratio);
 
     // Running averages against time (after the transient; NaN rows are skipped).
     let ts = read_csv(&dir.join("timeseries.csv"))?;
@@ -100,7 +98,7 @@ pub fn plot_run(dir: &Path) -> Result<Vec<PathBuf>, String> {
     let h = read_csv(&dir.join("intruder_histograms.csv"))?;
     let reference = block
         .as_ref()
-        .and_then(|b| b["histogram_reference"].as_str().map(str::to_string))
+        .map(|b| b.histogram_reference.clone())
         .unwrap_or_else(|| "reference".into());
     let var = h.0.iter().position(|c| c == "variable").unwrap_or(0);
     let mut names: Vec<String> = Vec::new();
@@ -141,8 +139,19 @@ pub fn report(summary: &Summary) {
     let Some(b) = &summary.intruder else {
         return;
     };
-    let f = |k: &str| b[k].as_f64().unwrap_or(f64::NAN);
-    if b.get("temperature_ratio").is_some() {
+    let f = |k: &str| {
+        b.averages
+            .get(k)
+            .copied()
+            .flatten()
+            .or(match k {
+                "theory_temperature_ratio" => b.theory_temperature_ratio,
+                "temperature_ratio_z" => b.temperature_ratio_z,
+                _ => None,
+            })
+            .unwrap_or(f64::NAN)
+    };
+    if b.averages.contains_key("temperature_ratio") {
         eprint!(
             "  T/T_B = {:.5} ± {:.5}, kurtosis = {:.4} ± {:.4}",
             f("temperature_ratio"),
@@ -150,7 +159,7 @@ pub fn report(summary: &Summary) {
             f("kurtosis"),
             f("kurtosis_error")
         );
-        match b.get("theory_temperature_ratio") {
+        match b.theory_temperature_ratio {
             Some(_) => eprintln!(
                 "; theory {:.5} (z = {:.2})",
                 f("theory_temperature_ratio"),

@@ -308,10 +308,7 @@ fn finish(run: Run, dir: &Path, quiet: bool) -> Result<(), String> {
             if let Some(c) = &summary.crater {
                 eprintln!(
                     "  crater: {} of {} `{}` grains moved more than {}",
-                    c["displaced"],
-                    c["grains"],
-                    c["species"].as_str().unwrap_or(""),
-                    c["displacement"]
+                    c.displaced, c.grains, c.species, c.displacement
                 );
             }
             let fits = if elastic {
@@ -322,10 +319,7 @@ fn finish(run: Run, dir: &Path, quiet: bool) -> Result<(), String> {
             for (species, fit) in &fits {
                 eprintln!(
                     "  Maxwell-Boltzmann fit of `{species}`: chi2 = {:.1} for {} degrees of freedom, p = {:.3} ({} speeds pooled)",
-                    fit["chi_square"].as_f64().unwrap_or(f64::NAN),
-                    fit["degrees_of_freedom"],
-                    fit["p_value"].as_f64().unwrap_or(f64::NAN),
-                    fit["samples"]
+                    fit.chi_square, fit.degrees_of_freedom, fit.p_value, fit.samples
                 );
             }
             Ok(())

@@ -1,6 +1,6 @@
 //! The interface every engine (event-driven MD, DSMC, Gillespie intruder) offers to the
-//! runner. Engines know nothing of files, terminals, threads or plots: the runner asks
-//! them to advance to the next output time and to report what they observe there.
+//! [`Simulation`](crate::Simulation). Engines know nothing of files, terminals, threads or
+//! plots: they advance, and they are observed.
 
 use serde::{Deserialize, Serialize};
 
@@ -26,6 +26,9 @@ pub enum Progress {
 
 /// A named scalar observable at one output time, e.g. `("kinetic_energy", 12.5)`.
 pub type Scalar = (String, f64);
+
+pub use crate::observation::Observation;
+use crate::stats::Histogram;
 
 /// Position/velocity snapshot of all particles (row-major `n x dimension` arrays).
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
@@ -71,15 +74,22 @@ pub trait Engine {
     /// caller can check wall-clock limits and report progress, then call again.
     fn advance(&mut self, until: f64, max_events: u64) -> Result<Progress, EngineError>;
 
-    /// Scalar observables at the current time (energies, temperatures, counts, ...).
-    /// Keys are stable names documented in `docs/observables.md`.
-    fn scalars(&mut self) -> Vec<Scalar>;
+    /// What the engine observes at the current time: the same typed quantities in every
+    /// engine. Reading it has no side effect (rates over a window come from two
+    /// observations, [`Observation::rates_since`]).
+    fn observe(&self) -> Observation;
 
     /// Total kinetic energy at the current time (used by the energy stopping rule).
-    fn kinetic_energy(&mut self) -> f64;
+    fn kinetic_energy(&self) -> f64;
+
+    /// Histogram of the normalised impact parameter `b / σ` of all pair collisions so far
+    /// (many-grain engines).
+    fn impact_histogram(&self) -> Option<Histogram> {
+        None
+    }
 
     /// Positions and velocities at the current time, when the engine has particles.
-    fn snapshot(&mut self) -> Option<Snapshot> {
+    fn snapshot(&self) -> Option<Snapshot> {
         None
     }
 }

@@ -17,14 +17,29 @@ pub mod edmd;
 pub mod engine;
 pub mod intruder;
 pub mod observables;
+pub mod observation;
 pub mod output;
 pub mod quadrature;
 pub mod random;
 pub mod run;
 pub mod scenario;
+pub mod simulation;
 pub mod stats;
 pub mod theory;
 pub mod vector;
 
 pub use boundary::{AxisKind, SimulationBox};
+pub use observation::{Observation, Rates, SpeciesObservation};
+pub use run::{Output, Run, RunError, Summary};
+pub use scenario::{Scenario, ScenarioError};
+pub use simulation::{Simulation, StopReason};
 pub use vector::Vector;
+
+/// The types a user of the library needs, in one import: `use granular::prelude::*;`.
+pub mod prelude {
+    pub use crate::engine::{EngineError, Progress, Snapshot};
+    pub use crate::observation::{Observation, Rates, SpeciesObservation};
+    pub use crate::run::{BuildError, Output, Run, RunError, Summary};
+    pub use crate::scenario::{Scenario, ScenarioError};
+    pub use crate::simulation::{Simulation, StopReason};
+}

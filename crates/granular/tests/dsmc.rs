@@ -559,11 +559,16 @@ fn advance_budget_and_snapshot() {
     assert_eq!(snap.positions.len(), 2 * n);
     assert_eq!(snap.positions[2 * 7 + 1], p[7][1]);
     assert_eq!(snap.velocities[2 * 9], v[9][0]);
-    let names: Vec<String> = e.scalars().into_iter().map(|(k, _)| k).collect();
+    let names: Vec<String> = e
+        .observe()
+        .columns(None)
+        .into_iter()
+        .map(|(k, _)| k)
+        .collect();
     for key in [
         "kinetic_energy",
         "temperature",
-        "collisions",
+        "pair_collisions",
         "collisions_per_particle",
         "a2",
     ] {

@@ -302,27 +302,29 @@ fn measure_pressure<const D: usize>(
     let (bx, p) = gas::<D>(n, phi, AxisKind::Periodic, seed, phi > 0.4);
     let r = p.radii[0];
     let mut e = Edmd::new(bx, p, CollisionLaw::default(), EdmdOptions::default());
+    let start = e.observe();
     run_collisions(&mut e, 20 * n as u64);
     let temperature = 2.0 * e.kinetic_energy_now() / (D as f64 * n as f64);
     let density = n as f64; // unit box
+    // The collision frequency over the equilibration, from t = 0.
     let mean_free_time = 1.0
-        / e.scalars()
-            .iter()
-            .find(|s| s.0 == "collision_frequency")
-            .map_or(1.0, |s| s.1)
+        / e.observe()
+            .rates_since(&start)
+            .collision_frequency
             .max(1e-300);
     let dt = 2.0 * mean_free_time; // two collisions per grain per interval
     let mut z = Vec::new();
     let mut freq = Vec::new();
     let mut t = e.time();
-    e.scalars();
+    let mut previous = e.observe();
     for _ in 0..400 {
         t += dt;
         run_to(&mut e, t);
-        let s = e.scalars();
-        let get = |k: &str| s.iter().find(|x| x.0 == k).map(|x| x.1).unwrap_or(f64::NAN);
-        z.push(get("pressure") / (density * temperature));
-        freq.push(get("collision_frequency"));
+        let now = e.observe();
+        let rates = now.rates_since(&previous);
+        z.push(rates.pressure / (density * temperature));
+        freq.push(rates.collision_frequency);
+        previous = now;
     }
     let (zm, ze) = batch_means(&z, 20);
     let (fm, fe) = batch_means(&freq, 20);
@@ -454,9 +456,7 @@ checkpoint_seconds = 1e9
         .run_to_end(&mut |_| {}, None);
     let _ = std::fs::remove_dir_all(&dir);
     let summary = result.map_err(|e| e.to_string())?;
-    let final_energy = summary.final_observables["kinetic_energy"]
-        .as_f64()
-        .expect("kinetic energy");
+    let final_energy = summary.final_observables["kinetic_energy"];
     Ok(final_energy / summary.initial_kinetic_energy)
 }
 

@@ -685,7 +685,7 @@ fn engine_interface_and_time_grid() {
     assert_eq!(e.time(), 110.0);
     // Grid points 10, 10.5, ..., 110: 201 samples, whatever the number of collisions.
     assert_eq!(e.summary().samples, 201);
-    let names: Vec<String> = e.scalars().into_iter().map(|s| s.0).collect();
+    let names: Vec<String> = e.observe().columns(None).into_iter().map(|s| s.0).collect();
     assert!(names.iter().any(|n| n == "temperature_ratio"));
     let mut n = Needle::new(
         &NeedleConfig {

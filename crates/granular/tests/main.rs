@@ -8,4 +8,5 @@ mod intruder;
 mod intruder_scenario;
 mod observables;
 mod problems;
+mod simulation;
 mod spine;

@@ -6,7 +6,8 @@ use super::config::{DensityScope, DsmcConfig};
 use super::guards::{self, ValidityWarning};
 use super::observables::{self, DensityMap, StructureFactor};
 use crate::boundary::{AxisKind, SimulationBox};
-use crate::engine::{Engine, EngineError, Progress, Scalar, Snapshot};
+use crate::engine::{Engine, EngineError, Progress, Snapshot};
+use crate::observation::{DsmcCounters, Observation};
 use crate::random::{INITIAL_STATE, RngExt, stream};
 use crate::stats::Histogram;
 use crate::theory::haff;
@@ -668,29 +669,52 @@ impl<const D: usize> Engine for DsmcEngine<D> {
         Ok(Progress::Reached)
     }
 
-    fn scalars(&mut self) -> Vec<Scalar> {
+    fn observe(&self) -> Observation {
         let (c2, c4) = self.peculiar_moments();
-        let n = self.pos.len() as f64;
+        let n = self.pos.len();
         let d = D as f64;
-        vec![
-            ("kinetic_energy".into(), self.kinetic_energy_now()),
-            ("temperature".into(), self.mass * c2 / d),
-            ("collisions".into(), self.tally.collisions as f64),
-            (
-                "collisions_per_particle".into(),
-                2.0 * self.tally.collisions as f64 / n,
-            ),
-            ("a2".into(), d / (d + 2.0) * c4 / (c2 * c2) - 1.0),
-            ("steps".into(), self.steps as f64),
-            ("vmax_exceeded".into(), self.tally.vmax_exceeded as f64),
-        ]
+        let kinetic = self.kinetic_energy_now();
+        let volume = self.sim_box.volume();
+        let wall_area: f64 = (0..D)
+            .filter(|&k| !self.sim_box.is_periodic(k))
+            .map(|k| 2.0 * volume / self.sim_box.lengths[k])
+            .sum();
+        Observation {
+            engine: "dsmc".into(),
+            dimension: D,
+            particles: n,
+            time: self.time,
+            events: self.events(),
+            collisions: self.tally.collisions,
+            collisions_per_particle: 2.0 * self.tally.collisions as f64 / n as f64,
+            kinetic_energy: kinetic,
+            temperature: self.mass * c2 / d,
+            species: Vec::new(),
+            wall_collisions: None,
+            dissipated_energy: None,
+            tc_elastic_collisions: None,
+            virial: None,
+            wall_impulse: None,
+            volume,
+            wall_area,
+            a2: Some(d / (d + 2.0) * c4 / (c2 * c2) - 1.0),
+            dsmc: Some(DsmcCounters {
+                steps: self.steps,
+                vmax_exceeded: self.tally.vmax_exceeded,
+            }),
+            engine_specific: Vec::new(),
+        }
     }
 
-    fn kinetic_energy(&mut self) -> f64 {
+    fn kinetic_energy(&self) -> f64 {
         self.kinetic_energy_now()
     }
 
-    fn snapshot(&mut self) -> Option<Snapshot> {
+    fn impact_histogram(&self) -> Option<Histogram> {
+        Some(DsmcEngine::impact_histogram(self))
+    }
+
+    fn snapshot(&self) -> Option<Snapshot> {
         let (p, v) = self.state_by_id();
         let n = p.len();
         Some(Snapshot {

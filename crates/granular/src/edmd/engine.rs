@@ -23,7 +23,8 @@ use super::prefetch::{CACHE_LINE, prefetch_all};
 use super::queue::EventQueue;
 use crate::boundary::SimulationBox;
 use crate::collision_law::CollisionLaw;
-use crate::engine::{Engine, EngineError, Progress, Scalar, Snapshot};
+use crate::engine::{Engine, EngineError, Progress, Snapshot};
+use crate::observation::{Observation, SpeciesObservation};
 use crate::stats::Histogram;
 use crate::vector::Vector;
 use aligned_vec::{AVec, ConstAlign};
@@ -230,16 +231,6 @@ pub struct Totals {
     pub dissipated_energy: f64,
 }
 
-/// Values at the previous call of `scalars()`, to report rates over the output interval.
-#[derive(Clone, Debug, Default, Serialize, Deserialize)]
-struct LastSample {
-    time: f64,
-    pair_collisions: u64,
-    wall_collisions: u64,
-    virial: f64,
-    wall_impulse: f64,
-}
-
 /// Inelastic-collapse detector state.
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
 struct CollapseWatch {
@@ -318,7 +309,7 @@ pub struct Edmd<const D: usize> {
     events_since_rebase: u64,
     totals: Totals,
     impact: Histogram,
-    last: LastSample,
+
     collapse: CollapseWatch,
     max_radius: f64,
     min_radius: f64,
@@ -425,7 +416,6 @@ impl<const D: usize> Edmd<D> {
             events_since_rebase: 0,
             totals: Totals::default(),
             impact,
-            last: LastSample::default(),
             collapse: CollapseWatch::default(),
             max_radius,
             min_radius,
@@ -1175,7 +1165,6 @@ impl<const D: usize> Edmd<D> {
         }
         self.queue.shift(self.now, 0.0);
         self.collapse.window_start_time -= self.now;
-        self.last.time -= self.now;
         self.origin += self.now;
         self.now = 0.0;
         self.events_since_rebase = 0;
@@ -1540,84 +1529,64 @@ impl<const D: usize> Engine for Edmd<D> {
         Ok(Progress::BudgetExhausted)
     }
 
-    fn scalars(&mut self) -> Vec<Scalar> {
-        let t = self.time();
-        let n = self.len() as f64;
+    fn observe(&self) -> Observation {
+        let n = self.len();
         let volume = self.bx.volume();
         let kinetic = self.kinetic_energy_now();
-        let temperature = 2.0 * kinetic / (D as f64 * n);
-        let mut out: Vec<Scalar> = vec![
-            ("time".into(), t),
-            ("kinetic_energy".into(), kinetic),
-            ("temperature".into(), temperature),
-        ];
-        let per_species = self.species_kinetic_energy();
-        if self.species_names.len() > 1 {
-            for (s, (k, count)) in per_species.iter().enumerate() {
-                let name = &self.species_names[s];
-                let c = (*count).max(1) as f64;
-                out.push((format!("kinetic_energy_per_grain.{name}"), k / c));
-                out.push((format!("temperature.{name}"), 2.0 * k / (D as f64 * c)));
-            }
-        }
-        let dt = t - (self.origin + self.last.time);
-        let d_pair = self.totals.pair_collisions - self.last.pair_collisions;
-        let (pressure, collision_rate, wall_pressure) = if dt > 0.0 {
-            let virial = self.totals.virial - self.last.virial;
-            let p = (2.0 * kinetic + virial / dt) / (D as f64 * volume);
-            let rate = 2.0 * d_pair as f64 / (n * dt);
-            let wall_area: f64 = (0..D)
-                .filter(|&k| !self.bx.is_periodic(k))
-                .map(|k| 2.0 * volume / self.bx.lengths[k])
-                .sum();
-            let wp = if wall_area > 0.0 {
-                (self.totals.wall_impulse - self.last.wall_impulse) / (wall_area * dt)
-            } else {
-                f64::NAN
-            };
-            (p, rate, wp)
+        let species = if self.species_names.len() > 1 {
+            self.species_kinetic_energy()
+                .iter()
+                .enumerate()
+                .map(|(s, &(k, count))| {
+                    let c = count.max(1) as f64;
+                    SpeciesObservation {
+                        name: self.species_names[s].clone(),
+                        grains: count,
+                        kinetic_energy_per_grain: k / c,
+                        temperature: 2.0 * k / (D as f64 * c),
+                    }
+                })
+                .collect()
         } else {
-            (f64::NAN, f64::NAN, f64::NAN)
+            Vec::new()
         };
-        out.extend([
-            ("pair_collisions".into(), self.totals.pair_collisions as f64),
-            ("wall_collisions".into(), self.totals.wall_collisions as f64),
-            (
-                "collisions_per_particle".into(),
-                2.0 * self.totals.pair_collisions as f64 / n,
-            ),
-            ("collision_frequency".into(), collision_rate),
-            (
-                "mean_free_time".into(),
-                if collision_rate > 0.0 {
-                    1.0 / collision_rate
-                } else {
-                    f64::NAN
-                },
-            ),
-            ("pressure".into(), pressure),
-            ("wall_pressure".into(), wall_pressure),
-            ("dissipated_energy".into(), self.totals.dissipated_energy),
-            (
-                "tc_elastic_collisions".into(),
-                self.totals.tc_elastic_collisions as f64,
-            ),
-        ]);
-        self.last = LastSample {
-            time: self.now,
-            pair_collisions: self.totals.pair_collisions,
-            wall_collisions: self.totals.wall_collisions,
-            virial: self.totals.virial,
-            wall_impulse: self.totals.wall_impulse,
-        };
-        out
+        let wall_area: f64 = (0..D)
+            .filter(|&k| !self.bx.is_periodic(k))
+            .map(|k| 2.0 * volume / self.bx.lengths[k])
+            .sum();
+        Observation {
+            engine: "edmd".into(),
+            dimension: D,
+            particles: n,
+            time: self.time(),
+            events: self.totals.events,
+            collisions: self.totals.pair_collisions,
+            collisions_per_particle: 2.0 * self.totals.pair_collisions as f64 / n as f64,
+            kinetic_energy: kinetic,
+            temperature: 2.0 * kinetic / (D as f64 * n as f64),
+            species,
+            wall_collisions: Some(self.totals.wall_collisions),
+            dissipated_energy: Some(self.totals.dissipated_energy),
+            tc_elastic_collisions: Some(self.totals.tc_elastic_collisions),
+            virial: Some(self.totals.virial),
+            wall_impulse: Some(self.totals.wall_impulse),
+            volume,
+            wall_area,
+            a2: None,
+            dsmc: None,
+            engine_specific: Vec::new(),
+        }
     }
 
-    fn kinetic_energy(&mut self) -> f64 {
+    fn kinetic_energy(&self) -> f64 {
         self.kinetic_energy_now()
     }
 
-    fn snapshot(&mut self) -> Option<Snapshot> {
+    fn impact_histogram(&self) -> Option<crate::stats::Histogram> {
+        Some(Edmd::impact_histogram(self).clone())
+    }
+
+    fn snapshot(&self) -> Option<Snapshot> {
         let n = self.len();
         let mut positions = Vec::with_capacity(n * D);
         let mut velocities = Vec::with_capacity(n * D);

@@ -23,7 +23,8 @@ use super::bath::BathError;
 use super::observables::{GridSeries, hist_push};
 use super::one_d::{Intruder1dConfig, Intruder1dParams, Intruder1dSummary};
 use super::theory;
-use crate::engine::{Engine, EngineError, Progress, Scalar};
+use crate::engine::{Engine, EngineError, Progress};
+use crate::observation::Observation;
 use crate::random::{DYNAMICS, INITIAL_STATE, RngExt, Stream, stream};
 use crate::stats::Histogram;
 
@@ -241,9 +242,9 @@ impl Engine for DsmcTwin {
     }
     /// The scalars of [`super::Intruder1d`] plus `bound_raises` and
     /// `trials_per_collision`.
-    fn scalars(&mut self) -> Vec<Scalar> {
+    fn observe(&self) -> Observation {
         let s = self.summary();
-        vec![
+        let quantities = vec![
             ("velocity".into(), self.v1),
             ("kinetic_energy".into(), self.kinetic_energy()),
             ("collisions".into(), self.collisions as f64),
@@ -257,9 +258,17 @@ impl Engine for DsmcTwin {
             ("martin_piasecki_ratio".into(), s.martin_piasecki_ratio),
             ("bound_raises".into(), self.bound_raises as f64),
             ("trials_per_collision".into(), self.trials_per_collision()),
-        ]
+        ];
+        Observation::intruder(
+            1,
+            self.time(),
+            self.events(),
+            self.collisions(),
+            self.kinetic_energy(),
+            quantities,
+        )
     }
-    fn kinetic_energy(&mut self) -> f64 {
+    fn kinetic_energy(&self) -> f64 {
         0.5 * self.params.mass * self.v1 * self.v1
     }
 }

@@ -37,7 +37,8 @@ use serde::{Deserialize, Serialize};
 
 use super::bath::{BathDistribution, BathError, FRAC_1_SQRT_PI, Gaussian, Side, gaussian_h};
 use super::observables::{Estimate, GridSeries, grid_points_before, hist_push_n};
-use crate::engine::{Engine, EngineError, Progress, Scalar};
+use crate::engine::{Engine, EngineError, Progress};
+use crate::observation::Observation;
 use crate::random::{DYNAMICS, RngExt, Stream, exp1, std_normal, stream, unit_f64};
 use crate::stats::Histogram;
 
@@ -734,9 +735,9 @@ impl Engine for Needle {
     fn advance(&mut self, until: f64, max_events: u64) -> Result<Progress, EngineError> {
         self.drive(until, max_events, u64::MAX)
     }
-    fn scalars(&mut self) -> Vec<Scalar> {
+    fn observe(&self) -> Observation {
         let s = self.summary();
-        vec![
+        let quantities = vec![
             ("velocity_x".into(), self.v[0]),
             ("velocity_y".into(), self.v[1]),
             ("angular_velocity".into(), self.omega),
@@ -762,9 +763,17 @@ impl Engine for Needle {
             ),
             ("correlation_r".into(), s.correlation.mean),
             ("correlation_r_error".into(), s.correlation.error),
-        ]
+        ];
+        Observation::intruder(
+            2,
+            self.time(),
+            self.events(),
+            self.collisions(),
+            self.kinetic_energy(),
+            quantities,
+        )
     }
-    fn kinetic_energy(&mut self) -> f64 {
+    fn kinetic_energy(&self) -> f64 {
         let p = &self.params;
         0.5 * p.mass * (self.v[0] * self.v[0] + self.v[1] * self.v[1])
             + 0.5 * p.inertia * self.omega * self.omega

@@ -28,7 +28,8 @@ use serde::{Deserialize, Serialize};
 use super::bath::{Bath, BathConfig, BathDistribution, BathError, Gaussian, Side};
 use super::observables::{Estimate, GridSeries, grid_points_before, hist_push_n};
 use super::theory;
-use crate::engine::{Engine, EngineError, Progress, Scalar};
+use crate::engine::{Engine, EngineError, Progress};
+use crate::observation::Observation;
 use crate::random::{DYNAMICS, INITIAL_STATE, MEMBER, RngExt, Stream, exp1, stream};
 use crate::stats::{Histogram, RunningStats};
 
@@ -512,9 +513,9 @@ impl Engine for Intruder1d {
     fn advance(&mut self, until: f64, max_events: u64) -> Result<Progress, EngineError> {
         self.drive_dispatch(until, max_events, u64::MAX, true)
     }
-    fn scalars(&mut self) -> Vec<Scalar> {
+    fn observe(&self) -> Observation {
         let s = self.summary();
-        vec![
+        let quantities = vec![
             ("velocity".into(), self.v1),
             ("kinetic_energy".into(), self.kinetic_energy()),
             ("collisions".into(), self.collisions as f64),
@@ -526,9 +527,17 @@ impl Engine for Intruder1d {
             ("kurtosis".into(), s.kurtosis.mean),
             ("kurtosis_error".into(), s.kurtosis.error),
             ("martin_piasecki_ratio".into(), s.martin_piasecki_ratio),
-        ]
+        ];
+        Observation::intruder(
+            1,
+            self.time(),
+            self.events(),
+            self.collisions(),
+            self.kinetic_energy(),
+            quantities,
+        )
     }
-    fn kinetic_energy(&mut self) -> f64 {
+    fn kinetic_energy(&self) -> f64 {
         0.5 * self.params.mass * self.v1 * self.v1
     }
 }

@@ -5,7 +5,7 @@ use crate::dsmc::config::DsmcConfig;
 use crate::dsmc::engine::DsmcEngine;
 use crate::edmd::init::{self, InitError, Region};
 use crate::edmd::{Edmd, EdmdOptions, ParticleSet};
-use crate::engine::{Engine, EngineError, Progress, Scalar, Snapshot};
+use crate::engine::{Engine, EngineError, Observation, Progress, Snapshot};
 use crate::random::{self, stream};
 use crate::scenario::{EngineKind, Placement, Scenario, ScenarioError, VelocitySpec};
 use crate::vector::Vector;
@@ -44,17 +44,6 @@ impl AnyEngine {
     pub fn as_engine(&mut self) -> &mut dyn Engine {
         each_engine!(self, e => e)
     }
-
-    /// Histogram of the normalised impact parameter of all collisions so far.
-    pub fn impact_histogram(&self) -> Option<crate::stats::Histogram> {
-        match self {
-            AnyEngine::Edmd2(e) => Some(e.impact_histogram().clone()),
-            AnyEngine::Edmd3(e) => Some(e.impact_histogram().clone()),
-            AnyEngine::Dsmc2(e) => Some(e.impact_histogram()),
-            AnyEngine::Dsmc3(e) => Some(e.impact_histogram()),
-            AnyEngine::Intruder(_) => None,
-        }
-    }
 }
 
 impl Engine for AnyEngine {
@@ -76,14 +65,17 @@ impl Engine for AnyEngine {
     fn advance(&mut self, until: f64, max_events: u64) -> Result<Progress, EngineError> {
         self.as_engine().advance(until, max_events)
     }
-    fn scalars(&mut self) -> Vec<Scalar> {
-        self.as_engine().scalars()
+    fn observe(&self) -> Observation {
+        each_engine!(self, e => e.observe())
     }
-    fn kinetic_energy(&mut self) -> f64 {
-        self.as_engine().kinetic_energy()
+    fn kinetic_energy(&self) -> f64 {
+        each_engine!(self, e => e.kinetic_energy())
     }
-    fn snapshot(&mut self) -> Option<Snapshot> {
-        self.as_engine().snapshot()
+    fn snapshot(&self) -> Option<Snapshot> {
+        each_engine!(self, e => e.snapshot())
+    }
+    fn impact_histogram(&self) -> Option<crate::stats::Histogram> {
+        each_engine!(self, e => Engine::impact_histogram(e))
     }
 }
 

@@ -80,11 +80,10 @@ fn observables(summary: &Summary) -> Vec<(String, f64)> {
     let mut out: Vec<(String, f64)> = summary
         .final_observables
         .iter()
-        .filter_map(|(k, v)| v.as_f64().map(|x| (k.clone(), x)))
+        .filter(|(_, v)| v.is_finite())
+        .map(|(k, v)| (k.clone(), *v))
         .collect();
-    if let Some(c) = &summary.crater
-        && let Some(d) = c["displaced"].as_f64()
-    {
+    if let Some(d) = summary.observable("crater_size") {
         out.push(("crater_size".into(), d));
     }
     out

@@ -13,15 +13,21 @@
 //! section 3.2 of the DSMC seed: the impact-parameter distribution at several times
 //! (Fig. 2b), `S(k)` (Fig. 3) and the clusters themselves.
 
-use super::{Run, RunError};
-use crate::engine::Engine;
+use super::Output;
 use crate::observables::{density_map_of, structure_factor_of};
+use crate::observation::Observation;
 use crate::output::npz::{NpzArray, NpzData, write_npz};
+use crate::run::RunError;
+use crate::scenario::OutputSpec;
+use crate::simulation::Simulation;
 use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
 
-/// Observables recorded so far (part of the runner state, so checkpoints keep them).
+/// The opt-in observables recorded so far (part of the checkpoint).
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
-pub struct ObservablesState {
+pub struct SpatialObservables {
+    #[serde(skip)]
+    dir: PathBuf,
     /// Index of the next entry of `output.observable_times` to wait for.
     pub next_time: usize,
     /// Time of the previous observation (start of the next impact-histogram window).
@@ -50,93 +56,40 @@ pub struct ObservablesState {
     pub density_values: Vec<Vec<f64>>,
 }
 
-impl Run {
-    /// Whether any opt-in observable is switched on.
-    fn observables_enabled(&self) -> bool {
-        let o = &self.scenario.output;
-        o.impact_histograms || o.structure_factor || !o.density_map.is_empty()
+impl SpatialObservables {
+    /// Observables written into `dir`.
+    pub fn new(dir: &Path) -> SpatialObservables {
+        SpatialObservables {
+            dir: dir.to_path_buf(),
+            ..SpatialObservables::default()
+        }
     }
 
-    /// Whether the output at the current time is an observation time: every output when
+    pub(crate) fn relocate(&mut self, dir: &Path) {
+        self.dir = dir.to_path_buf();
+    }
+
+    /// Whether the output at `now` is an observation time: every output when
     /// `observable_times` is empty, else `t = 0` and the first output at or after each
     /// listed time.
-    fn observation_due(&mut self, first: bool) -> bool {
-        let times = &self.scenario.output.observable_times;
+    fn observation_due(&mut self, out: &OutputSpec, now: f64, first: bool) -> bool {
+        let times = &out.observable_times;
         if first || times.is_empty() {
             return true;
         }
-        let now = self.engine.time();
-        let st = &mut self.state.observables;
         let mut due = false;
         // Tolerance for output times that land on a listed time up to round-off.
-        let eps = 1e-9 * self.scenario.output.interval;
-        while st.next_time < times.len() && times[st.next_time] <= now + eps {
-            st.next_time += 1;
+        let eps = 1e-9 * out.interval;
+        while self.next_time < times.len() && times[self.next_time] <= now + eps {
+            self.next_time += 1;
             due = true;
         }
         due
     }
 
-    /// Records the opt-in observables at an output time and rewrites their files.
-    pub(super) fn record_observables(&mut self, first: bool) -> Result<(), RunError> {
-        if !self.observables_enabled() || !self.observation_due(first) {
-            return Ok(());
-        }
-        let now = self.engine.time();
-        let out = self.scenario.output.clone();
-        let lengths = self.scenario.lengths();
-        if out.impact_histograms
-            && let Some(h) = self.engine.impact_histogram()
-        {
-            let st = &mut self.state.observables;
-            if first || st.previous_counts.len() != h.counts.len() {
-                st.impact_edges = (0..=h.counts.len())
-                    .map(|b| h.min + b as f64 * h.bin_width())
-                    .collect();
-            } else {
-                let row = h
-                    .counts
-                    .iter()
-                    .zip(&st.previous_counts)
-                    .map(|(c, p)| c.saturating_sub(*p))
-                    .collect();
-                st.impact_t_start.push(st.previous_time);
-                st.impact_t_end.push(now);
-                st.impact_counts.push(row);
-            }
-            st.previous_counts = h.counts.clone();
-            st.previous_time = now;
-        }
-        let snapshot = if out.structure_factor || !out.density_map.is_empty() {
-            self.engine.snapshot()
-        } else {
-            None
-        };
-        if let Some(snap) = &snapshot {
-            let st = &mut self.state.observables;
-            if out.structure_factor
-                && let Some(sk) =
-                    structure_factor_of(snap, &lengths, out.structure_factor_max_index)
-            {
-                st.sk_times.push(now);
-                st.sk_k = sk.k;
-                st.sk_modes = sk.count;
-                st.sk_values.push(sk.s);
-            }
-            if !out.density_map.is_empty()
-                && let Some(map) = density_map_of(snap, &lengths, &out.density_map)
-            {
-                st.density_times.push(now);
-                st.density_values.push(map.values);
-            }
-        }
-        self.write_observables()
-    }
-
     /// Writes the files of the recorded observables (all rows so far).
-    fn write_observables(&self) -> Result<(), RunError> {
-        let out = &self.scenario.output;
-        let st = &self.state.observables;
+    fn write_files(&self, out: &OutputSpec, lengths: &[f64]) -> Result<(), RunError> {
+        let st = self;
         if out.impact_histograms && !st.impact_edges.is_empty() {
             let bins = st.impact_edges.len() - 1;
             let rows = st.impact_counts.len();
@@ -200,11 +153,69 @@ impl Run {
                 self.dir.join("density_maps.npz"),
                 &[
                     ("times", NpzArray::f64_1d(st.density_times.clone())),
-                    ("lengths", NpzArray::f64_1d(self.scenario.lengths())),
+                    ("lengths", NpzArray::f64_1d(lengths.to_vec())),
                     ("density", density),
                 ],
             )?;
         }
         Ok(())
+    }
+}
+
+impl Output for SpatialObservables {
+    /// Records the observables at an observation time and rewrites their files.
+    fn observe(&mut self, simulation: &Simulation, _: &Observation) -> Result<(), RunError> {
+        let first = simulation.outputs_done() == 0;
+        let out = &simulation.scenario().output;
+        let now = simulation.time();
+        if !self.observation_due(out, now, first) {
+            return Ok(());
+        }
+        let lengths = simulation.scenario().lengths();
+        if out.impact_histograms
+            && let Some(h) = simulation.impact_histogram()
+        {
+            let st = &mut *self;
+            if first || st.previous_counts.len() != h.counts.len() {
+                st.impact_edges = (0..=h.counts.len())
+                    .map(|b| h.min + b as f64 * h.bin_width())
+                    .collect();
+            } else {
+                let row = h
+                    .counts
+                    .iter()
+                    .zip(&st.previous_counts)
+                    .map(|(c, p)| c.saturating_sub(*p))
+                    .collect();
+                st.impact_t_start.push(st.previous_time);
+                st.impact_t_end.push(now);
+                st.impact_counts.push(row);
+            }
+            st.previous_counts = h.counts.clone();
+            st.previous_time = now;
+        }
+        let snapshot = if out.structure_factor || !out.density_map.is_empty() {
+            simulation.snapshot()
+        } else {
+            None
+        };
+        if let Some(snap) = &snapshot {
+            if out.structure_factor
+                && let Some(sk) =
+                    structure_factor_of(snap, &lengths, out.structure_factor_max_index)
+            {
+                self.sk_times.push(now);
+                self.sk_k = sk.k;
+                self.sk_modes = sk.count;
+                self.sk_values.push(sk.s);
+            }
+            if !out.density_map.is_empty()
+                && let Some(map) = density_map_of(snap, &lengths, &out.density_map)
+            {
+                self.density_times.push(now);
+                self.density_values.push(map.values);
+            }
+        }
+        self.write_files(out, &lengths)
     }
 }

@@ -1,0 +1,162 @@
+//! Outputs: what is attached to a simulation to record it. Each output is set up at the
+//! start, observes the simulation at every output time and adds its block to the summary
+//! at the end ([`Output`], in the spirit of lumol's `Output` and ripgrep's `Sink`). The run
+//! directory is the set of standard outputs that the scenario's `[output]` table attaches
+//! ([`StandardOutputs`]); a library user attaches their own with
+//! [`Run::attach`](super::Run::attach).
+//!
+//! | output | file(s) |
+//! |---|---|
+//! | [`TimeSeries`] | `timeseries.csv` (written with the `csv` crate) |
+//! | [`Snapshots`] | `snapshots/snapshot_NNNNNN.npz` |
+//! | [`SpeedStatistics`] | `speed_histograms.csv`, `velocity_histograms.csv`; the Maxwell-Boltzmann fit and per-species averages of the summary |
+//! | [`ImpactParameter`] | `impact_parameter.csv` |
+//! | [`SpatialObservables`] | `impact_histograms.npz`, `structure_factor.npz`, `density_maps.npz` |
+//! | [`Crater`] | the `crater` block of the summary |
+//! | [`IntruderStatistics`] | `intruder_histograms.csv`, `.npz`; the `intruder` block |
+
+mod crater;
+mod impact;
+mod intruder;
+mod snapshots;
+mod spatial;
+mod speeds;
+mod timeseries;
+
+pub use crater::Crater;
+pub use impact::ImpactParameter;
+pub use intruder::IntruderStatistics;
+pub use snapshots::Snapshots;
+pub use spatial::SpatialObservables;
+pub use speeds::SpeedStatistics;
+pub use timeseries::TimeSeries;
+
+use super::{RunError, Summary};
+use crate::observation::Observation;
+use crate::simulation::Simulation;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// Something that records a simulation: set up at the start, called at every output time,
+/// finished at the end.
+pub trait Output {
+    /// Once, before the observation at the start of the run.
+    fn setup(&mut self, _simulation: &Simulation) -> Result<(), RunError> {
+        Ok(())
+    }
+
+    /// At every output time, with the observation of that time (the same for every output).
+    fn observe(
+        &mut self,
+        simulation: &Simulation,
+        observation: &Observation,
+    ) -> Result<(), RunError>;
+
+    /// Once, at the end of the run: write what is left and fill the output's block of the
+    /// summary.
+    fn finish(&mut self, _simulation: &Simulation, _summary: &mut Summary) -> Result<(), RunError> {
+        Ok(())
+    }
+}
+
+/// The outputs of a run directory, as the scenario's `[output]` table attaches them. They
+/// are part of a checkpoint (outputs attached by the user are not).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct StandardOutputs {
+    timeseries: TimeSeries,
+    snapshots: Snapshots,
+    speeds: Option<SpeedStatistics>,
+    spatial: Option<SpatialObservables>,
+    impact: ImpactParameter,
+    crater: Option<Crater>,
+    intruder: Option<IntruderStatistics>,
+}
+
+impl StandardOutputs {
+    /// The outputs a simulation's scenario asks for, writing into `dir`.
+    pub fn for_simulation(dir: &Path, simulation: &Simulation) -> StandardOutputs {
+        let scenario = simulation.scenario();
+        let grains = simulation.snapshot().is_some();
+        let o = &scenario.output;
+        let spatial = o.impact_histograms || o.structure_factor || !o.density_map.is_empty();
+        StandardOutputs {
+            timeseries: TimeSeries::new(dir),
+            snapshots: Snapshots::new(dir, o.snapshot_every),
+            speeds: grains.then(|| SpeedStatistics::new(dir)),
+            spatial: (grains && spatial).then(|| SpatialObservables::new(dir)),
+            impact: ImpactParameter::new(dir),
+            crater: scenario.crater.clone().map(Crater::new),
+            intruder: scenario
+                .intruder
+                .is_some()
+                .then(|| IntruderStatistics::new(dir)),
+        }
+    }
+
+    /// Points every file output at `dir` (after a checkpoint is read back: the directory
+    /// may have moved).
+    pub(crate) fn relocate(&mut self, dir: &Path) {
+        self.timeseries.relocate(dir);
+        self.snapshots.relocate(dir);
+        if let Some(s) = &mut self.speeds {
+            s.relocate(dir);
+        }
+        if let Some(s) = &mut self.spatial {
+            s.relocate(dir);
+        }
+        self.impact.relocate(dir);
+        if let Some(i) = &mut self.intruder {
+            i.relocate(dir);
+        }
+    }
+
+    /// Cuts files that are appended to back to where the checkpoint left them.
+    pub(crate) fn rewind(&self) -> Result<(), RunError> {
+        self.timeseries.rewind()
+    }
+
+    /// The outputs in the order they are called (the time series first: the others read
+    /// nothing from it, but a failure there is the most useful to report first).
+    fn each(&mut self) -> Vec<&mut dyn Output> {
+        let mut out: Vec<&mut dyn Output> = vec![&mut self.timeseries];
+        if let Some(s) = &mut self.spatial {
+            out.push(s);
+        }
+        out.push(&mut self.snapshots);
+        if let Some(s) = &mut self.speeds {
+            out.push(s);
+        }
+        out.push(&mut self.impact);
+        if let Some(c) = &mut self.crater {
+            out.push(c);
+        }
+        if let Some(i) = &mut self.intruder {
+            out.push(i);
+        }
+        out
+    }
+}
+
+impl Output for StandardOutputs {
+    fn setup(&mut self, simulation: &Simulation) -> Result<(), RunError> {
+        self.each()
+            .into_iter()
+            .try_for_each(|o| o.setup(simulation))
+    }
+
+    fn observe(
+        &mut self,
+        simulation: &Simulation,
+        observation: &Observation,
+    ) -> Result<(), RunError> {
+        self.each()
+            .into_iter()
+            .try_for_each(|o| o.observe(simulation, observation))
+    }
+
+    fn finish(&mut self, simulation: &Simulation, summary: &mut Summary) -> Result<(), RunError> {
+        self.each()
+            .into_iter()
+            .try_for_each(|o| o.finish(simulation, summary))
+    }
+}

@@ -1,0 +1,295 @@
+//! Speed and velocity statistics per species: the histograms at `t = 0` and pooled over
+//! equilibrium snapshots (`speed_histograms.csv`, `velocity_histograms.csv`), the
+//! Maxwell-Boltzmann goodness of fit (HD-12) and the per-species averages of the summary.
+
+use super::Output;
+use crate::engine::Snapshot;
+use crate::observation::Observation;
+use crate::run::summary::{MaxwellBoltzmannFit, SpeciesStatistics};
+use crate::run::{RunError, Summary, io_err};
+use crate::simulation::Simulation;
+use crate::stats::{Histogram, RunningStats, chi_square_test};
+use crate::theory::equilibrium;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// Pooled speed statistics of a run (part of its checkpoint).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct SpeedStatistics {
+    #[serde(skip)]
+    dir: PathBuf,
+    /// Species names.
+    species: Vec<String>,
+    /// Mass per species (for the theory curve).
+    masses: Vec<f64>,
+    /// Initial histograms.
+    initial: Vec<Histogram>,
+    /// Pooled equilibrium histograms.
+    equilibrium: Vec<Histogram>,
+    /// Pooled equilibrium histograms of the velocity components (all axes together).
+    velocity: Vec<Histogram>,
+    /// Σ m v² / D per species over the pooled samples (temperature estimate).
+    energy_sum: Vec<f64>,
+    /// Speeds of the pooled samples, per species.
+    speed_stats: Vec<RunningStats>,
+    /// Kinetic energies `m v² / 2` of the pooled samples, per species.
+    energy_stats: Vec<RunningStats>,
+    /// Number of pooled snapshots.
+    samples: u64,
+    /// Collisions per grain at the last pooled snapshot.
+    last_sample_cpp: f64,
+}
+
+/// `|v_i|²` of grain `i`.
+fn speed_squared(snap: &Snapshot, i: usize) -> f64 {
+    let d = snap.dimension;
+    snap.velocities[i * d..(i + 1) * d]
+        .iter()
+        .map(|x| x * x)
+        .sum::<f64>()
+}
+
+impl SpeedStatistics {
+    /// Statistics written into `dir`; the histogram ranges are fixed at set-up.
+    pub fn new(dir: &Path) -> SpeedStatistics {
+        SpeedStatistics {
+            dir: dir.to_path_buf(),
+            species: Vec::new(),
+            masses: Vec::new(),
+            initial: Vec::new(),
+            equilibrium: Vec::new(),
+            velocity: Vec::new(),
+            energy_sum: Vec::new(),
+            speed_stats: Vec::new(),
+            energy_stats: Vec::new(),
+            samples: 0,
+            last_sample_cpp: f64::NEG_INFINITY,
+        }
+    }
+
+    pub(crate) fn relocate(&mut self, dir: &Path) {
+        self.dir = dir.to_path_buf();
+    }
+
+    /// Temperature of species `s` over the pooled samples (NaN before any).
+    fn temperature(&self, s: usize) -> f64 {
+        let count = self.equilibrium[s].total();
+        if count > 0 {
+            self.energy_sum[s] / count as f64
+        } else {
+            f64::NAN
+        }
+    }
+
+    fn write_speed_histograms(
+        &self,
+        d: usize,
+    ) -> Result<Vec<Option<MaxwellBoltzmannFit>>, RunError> {
+        let path = self.dir.join("speed_histograms.csv");
+        let mut out = String::from(
+            "species,speed_low,speed_high,initial_density,equilibrium_density,equilibrium_count,maxwell_boltzmann_density\n",
+        );
+        let mut fits = Vec::new();
+        for s in 0..self.species.len() {
+            let eq = &self.equilibrium[s];
+            let count = eq.total();
+            let temperature = self.temperature(s);
+            let init_density = self.initial[s].density();
+            let eq_density = eq.density();
+            let w = eq.bin_width();
+            let cdf = |v: f64| equilibrium::speed_cdf(d, v, self.masses[s], temperature);
+            for b in 0..eq.counts.len() {
+                let lo = eq.min + b as f64 * w;
+                let theory = if temperature > 0.0 {
+                    (cdf(lo + w) - cdf(lo)) / w
+                } else {
+                    f64::NAN
+                };
+                out.push_str(&format!(
+                    "{},{:e},{:e},{:e},{:e},{},{:e}\n",
+                    self.species[s],
+                    lo,
+                    lo + w,
+                    init_density[b],
+                    if count > 0 { eq_density[b] } else { f64::NAN },
+                    eq.counts[b],
+                    theory
+                ));
+            }
+            fits.push((count > 0 && temperature > 0.0).then(|| {
+                let fit = chi_square_test(eq, cdf);
+                MaxwellBoltzmannFit {
+                    temperature,
+                    samples: count,
+                    snapshots: self.samples,
+                    chi_square: fit.statistic,
+                    degrees_of_freedom: fit.degrees_of_freedom,
+                    p_value: fit.p_value,
+                }
+            }));
+        }
+        std::fs::write(&path, out).map_err(io_err(&path))?;
+        Ok(fits)
+    }
+
+    /// Velocity components against the Gaussian of variance `T / m`.
+    fn write_velocity_histograms(&self) -> Result<(), RunError> {
+        let path = self.dir.join("velocity_histograms.csv");
+        let mut out = String::from(
+            "species,velocity_low,velocity_high,equilibrium_density,equilibrium_count,gaussian_density\n",
+        );
+        for s in 0..self.species.len() {
+            let vh = &self.velocity[s];
+            let sd = (self.temperature(s) / self.masses[s]).sqrt();
+            let cdf = |v: f64| 0.5 * libm::erfc(-v / (sd * std::f64::consts::SQRT_2));
+            let dens = vh.density();
+            let w = vh.bin_width();
+            for (b, &count_b) in vh.counts.iter().enumerate() {
+                let lo = vh.min + b as f64 * w;
+                let theory = if sd > 0.0 {
+                    (cdf(lo + w) - cdf(lo)) / w
+                } else {
+                    f64::NAN
+                };
+                let observed = if vh.total() > 0 { dens[b] } else { f64::NAN };
+                out.push_str(&format!(
+                    "{},{:e},{:e},{:e},{},{:e}\n",
+                    self.species[s],
+                    lo,
+                    lo + w,
+                    observed,
+                    count_b,
+                    theory
+                ));
+            }
+        }
+        std::fs::write(&path, out).map_err(io_err(&path))
+    }
+
+    fn species_statistics(&self, d: usize, s: usize) -> Option<SpeciesStatistics> {
+        let (sp, en) = (&self.speed_stats[s], &self.energy_stats[s]);
+        if sp.count == 0 {
+            return None;
+        }
+        let temperature = 2.0 * en.mean() / d as f64;
+        Some(SpeciesStatistics {
+            mass: self.masses[s],
+            samples: sp.count,
+            mean_speed: sp.mean(),
+            mean_speed_error: sp.standard_error(),
+            mean_kinetic_energy: en.mean(),
+            mean_kinetic_energy_error: en.standard_error(),
+            temperature,
+            maxwell_boltzmann_mean_speed: equilibrium::mean_speed(d, self.masses[s], temperature),
+        })
+    }
+}
+
+impl Output for SpeedStatistics {
+    /// Fixes the histogram ranges from the initial state: the upper edge is
+    /// `output.histogram_max_speed` times each species' thermal speed at the mean energy.
+    fn setup(&mut self, simulation: &Simulation) -> Result<(), RunError> {
+        let Some(snap) = simulation.snapshot() else {
+            return Ok(());
+        };
+        let output = &simulation.scenario().output;
+        let d = snap.dimension;
+        let n = snap.masses.len();
+        let mut mv2 = 0.0;
+        let mut msum = 0.0;
+        for i in 0..n {
+            mv2 += snap.masses[i] * speed_squared(&snap, i);
+            msum += snap.masses[i];
+        }
+        let ns = snap.species_names.len();
+        let mut masses = vec![1.0; ns];
+        for i in 0..n {
+            masses[snap.species[i] as usize] = snap.masses[i];
+        }
+        let t = mv2 / (d as f64 * n as f64);
+        let histograms: Vec<Histogram> = (0..ns)
+            .map(|s| {
+                let v_rms = if t > 0.0 {
+                    (d as f64 * t / masses[s]).sqrt()
+                } else {
+                    (mv2 / msum.max(1e-300)).sqrt().max(1.0)
+                };
+                let max = output.histogram_max_speed * if v_rms > 0.0 { v_rms } else { 1.0 };
+                Histogram::new(0.0, max, output.histogram_bins)
+            })
+            .collect();
+        let mut initial = histograms.clone();
+        for i in 0..n {
+            initial[snap.species[i] as usize].push(speed_squared(&snap, i).sqrt());
+        }
+        self.velocity = histograms
+            .iter()
+            .map(|h| Histogram::new(-h.max, h.max, 2 * h.counts.len()))
+            .collect();
+        self.species = snap.species_names.clone();
+        self.masses = masses;
+        self.initial = initial;
+        self.equilibrium = histograms;
+        self.energy_sum = vec![0.0; ns];
+        self.speed_stats = vec![RunningStats::new(); ns];
+        self.energy_stats = vec![RunningStats::new(); ns];
+        Ok(())
+    }
+
+    /// Pools the speeds of the snapshot when the gas has had
+    /// `output.equilibration_collisions_per_particle` collisions per grain and the last
+    /// pooled snapshot is `output.histogram_sample_spacing` collisions per grain back
+    /// (HD appendix C.2: samples far enough apart to be independent).
+    fn observe(
+        &mut self,
+        simulation: &Simulation,
+        observation: &Observation,
+    ) -> Result<(), RunError> {
+        let output = &simulation.scenario().output;
+        let cpp = observation.collisions_per_particle;
+        if self.species.is_empty()
+            || cpp < output.equilibration_collisions_per_particle
+            || cpp - self.last_sample_cpp < output.histogram_sample_spacing
+        {
+            return Ok(());
+        }
+        let Some(snap) = simulation.snapshot() else {
+            return Ok(());
+        };
+        let d = snap.dimension;
+        for i in 0..snap.masses.len() {
+            let v2 = speed_squared(&snap, i);
+            let s = snap.species[i] as usize;
+            self.equilibrium[s].push(v2.sqrt());
+            for &c in &snap.velocities[i * d..(i + 1) * d] {
+                self.velocity[s].push(c);
+            }
+            self.energy_sum[s] += snap.masses[i] * v2 / d as f64;
+            self.speed_stats[s].push(v2.sqrt());
+            self.energy_stats[s].push(0.5 * snap.masses[i] * v2);
+        }
+        self.samples += 1;
+        self.last_sample_cpp = cpp;
+        Ok(())
+    }
+
+    fn finish(&mut self, simulation: &Simulation, summary: &mut Summary) -> Result<(), RunError> {
+        if self.species.is_empty() {
+            return Ok(());
+        }
+        let d = simulation.scenario().dimension;
+        let fits = self.write_speed_histograms(d)?;
+        self.write_velocity_histograms()?;
+        for (s, fit) in fits.into_iter().enumerate() {
+            if let Some(fit) = fit {
+                summary
+                    .maxwell_boltzmann_fit
+                    .insert(self.species[s].clone(), fit);
+            }
+            if let Some(stats) = self.species_statistics(d, s) {
+                summary.species.insert(self.species[s].clone(), stats);
+            }
+        }
+        Ok(())
+    }
+}

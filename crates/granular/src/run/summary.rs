@@ -1,0 +1,217 @@
+//! `summary.json`, typed: what a finished run reports, read back by `sweep`, `plot`, the
+//! Python package and anyone else with [`Summary::read`].
+//!
+//! Numbers that are not defined (a NaN: no window, no samples) are written as `null` and
+//! read back as NaN (or `None` where the field is optional).
+
+use serde::{Deserialize, Deserializer, Serialize};
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// `null` in JSON for a NaN or infinite number, read back as NaN.
+fn nan_from_null<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
+}
+
+/// A map of numbers whose `null`s are read back as NaN.
+fn nan_map_from_null<'de, D: Deserializer<'de>>(d: D) -> Result<BTreeMap<String, f64>, D::Error> {
+    let raw = BTreeMap::<String, Option<f64>>::deserialize(d)?;
+    Ok(raw
+        .into_iter()
+        .map(|(k, v)| (k, v.unwrap_or(f64::NAN)))
+        .collect())
+}
+
+/// Pearson chi-square of the pooled equilibrium speeds of one species against the
+/// Maxwell-Boltzmann law at the measured temperature (HD-12 in 2D, its `D`-dimensional
+/// form otherwise).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MaxwellBoltzmannFit {
+    /// Temperature of the pooled samples, `Σ m v² / (D n)`.
+    #[serde(deserialize_with = "nan_from_null")]
+    pub temperature: f64,
+    /// Speeds pooled.
+    pub samples: u64,
+    /// Snapshots pooled.
+    pub snapshots: u64,
+    /// Pearson's statistic.
+    #[serde(deserialize_with = "nan_from_null")]
+    pub chi_square: f64,
+    /// Degrees of freedom (bins merged to at least five expected counts, minus one).
+    pub degrees_of_freedom: usize,
+    /// Probability of a statistic at least as large under the law.
+    #[serde(deserialize_with = "nan_from_null")]
+    pub p_value: f64,
+}
+
+/// Per-species averages over the pooled equilibrium samples.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SpeciesStatistics {
+    /// Grain mass.
+    pub mass: f64,
+    /// Speeds pooled.
+    pub samples: u64,
+    /// Mean speed.
+    #[serde(deserialize_with = "nan_from_null")]
+    pub mean_speed: f64,
+    /// Its standard error.
+    #[serde(deserialize_with = "nan_from_null")]
+    pub mean_speed_error: f64,
+    /// Mean kinetic energy per grain.
+    #[serde(deserialize_with = "nan_from_null")]
+    pub mean_kinetic_energy: f64,
+    /// Its standard error.
+    #[serde(deserialize_with = "nan_from_null")]
+    pub mean_kinetic_energy_error: f64,
+    /// `2 <E> / D`.
+    #[serde(deserialize_with = "nan_from_null")]
+    pub temperature: f64,
+    /// The Maxwell-Boltzmann mean speed at that temperature.
+    #[serde(deserialize_with = "nan_from_null")]
+    pub maxwell_boltzmann_mean_speed: f64,
+}
+
+/// The crater measure of a `[crater]` table: bed grains displaced since `t = 0`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CraterSummary {
+    /// The bed species.
+    pub species: String,
+    /// The displacement threshold.
+    pub displacement: f64,
+    /// Grains of the bed species.
+    pub grains: usize,
+    /// Those displaced by more than the threshold.
+    pub displaced: usize,
+    /// `displaced / grains`.
+    pub fraction: f64,
+}
+
+/// The `intruder` block: stationary averages with their errors, and the theory value
+/// where one exists (`docs/output.md`). Fields of the other model are absent.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[allow(missing_docs)]
+pub struct IntruderSummary {
+    /// `"1d"`, `"needle"` or `"dsmc-twin"`.
+    pub model: String,
+    /// The reference density of `intruder_histograms.csv`.
+    pub histogram_reference: String,
+    /// Samples of the time averages.
+    pub samples: u64,
+    /// Mean and error of each average (1D and twin: temperature, temperature_ratio,
+    /// kurtosis, mean_velocity; needle: translational_temperature,
+    /// rotational_temperature, their ratios to the bath, correlation_r), each with its
+    /// `_error`, in the order written.
+    #[serde(flatten)]
+    pub averages: BTreeMap<String, Option<f64>>,
+    /// Bath temperature (1D and twin).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bath_temperature: Option<f64>,
+    /// Theory value of `T/T_B` (G-18 for the Gaussian bath, the exact power-law case).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub theory_temperature_ratio: Option<f64>,
+    /// Where the theory value comes from.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub theory: Option<String>,
+    /// `(measured - theory) / error` of the temperature ratio.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub temperature_ratio_z: Option<f64>,
+    /// DSMC twin: raises of the bound of the rejection sampler.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bound_raises: Option<u64>,
+    /// DSMC twin: trials per accepted collision.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub trials_per_collision: Option<f64>,
+    /// Needle: standard deviation of the best-fit Gaussian of a velocity component.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub velocity_component_sigma: Option<f64>,
+    /// Needle: the same for the angular velocity.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub angular_velocity_sigma: Option<f64>,
+}
+
+/// Values the scenario resolved at build time (a packing fraction turned into a radius).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Resolved {
+    /// Grain radius per species, by species name.
+    pub radius: BTreeMap<String, f64>,
+    /// Packing fraction of all grains in the box, `Σ N_s v_D(r_s) / V`.
+    #[serde(deserialize_with = "nan_from_null")]
+    pub packing_fraction: f64,
+    /// DSMC: the contact value `χ` of the pair correlation, the Enskog factor of the
+    /// collision rate (DSMC-1), at the packing fraction the engine uses, when it is on.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact_value: Option<f64>,
+}
+
+/// What a finished run reports (`summary.json`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Summary {
+    /// Engine name.
+    pub engine: String,
+    /// granular version.
+    pub version: String,
+    /// Seed.
+    pub seed: u64,
+    /// Dimension.
+    pub dimension: usize,
+    /// Number of particles.
+    pub n: usize,
+    /// Wall-clock seconds (all sessions of a resumed run).
+    pub wall_seconds: f64,
+    /// Events processed.
+    pub events: u64,
+    /// Events per wall-clock second.
+    pub events_per_second: f64,
+    /// Collisions (see [`crate::Observation::collisions`]).
+    pub collisions: u64,
+    /// Collisions per wall-clock second.
+    pub collisions_per_second: f64,
+    /// Which stop rule ended the run (`time`, `collisions_per_particle`, ...).
+    pub stop_reason: String,
+    /// Kinetic energy at `t = 0`.
+    pub initial_kinetic_energy: f64,
+    /// Observables at the end: the last row of `timeseries.csv`, by column.
+    #[serde(rename = "final", deserialize_with = "nan_map_from_null")]
+    pub final_observables: BTreeMap<String, f64>,
+    /// Maxwell-Boltzmann goodness of fit per species.
+    pub maxwell_boltzmann_fit: BTreeMap<String, MaxwellBoltzmannFit>,
+    /// Per-species averages over the pooled equilibrium samples.
+    pub species: BTreeMap<String, SpeciesStatistics>,
+    /// Crater measure, when the scenario has a `[crater]` table.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub crater: Option<CraterSummary>,
+    /// Intruder engine: stationary averages with errors and the theory value.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub intruder: Option<IntruderSummary>,
+    /// Values resolved at build time (radius, packing fraction, contact value).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub resolved: Option<Resolved>,
+    /// Warnings raised during the run (e.g. DSMC's validity conditions), also in `log.txt`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
+    /// Outputs written (rows of `timeseries.csv` after the one at `t = 0`).
+    pub outputs: u64,
+    /// Snapshots written.
+    pub snapshots: u64,
+}
+
+impl Summary {
+    /// Reads `summary.json` of a run directory.
+    pub fn read(dir: &Path) -> Result<Summary, super::RunError> {
+        let path = dir.join("summary.json");
+        let text = std::fs::read_to_string(&path).map_err(super::io_err(&path))?;
+        serde_json::from_str(&text).map_err(|e| super::RunError::Checkpoint {
+            path,
+            message: format!("not a summary of this version of granular: {e}"),
+        })
+    }
+
+    /// The final value of an observable by column name, or a summary field that sweeps
+    /// tabulate (`crater_size`).
+    pub fn observable(&self, name: &str) -> Option<f64> {
+        if name == "crater_size" {
+            return self.crater.as_ref().map(|c| c.displaced as f64);
+        }
+        self.final_observables.get(name).copied()
+    }
+}

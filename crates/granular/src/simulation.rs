@@ -1,0 +1,401 @@
+//! A simulation held in memory: built from a [`Scenario`], advanced to a time or until the
+//! scenario's stop rule, read through typed observations and its particle state. The
+//! command line, the Python package and the run directory ([`crate::run`]) all drive
+//! this one type; nothing here touches a file.
+
+use crate::engine::{Engine, EngineError, Progress, Snapshot};
+use crate::observation::Observation;
+use crate::run::{AnyEngine, BuildError, build};
+use crate::scenario::{Scenario, StopSpec};
+use crate::stats::Histogram;
+use serde::{Deserialize, Serialize};
+use std::time::Instant;
+
+/// Events per chunk of [`Simulation::run_with`]: between two chunks the hooks report
+/// progress, take checkpoints and may interrupt (a dense bed can spend hours of events in
+/// one output interval).
+pub const CHUNK_EVENTS: u64 = 200_000;
+
+/// Which stop rule of `[stop]` ended a run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StopReason {
+    /// `stop.time` was reached.
+    Time,
+    /// `stop.collisions_per_particle` was reached.
+    CollisionsPerParticle,
+    /// `stop.collisions` was reached.
+    Collisions,
+    /// `stop.events` was reached.
+    Events,
+    /// The kinetic energy fell to `stop.energy_fraction` of its initial value.
+    EnergyFraction,
+    /// `stop.wall_seconds` of computing time were spent.
+    WallSeconds,
+}
+
+impl StopReason {
+    /// The name written in `summary.json` (`stop_reason`), the same as the `[stop]` key.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            StopReason::Time => "time",
+            StopReason::CollisionsPerParticle => "collisions_per_particle",
+            StopReason::Collisions => "collisions",
+            StopReason::Events => "events",
+            StopReason::EnergyFraction => "energy_fraction",
+            StopReason::WallSeconds => "wall_seconds",
+        }
+    }
+}
+
+impl std::fmt::Display for StopReason {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+/// What the run loop of [`Simulation::run_with`] calls on the way: outputs, progress,
+/// checkpoints and interruption hang here. Every method has a default that does nothing.
+pub trait RunHooks {
+    /// The error the hooks may return (it must hold an engine error too).
+    type Error: From<EngineError>;
+
+    /// After each chunk of at most [`CHUNK_EVENTS`] events.
+    fn after_chunk(&mut self, _simulation: &Simulation) -> Result<(), Self::Error> {
+        Ok(())
+    }
+
+    /// At each output time of the scenario's grid (`output.interval`), and at the end
+    /// of a run that a stop rule ends between two output times.
+    fn at_output(&mut self, _simulation: &Simulation) -> Result<(), Self::Error> {
+        Ok(())
+    }
+
+    /// After an output at which no stop rule was reached (a test interrupts a run here).
+    fn after_output(&mut self, _simulation: &Simulation) -> Result<(), Self::Error> {
+        Ok(())
+    }
+
+    /// When the engine fails, before the error is returned.
+    fn on_engine_error(&mut self, _simulation: &Simulation, _error: &EngineError) {}
+}
+
+/// Hooks that do nothing: [`Simulation::run`].
+struct NoHooks;
+
+impl RunHooks for NoHooks {
+    type Error = EngineError;
+}
+
+/// The part of a simulation that a checkpoint holds.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub(crate) struct SimulationState {
+    pub engine: AnyEngine,
+    pub initial_kinetic_energy: f64,
+    pub outputs_done: u64,
+    pub wall_seconds: f64,
+}
+
+/// A simulation of any engine, in memory.
+///
+/// ```
+/// use granular::prelude::*;
+///
+/// let scenario = Scenario::from_toml(
+///     r#"
+///     engine = "edmd"
+///     dimension = 2
+///     seed = 7
+///     [[species]]
+///     name = "disk"
+///     count = 200
+///     packing_fraction = 0.2
+///     velocity = { distribution = "maxwell_boltzmann", temperature = 1.0 }
+///     [stop]
+///     collisions_per_particle = 5
+///     [output]
+///     interval = 1.0
+///     "#,
+///     &[],
+/// )?;
+/// let mut simulation = Simulation::new(scenario)?;
+/// let reason = simulation.run()?;
+/// let observation = simulation.observe();
+/// assert_eq!(reason, StopReason::CollisionsPerParticle);
+/// assert!(observation.collisions_per_particle >= 5.0);
+/// // Elastic disks keep their energy to round-off.
+/// let k0 = simulation.initial_kinetic_energy();
+/// assert!((observation.kinetic_energy - k0).abs() < 1e-10 * k0);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub struct Simulation {
+    scenario: Scenario,
+    engine: AnyEngine,
+    initial_kinetic_energy: f64,
+    outputs_done: u64,
+    wall_seconds_before: f64,
+    session_start: Instant,
+    session_events_start: u64,
+}
+
+impl Simulation {
+    /// Builds the engine of `scenario` (validated first) with its initial state.
+    pub fn new(scenario: Scenario) -> Result<Simulation, BuildError> {
+        let engine = build(&scenario)?;
+        Ok(Simulation::from_parts(scenario, engine))
+    }
+
+    /// A simulation of `scenario` from an engine built from it.
+    pub(crate) fn from_parts(scenario: Scenario, engine: AnyEngine) -> Simulation {
+        let initial_kinetic_energy = engine.kinetic_energy();
+        Simulation {
+            scenario,
+            engine,
+            initial_kinetic_energy,
+            outputs_done: 0,
+            wall_seconds_before: 0.0,
+            session_start: Instant::now(),
+            session_events_start: 0,
+        }
+    }
+
+    /// A simulation restored from a checkpoint's state.
+    pub(crate) fn restore(scenario: Scenario, state: SimulationState) -> Simulation {
+        let events = state.engine.events();
+        Simulation {
+            scenario,
+            engine: state.engine,
+            initial_kinetic_energy: state.initial_kinetic_energy,
+            outputs_done: state.outputs_done,
+            wall_seconds_before: state.wall_seconds,
+            session_start: Instant::now(),
+            session_events_start: events,
+        }
+    }
+
+    /// The state a checkpoint holds (the engine is cloned).
+    pub(crate) fn state(&self) -> SimulationState {
+        SimulationState {
+            engine: self.engine.clone(),
+            initial_kinetic_energy: self.initial_kinetic_energy,
+            outputs_done: self.outputs_done,
+            wall_seconds: self.wall_seconds(),
+        }
+    }
+
+    /// The scenario (validated, with every default filled in).
+    pub fn scenario(&self) -> &Scenario {
+        &self.scenario
+    }
+
+    /// The engine.
+    pub fn engine(&self) -> &AnyEngine {
+        &self.engine
+    }
+
+    /// Engine name (`"edmd"`, `"dsmc"`, `"intruder"`).
+    pub fn engine_name(&self) -> &'static str {
+        self.engine.name()
+    }
+
+    /// Spatial dimension of the state (the intruder models: 1 or 2).
+    pub fn dimension(&self) -> usize {
+        self.scenario
+            .intruder
+            .as_ref()
+            .map_or(self.scenario.dimension, |i| i.dimension())
+    }
+
+    /// Current simulation time.
+    pub fn time(&self) -> f64 {
+        self.engine.time()
+    }
+
+    /// Events processed since `t = 0`.
+    pub fn events(&self) -> u64 {
+        self.engine.events()
+    }
+
+    /// Collisions since `t = 0` (see [`Observation::collisions`]).
+    pub fn collisions(&self) -> u64 {
+        self.engine.collisions()
+    }
+
+    /// Number of grains (1 for an intruder).
+    pub fn particle_count(&self) -> usize {
+        self.engine.particle_count()
+    }
+
+    /// Kinetic energy at `t = 0`.
+    pub fn initial_kinetic_energy(&self) -> f64 {
+        self.initial_kinetic_energy
+    }
+
+    /// Output intervals of the scenario's grid completed so far.
+    pub fn outputs_done(&self) -> u64 {
+        self.outputs_done
+    }
+
+    /// Computing seconds spent on this simulation, over all sessions of a resumed run.
+    pub fn wall_seconds(&self) -> f64 {
+        self.wall_seconds_before + self.session_start.elapsed().as_secs_f64()
+    }
+
+    /// Events per wall-clock second since this simulation was built or resumed.
+    pub fn events_per_second(&self) -> f64 {
+        (self.engine.events() - self.session_events_start) as f64
+            / self.session_start.elapsed().as_secs_f64().max(1e-9)
+    }
+
+    /// The typed observation at the current time (no side effect).
+    pub fn observe(&self) -> Observation {
+        self.engine.observe()
+    }
+
+    /// Positions, velocities, radii, masses and species of every grain, in the order of
+    /// the scenario's species and grains (`None` for the intruder engines).
+    pub fn snapshot(&self) -> Option<Snapshot> {
+        self.engine.snapshot()
+    }
+
+    /// Histogram of `b / σ` of all pair collisions so far (many-grain engines).
+    pub fn impact_histogram(&self) -> Option<Histogram> {
+        self.engine.impact_histogram()
+    }
+
+    /// Advances to exactly `until` (a time not before [`Simulation::time`]).
+    pub fn advance(&mut self, until: f64) -> Result<(), EngineError> {
+        while self.advance_chunk(until, CHUNK_EVENTS)? == Progress::BudgetExhausted {}
+        Ok(())
+    }
+
+    /// Advances towards `until`, processing at most `max_events` events: the step of a
+    /// loop that does something between chunks (report progress, check for Ctrl-C).
+    pub fn advance_chunk(&mut self, until: f64, max_events: u64) -> Result<Progress, EngineError> {
+        self.engine.as_engine().advance(until, max_events.max(1))
+    }
+
+    /// The next time of the output grid, `(k + 1) × output.interval`, or the stop time
+    /// when it comes first.
+    pub fn next_output_time(&self) -> f64 {
+        let mut next = (self.outputs_done + 1) as f64 * self.scenario.output.interval;
+        if let Some(t) = self.scenario.stop.time {
+            next = next.min(t);
+        }
+        next
+    }
+
+    /// Runs until the scenario's stop rule, in memory: the same trajectory as
+    /// `granular run` of the same scenario (the stop rules are checked on the same output
+    /// grid).
+    pub fn run(&mut self) -> Result<StopReason, EngineError> {
+        self.run_with(&mut NoHooks)
+    }
+
+    /// The run loop with hooks at chunks and outputs (the run directory, progress bars,
+    /// interruption). The stop rules live here and only here: `time`,
+    /// `collisions_per_particle`, `collisions`, `events` and `energy_fraction` are checked
+    /// at output times; `events` and `wall_seconds` also between chunks.
+    pub fn run_with<H: RunHooks>(&mut self, hooks: &mut H) -> Result<StopReason, H::Error> {
+        let stop = self.scenario.stop.clone();
+        // Output times already passed (a simulation advanced by hand before the run).
+        while (self.outputs_done + 1) as f64 * self.scenario.output.interval < self.time() {
+            self.outputs_done += 1;
+        }
+        loop {
+            let next = self.next_output_time();
+            loop {
+                let budget = match stop.events {
+                    Some(e) => CHUNK_EVENTS.min(e.saturating_sub(self.events())).max(1),
+                    None => CHUNK_EVENTS,
+                };
+                let progress = match self.engine.as_engine().advance(next, budget) {
+                    Ok(p) => p,
+                    Err(e) => {
+                        hooks.on_engine_error(self, &e);
+                        return Err(e.into());
+                    }
+                };
+                hooks.after_chunk(self)?;
+                if progress == Progress::Reached {
+                    break;
+                }
+                let mid_interval = if stop.events.is_some_and(|e| self.events() >= e) {
+                    Some(StopReason::Events)
+                } else if stop.wall_seconds.is_some_and(|w| self.wall_seconds() >= w) {
+                    Some(StopReason::WallSeconds)
+                } else {
+                    None
+                };
+                if let Some(reason) = mid_interval {
+                    self.outputs_done += 1;
+                    hooks.at_output(self)?;
+                    return Ok(reason);
+                }
+            }
+            self.outputs_done += 1;
+            hooks.at_output(self)?;
+            if let Some(reason) = self.stop_reached(&stop) {
+                return Ok(reason);
+            }
+            hooks.after_output(self)?;
+        }
+    }
+
+    /// The first stop rule reached at an output time, in the order of `docs/scenario.md`.
+    fn stop_reached(&self, stop: &StopSpec) -> Option<StopReason> {
+        let n = self.particle_count().max(1) as f64;
+        let collisions = self.collisions();
+        if stop.time.is_some_and(|t| self.time() >= t) {
+            Some(StopReason::Time)
+        } else if stop
+            .collisions_per_particle
+            .is_some_and(|c| 2.0 * collisions as f64 / n >= c)
+        {
+            Some(StopReason::CollisionsPerParticle)
+        } else if stop.collisions.is_some_and(|c| collisions >= c) {
+            Some(StopReason::Collisions)
+        } else if stop.events.is_some_and(|e| self.events() >= e) {
+            Some(StopReason::Events)
+        } else if stop
+            .energy_fraction
+            .is_some_and(|f| self.engine.kinetic_energy() <= f * self.initial_kinetic_energy)
+        {
+            Some(StopReason::EnergyFraction)
+        } else if stop.wall_seconds.is_some_and(|w| self.wall_seconds() >= w) {
+            Some(StopReason::WallSeconds)
+        } else {
+            None
+        }
+    }
+
+    /// Fraction of the run done, in `[0, 1]`, from the stop rule nearest to its end (the
+    /// energy rule on a logarithmic scale, `ln(K_0 / K) / ln(1 / f)`).
+    pub fn fraction_done(&self) -> f64 {
+        let stop = &self.scenario.stop;
+        let n = self.particle_count().max(1) as f64;
+        let mut f: f64 = 0.0;
+        if let Some(t) = stop.time {
+            f = f.max(self.time() / t);
+        }
+        if let Some(c) = stop.collisions_per_particle {
+            f = f.max(2.0 * self.collisions() as f64 / n / c);
+        }
+        if let Some(c) = stop.collisions {
+            f = f.max(self.collisions() as f64 / c.max(1) as f64);
+        }
+        if let Some(e) = stop.events {
+            f = f.max(self.events() as f64 / e as f64);
+        }
+        if let Some(frac) = stop.energy_fraction {
+            let k = self.engine.kinetic_energy();
+            if self.initial_kinetic_energy > 0.0 && k > 0.0 {
+                f = f.max((self.initial_kinetic_energy / k).ln() / (1.0 / frac).ln());
+            }
+        }
+        if let Some(w) = stop.wall_seconds {
+            f = f.max(self.wall_seconds() / w);
+        }
+        f.clamp(0.0, 1.0)
+    }
+}
