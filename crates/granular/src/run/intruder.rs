@@ -108,7 +108,7 @@ impl Engine for IntruderEngine {
     }
 }
 
-/// The theory value of `T/T_B` for a 1D intruder, when one exists: Eq. 18 (generalised
+/// The theory value of `T/T_B` for a 1D intruder, when one exists: G-18 (generalised
 /// to `m`) for the Gaussian bath, `alpha` in the exact power-law case `M/m = alpha`.
 pub fn theory_ratio(spec: &IntruderSpec) -> Option<(f64, &'static str)> {
     let c = spec.one_d()?;
@@ -190,7 +190,7 @@ pub(super) fn finish(
             let cfg = spec.one_d();
             let bath_temperature = s.temperature.mean / s.temperature_ratio.mean;
             let mass = cfg.map_or(1.0, |c| c.mass);
-            // Reference density: the Gaussian at the theory temperature when Eq. 18 holds,
+            // Reference density: the Gaussian at the theory temperature when G-18 holds,
             // else the best-fit (maximum-likelihood zero-mean) Gaussian.
             let theory = theory_ratio(spec);
             let (sd, reference) = match theory {
