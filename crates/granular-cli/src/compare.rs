@@ -4,7 +4,7 @@
 //!
 //! | figure | content |
 //! |---|---|
-//! | `energy` | kinetic energy per grain against time, log-log, every run, with Haff's law (seed Eq. 3) `K(t) = K(0)/(1 + t/t0)^2`, `t0` from kinetic theory with the Enskog and Sonine corrections (`theory::haff::haff_time`), `t0` marked |
+//! | `energy` | kinetic energy per grain against time, log-log, every run, with Haff's law (DSMC-3) `K(t) = K(0)/(1 + t/t0)^2`, `t0` from kinetic theory with the Enskog and Sonine corrections (`theory::haff::haff_time`), `t0` marked |
 //! | `energy_ratio` | `K(t) / K_Haff(t)` and the ratio of the runs to the first run |
 //! | `impact_<run>` | impact-parameter densities of the collisions between observation times (Fig. 2b), with the molecular-chaos density |
 //! | `structure_factor_<run>` | `S(k)` at every observation time (Fig. 3), `k` in units of `2 pi / L` |

@@ -134,7 +134,7 @@ fn plot_run(dir: &Path, animate: bool) -> Result<Vec<PathBuf>, String> {
         &mut made,
     )?;
 
-    // Speed histograms: initial and pooled equilibrium, with Maxwell-Boltzmann (Eq. 12).
+    // Speed histograms: initial and pooled equilibrium, with Maxwell-Boltzmann (HD-12).
     if let Ok(h) = read_csv(&dir.join("speed_histograms.csv")) {
         let sp_col = h.0.iter().position(|c| c == "species").unwrap_or(0);
         for (s, name) in names.iter().enumerate() {

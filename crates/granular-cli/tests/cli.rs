@@ -326,7 +326,7 @@ fn summary_of(dir: &std::path::Path) -> serde_json::Value {
 
 /// `granular run scenarios/intruder-1d.toml` at the paper's statistics (5e5 collisions,
 /// well under a second): the run directory, the summary keys, and T/T_B against
-/// Martin-Piasecki (Eq. 18) within 4 of the run's own batch-means errors.
+/// Martin-Piasecki (G-18) within 4 of the run's own batch-means errors.
 #[test]
 fn intruder_run_checks_eq_18() {
     let out = tmp("intruder-1d");

@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum AxisKind {
-    /// Hard walls at `x = 0` and `x = L` (Eqs. 1-4 of the hard-disk seed).
+    /// Hard walls at `x = 0` and `x = L` (HD-1 to HD-4).
     Wall,
     /// Periodic: a grain leaving at `x = L` re-enters at `x = 0`; distances use the
     /// minimum-image convention.
@@ -50,7 +50,7 @@ impl<const D: usize> SimulationBox<D> {
         self.axes[k] == AxisKind::Periodic
     }
 
-    /// The minimum-image separation `b - a` (plain difference along walled axes).
+    /// The minimum-image separation `b - a` (HD-8; plain difference along walled axes).
     #[inline(always)]
     pub fn separation(&self, a: &Vector<D>, b: &Vector<D>) -> Vector<D> {
         let mut d = *b - *a;

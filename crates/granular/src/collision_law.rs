@@ -7,14 +7,14 @@ use serde::{Deserialize, Serialize};
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct CollisionLaw {
     /// Normal restitution coefficient ξ of grain-grain collisions, `0 <= ξ <= 1`
-    /// (Eq. 11 of the hard-disk seed): the normal relative velocity is reversed and
+    /// (HD-11): the normal relative velocity is reversed and
     /// multiplied by ξ, the tangential one is unchanged; momentum is conserved.
     pub restitution: f64,
     /// Restitution of the wall-normal velocity component in grain-wall collisions
-    /// (Eqs. 3-4 of the hard-disk seed).
+    /// (HD-3, HD-4).
     pub wall_restitution: f64,
-    /// Factor applied to the wall-tangential components in a wall collision. The seed's
-    /// Eqs. 3-4 multiply them by ξ too (so that with ξ = 0 a grain stops dead, test B.1);
+    /// Factor applied to the wall-tangential components in a wall collision. HD-3 and
+    /// HD-4 multiply them by ξ too (so that with ξ = 0 a grain stops dead, test B.1);
     /// set it to 1 for smooth walls.
     pub wall_tangential_restitution: f64,
     /// Contact duration `t_c` of the TC model (section 2.3 of the hard-disk seed, Luding and

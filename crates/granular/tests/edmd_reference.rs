@@ -31,7 +31,7 @@ struct Reference<const D: usize> {
 
 impl<const D: usize> Reference<D> {
     /// Earliest contact time of `i` and `j` over the periodic images next to the minimum
-    /// image (Eqs. 7-10 of the hard-disk seed, written without cancellation).
+    /// image (HD-7 to HD-10, written without cancellation).
     fn pair_time(&self, i: usize, j: usize) -> Option<f64> {
         let base = self.bx.separation(&self.x[i], &self.x[j]);
         let dv = self.v[j] - self.v[i];

@@ -442,7 +442,7 @@ fn ensemble_relaxes_to_the_gaussian_of_eq_18() {
 }
 
 /// `M/m = alpha`: the intruder takes the colliding bath velocity, so its stationary
-/// distribution is the bath's (Eq. 19 with temperature alpha T_B for the power law).
+/// distribution is the bath's (G-19 with temperature alpha T_B for the power law).
 #[test]
 fn power_law_bath_with_mass_ratio_alpha_gives_eq_19() {
     for (i, &(alpha, method)) in [(0.5, Method1d::Thinning), (0.3, Method1d::Direct)]
@@ -473,7 +473,7 @@ fn power_law_bath_with_mass_ratio_alpha_gives_eq_19() {
         // v1^2 has a tail P(v1^2 > y) ~ y^(-3/2): its variance is infinite, so the
         // temperature itself has no valid standard error. Check instead the truncated
         // moment <min(v1^2, 9/a)> over independent walkers (bounded, so the error is valid)
-        // against the exact value under Eq. 19, and the time-averaged temperature of a
+        // against the exact value under G-19, and the time-averaged temperature of a
         // stationary run only to 5 percent.
         let cap = 9.0 / bath.a;
         let mut st = granular::stats::RunningStats::new();
@@ -588,7 +588,7 @@ fn needle_samplers_agree_for_inelastic_collisions() {
     );
 }
 
-/// Eq. 21 closed form against quadrature over the needle, and Eq. 23 solved by
+/// G-21 closed form against quadrature over the needle, and G-23 solved by
 /// Newton-Raphson/bisection against a direct numerical integration of Phi(t).
 #[test]
 fn needle_collision_time_solves_eq_23() {

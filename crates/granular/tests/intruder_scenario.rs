@@ -183,7 +183,7 @@ fn ratio(s: &Summary) -> (f64, f64) {
 }
 
 /// The DSMC twin (section 4) and the Gillespie engine give the same `T/T_B` within their
-/// combined statistical errors, and both agree with Eq. 18, through the run spine.
+/// combined statistical errors, and both agree with G-18, through the run spine.
 #[test]
 fn dsmc_twin_engine_agrees_with_gillespie_engine() {
     let o = [

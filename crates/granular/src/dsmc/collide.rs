@@ -1,4 +1,4 @@
-//! The collision stage: candidate pairs per cell (Eq. 1), acceptance (Eq. 2), random
+//! The collision stage: candidate pairs per cell (DSMC-1), acceptance (DSMC-2), random
 //! impact parameter and the hard-grain collision rule with normal restitution.
 
 use super::config::VmaxMode;
@@ -142,7 +142,7 @@ fn collide_cell<const D: usize>(
         }
         None => 1.0,
     };
-    // Eq. 1 (with the cross-section of docs/dsmc.md), fractional part drawn stochastically.
+    // DSMC-1 (with the cross-section of docs/dsmc.md), fractional part drawn stochastically.
     let expected = nf * (nf - 1.0) * p.sigma * vmax * p.dt * chi / (2.0 * volume);
     let whole = expected.floor();
     let mut m = whole as u64;
@@ -168,7 +168,7 @@ fn collide_cell<const D: usize>(
             vmax = gm;
             tally.vmax_exceeded += 1;
         }
-        // Eq. 2: accept with probability |v_i - v_j| / v_max.
+        // DSMC-2: accept with probability |v_i - v_j| / v_max.
         if gm <= z * vmax {
             continue;
         }

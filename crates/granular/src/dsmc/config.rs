@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-/// How the upper bound `v_max` on the relative speed (Eq. 1 and Eq. 2 of the DSMC seed)
+/// How the upper bound `v_max` on the relative speed (DSMC-1 and DSMC-2)
 /// is obtained.
 ///
 /// Whatever the mode, `v_max` is *raised* inside a cell as soon as a candidate pair has
@@ -61,12 +61,12 @@ pub struct DsmcConfig {
     /// Constant acceleration (gravity), `D` components (length / time^2), applied
     /// analytically in the free-flight stage. Empty: no external force.
     pub gravity: Vec<f64>,
-    /// Policy for the relative-speed bound `v_max` of Eqs. 1-2.
+    /// Policy for the relative-speed bound `v_max` of DSMC-1 and DSMC-2.
     pub vmax_mode: VmaxMode,
-    /// Multiply Eq. 1 by the Enskog contact value `chi(phi)` (Henderson in 2D,
+    /// Multiply DSMC-1 by the Enskog contact value `chi(phi)` (Henderson in 2D,
     /// Carnahan-Starling in 3D).
     pub enskog: bool,
-    /// Replace `V_c` in Eq. 1 by the free volume `V_c - V_b / nu_rcp` (`V_b` the volume
+    /// Replace `V_c` in DSMC-1 by the free volume `V_c - V_b / nu_rcp` (`V_b` the volume
     /// of the beads in the cell, `nu_rcp` = 0.82 in 2D, 0.64 in 3D). Always uses the
     /// cell's own bead volume.
     pub free_volume: bool,

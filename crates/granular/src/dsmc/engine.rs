@@ -288,7 +288,7 @@ impl<const D: usize> DsmcEngine<D> {
         self.steps
     }
 
-    /// Number of candidate pairs drawn so far (Eq. 1).
+    /// Number of candidate pairs drawn so far (DSMC-1).
     pub fn candidates(&self) -> u64 {
         self.tally.candidates
     }

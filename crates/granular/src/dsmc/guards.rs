@@ -18,7 +18,7 @@ pub enum GuardKind {
     /// [`MAX_STEP_FRACTION`]).
     TimeStepTooLong,
     /// Too few particles per cell on average (below [`MIN_PER_CELL`]): the pair-count
-    /// statistics of Eq. 1 become poor and spurious correlations grow.
+    /// statistics of DSMC-1 become poor and spurious correlations grow.
     TooFewParticlesPerCell,
 }
 

@@ -8,9 +8,9 @@
 //!    specular, possibly inelastic, walls or periodic faces;
 //! 2. **sorting** of the particle arrays by cell (stable parallel counting sort, see
 //!    [`cells`]);
-//! 3. **collisions** in every cell independently: `M_c` candidate pairs (Eq. 1, with the
+//! 3. **collisions** in every cell independently: `M_c` candidate pairs (DSMC-1, with the
 //!    true cross-section, see `docs/dsmc.md`), each accepted with probability
-//!    `|v_i - v_j| / v_max` (Eq. 2), with a random impact parameter and normal
+//!    `|v_i - v_j| / v_max` (DSMC-2), with a random impact parameter and normal
 //!    restitution `e`.
 //!
 //! Cells are processed on all rayon threads; cell `c` of step `s` draws from its own

@@ -168,10 +168,10 @@ fn scalar_search<const D: usize, const WRAP: bool>(
             }
         }
         let dv = vj - probe.vel;
-        // `pair_contact_time` without growth, written without unpredictable branches (the
-        // sign of `b` is a coin toss for neighbours): every candidate costs a square root
-        // and a division, which pipeline, instead of a mispredicted branch. Same
-        // arithmetic, so the same times.
+        // `pair_contact_time` without growth (HD-7 to HD-10), written without
+        // unpredictable branches (the sign of `b` is a coin toss for neighbours): every
+        // candidate costs a square root and a division, which pipeline, instead of a
+        // mispredicted branch. Same arithmetic, so the same times.
         let sigma = probe.radius + kind_radius[g.kind as usize];
         let b = dx.dot(&dv);
         let c = dx.norm_squared() - sigma * sigma;
@@ -315,7 +315,7 @@ mod sse2 {
     }
 }
 
-/// Position and velocity of grain `g` at time `now` (under uniform `gravity`, if any):
+/// Position and velocity of grain `g` at time `now` (HD-6; under uniform `gravity`, if any):
 /// the one-candidate and two-grain searches advance their candidates alike.
 #[inline(always)]
 fn advanced<const D: usize>(

@@ -96,7 +96,7 @@ pub struct CellGrid<const D: usize> {
 }
 
 /// Cells per axis (`counts[k]`), each also ready to divide flat cell indices by
-/// ([`CountDivisor`]). Stored, and checkpointed, as the counts alone.
+/// (`CountDivisor`). Stored, and checkpointed, as the counts alone.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(try_from = "Vec<usize>", into = "Vec<usize>")]
 pub struct CellCounts<const D: usize> {

@@ -599,7 +599,7 @@ impl<const D: usize> Edmd<D> {
         }
     }
 
-    /// Unwrapped position of slot `s` at the current time (may lie outside the box by
+    /// Unwrapped position of slot `s` at the current time (HD-6; may lie outside the box by
     /// round-off).
     #[inline(always)]
     fn position_raw(&self, s: usize) -> Vector<D> {
@@ -798,8 +798,8 @@ impl<const D: usize> Edmd<D> {
     }
 
     /// The earliest boundary event of slot `i` (in cell `coords`, its state stored at
-    /// the current time): a cell crossing or a wall collision, as (time from now, code),
-    /// or `(∞, NOTHING)`.
+    /// the current time): a cell crossing or a wall collision (HD-1, HD-2), as (time
+    /// from now, code), or `(∞, NOTHING)`.
     #[inline(always)]
     fn boundary_event(&self, i: usize, coords: &[u32; D]) -> (f64, u32) {
         let Grain {
@@ -1002,7 +1002,7 @@ impl<const D: usize> Edmd<D> {
         }
     }
 
-    /// Resolves a pair collision (Eq. 11 of the hard-disk seed), both grains at `now`.
+    /// Resolves a pair collision (HD-11), both grains at `now`.
     fn collide_pair(&mut self, i: usize, j: usize) {
         let dx = self.bx.separation(&self.grains[i].pos, &self.grains[j].pos);
         let dv = self.grains[j].vel - self.grains[i].vel;
@@ -1056,7 +1056,7 @@ impl<const D: usize> Edmd<D> {
         }
     }
 
-    /// Resolves a wall collision (Eqs. 3-4 of the hard-disk seed).
+    /// Resolves a wall collision (HD-3, HD-4).
     fn collide_wall(&mut self, i: usize, axis: usize, upper: bool) {
         let v = self.grains[i].vel;
         let m = self.mass(i);

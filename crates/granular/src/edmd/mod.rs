@@ -2,7 +2,7 @@
 //! after the hard-disk seed (`event-driven-hard-disk-gas.txt`).
 //!
 //! * [`engine`]: the event loop ([`Edmd`]);
-//! * [`prediction`]: collision and crossing times (Eqs. 1, 2, 7-10);
+//! * [`prediction`]: collision and crossing times (HD-1, HD-2, HD-7 to HD-10);
 //! * [`queue`]: the event priority queue;
 //! * `candidates`: the grain record and the earliest contact among a prediction's
 //!   candidates (eight at a time with AVX-512, or four with AVX2, when there are many;

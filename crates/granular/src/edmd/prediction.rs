@@ -7,7 +7,7 @@
 /// contact-distance growth rate `sigma_rate` (zero except during Lubachevsky-Stillinger
 /// compression).
 ///
-/// Without growth this is Eqs. (7)-(10) of the hard-disk seed, with the smaller root
+/// Without growth this is HD-7 to HD-10, with the smaller root
 /// written as `c / (-b + sqrt(d))` instead of `-(b + sqrt(d)) / a`, which cancels
 /// catastrophically for grazing or slow approaches. Round-off cases:
 /// * overlapping (`|dx| < sigma`) and approaching: collide now (returns `Some(0.0)`);

@@ -1,11 +1,11 @@
 //! Bath velocity distributions f(v) of the thermalised point particles (one velocity
-//! component, the one normal to the intruder's surface), their side fluxes (Eqs. 5-7) and
-//! exact samplers of the velocity of the bath particle that collides (Eqs. 12-13).
+//! component, the one normal to the intruder's surface), their side fluxes (G-5 to G-7) and
+//! exact samplers of the velocity of the bath particle that collides (G-12 and G-13).
 //!
-//! All fluxes here are *per unit bath density*: multiply by `rho` to get Eqs. 5-7.
+//! All fluxes here are *per unit bath density*: multiply by `rho` to get G-5 to G-7.
 //!
-//! Sides: [`Side::Right`] is the paper's "+" side (Eq. 5): bath particles with `v < v1`
-//! that the intruder catches up with on its right; [`Side::Left`] is "-" (Eq. 6).
+//! Sides: [`Side::Right`] is the paper's "+" side (G-5): bath particles with `v < v1`
+//! that the intruder catches up with on its right; [`Side::Left`] is "-" (G-6).
 
 use std::f64::consts::{FRAC_1_SQRT_2, FRAC_2_SQRT_PI, PI, SQRT_2};
 use std::path::Path;
@@ -24,9 +24,9 @@ pub const SQRT_PI: f64 = 1.772_453_850_905_516;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Side {
-    /// "+" side (Eqs. 5, 12): the bath particle has `v <= v1`.
+    /// "+" side (G-5, G-12): the bath particle has `v <= v1`.
     Right,
-    /// "-" side (Eqs. 6, 13): the bath particle has `v >= v1`.
+    /// "-" side (G-6, G-13): the bath particle has `v >= v1`.
     Left,
 }
 
@@ -73,11 +73,11 @@ pub trait BathDistribution {
     fn second_moment(&self) -> f64;
     /// `<|v|>`; the collision rate of an intruder at rest is `rho <|v|>`.
     fn mean_speed(&self) -> f64;
-    /// `phi_+(v1)/rho = int_{-inf}^{v1} (v1 - v) f(v) dv` (Eq. 5).
+    /// `phi_+(v1)/rho = int_{-inf}^{v1} (v1 - v) f(v) dv` (G-5).
     fn flux_plus(&self, v1: f64) -> f64;
-    /// `phi_-(v1)/rho = int_{v1}^{inf} (v - v1) f(v) dv` (Eq. 6).
+    /// `phi_-(v1)/rho = int_{v1}^{inf} (v - v1) f(v) dv` (G-6).
     fn flux_minus(&self, v1: f64) -> f64;
-    /// Total rate per unit density (Eq. 7).
+    /// Total rate per unit density (G-7).
     fn flux(&self, v1: f64) -> f64 {
         self.flux_plus(v1) + self.flux_minus(v1)
     }
@@ -103,9 +103,9 @@ pub trait BathDistribution {
             self.sample_speed_weighted(rng)
         }
     }
-    /// An exact draw from g_+ (Eq. 12) or g_- (Eq. 13).
+    /// An exact draw from g_+ (G-12) or g_- (G-13).
     fn sample_colliding(&self, side: Side, v1: f64, rng: &mut Stream) -> f64;
-    /// Cumulative distribution function of g_side(., v1) at `v` (for tests and figures).
+    /// Cumulative distribution function of g_side(., v1) (G-12, G-13) at `v` (tests, figures).
     ///
     /// Uses `int_{-inf}^{v} (v1 - w) f(w) dw = phi_+(v) + (v1 - v) F(v)` (and its mirror
     /// image), so it is exact whenever the fluxes and F are.
@@ -128,7 +128,7 @@ pub trait BathDistribution {
             }
         }
     }
-    /// Density g_side(v, v1) of Eqs. 12-13.
+    /// Density g_side(v, v1) of G-12 and G-13.
     fn colliding_density(&self, side: Side, v1: f64, v: f64) -> f64 {
         let (w, phi) = match side {
             Side::Right => (v1 - v, self.flux_plus(v1)),
@@ -143,10 +143,10 @@ pub trait BathDistribution {
 }
 
 // ---------------------------------------------------------------------------------------
-// Gaussian bath (Eq. 14)
+// Gaussian bath (G-14)
 // ---------------------------------------------------------------------------------------
 
-/// Gaussian bath `f(v) = sqrt(a/pi) exp(-a v^2)` (Eq. 14), `a = m / (2 T_B)`.
+/// Gaussian bath `f(v) = sqrt(a/pi) exp(-a v^2)` (G-14), `a = m / (2 T_B)`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Gaussian {
     /// The paper's `a` (inverse squared velocity).
@@ -186,7 +186,7 @@ impl Gaussian {
 }
 
 /// `h(x) = x erfc(-x) + exp(-x^2)/sqrt(pi)` so that `phi_+(v1) = h(sqrt(a) v1)/(2 sqrt(a))`
-/// (Eq. 15 rewritten); accurate for all x, including the far left tail where it is
+/// (G-15 rewritten); accurate for all x, including the far left tail where it is
 /// exponentially small (asymptotic series of erfcx for `x < -8`).
 #[inline]
 pub fn gaussian_h(x: f64) -> f64 {
@@ -309,7 +309,7 @@ impl BathDistribution for Gaussian {
     fn flux_minus(&self, v1: f64) -> f64 {
         gaussian_h(-self.s * v1) / (2.0 * self.s)
     }
-    /// Eq. 16.
+    /// G-16.
     #[inline]
     fn flux(&self, v1: f64) -> f64 {
         let x = self.s * v1;
@@ -351,10 +351,10 @@ impl BathDistribution for Gaussian {
 }
 
 // ---------------------------------------------------------------------------------------
-// Power-law bath (Eq. 19)
+// Power-law bath (G-19)
 // ---------------------------------------------------------------------------------------
 
-/// Power-law bath `f(v) = sqrt(2a)/pi / (1 + a^2 v^4)` (Eq. 19); `<v^2> = 1/a`.
+/// Power-law bath `f(v) = sqrt(2a)/pi / (1 + a^2 v^4)` (G-19); `<v^2> = 1/a`.
 ///
 /// Closed forms (derived in `docs/intruder.md`), with `y = sqrt(a) v`, `x = sqrt(a) v1`:
 /// `F(y) = 1/2 + ln((y^2+sqrt2 y+1)/(y^2-sqrt2 y+1))/(4 pi) + (atan(sqrt2 y+1)+atan(sqrt2 y-1))/(2 pi)`,
@@ -362,7 +362,7 @@ impl BathDistribution for Gaussian {
 /// `phi_+(v1) = [x F(x) + atan(1/x^2)/(sqrt(2) pi)] / sqrt(a)`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PowerLaw {
-    /// The paper's `a` in Eq. 19.
+    /// The paper's `a` in G-19.
     pub a: f64,
     s: f64,
     inv_s: f64,
@@ -862,12 +862,12 @@ impl BathDistribution for Tabulated {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum BathConfig {
-    /// Gaussian, Eq. 14, `a = m / (2 T_B)`.
+    /// Gaussian, G-14, `a = m / (2 T_B)`.
     Gaussian {
         /// Bath temperature `T_B = m <v^2>` (energy units, `k_B = 1`).
         temperature: f64,
     },
-    /// Power law, Eq. 19, `a = m / T_B` (since `<v^2> = 1/a`).
+    /// Power law, G-19, `a = m / T_B` (since `<v^2> = 1/a`).
     PowerLaw {
         /// Bath temperature `T_B = m <v^2>` (energy units, `k_B = 1`).
         temperature: f64,
@@ -893,9 +893,9 @@ impl Default for BathConfig {
 /// One of the supported baths (static dispatch); serialisable for checkpoints.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Bath {
-    /// Eq. 14.
+    /// G-14.
     Gaussian(Gaussian),
-    /// Eq. 19.
+    /// G-19.
     PowerLaw(PowerLaw),
     /// Tabulated.
     Tabulated(Box<Tabulated>),

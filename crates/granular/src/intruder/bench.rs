@@ -32,7 +32,7 @@ pub struct BenchResult {
 
 /// Simulates `collisions` collisions of the named case on the calling thread and returns
 /// the rate. Cases: `1d-gaussian`, `1d-power-law`, `needle` (default samplers, i.e.
-/// thinning) and `1d-gaussian-direct`, `needle-paper` (the paper's Eqs. 10-13 / 23-26).
+/// thinning) and `1d-gaussian-direct`, `needle-paper` (the paper's G-10 to G-13 / G-23 to G-26).
 /// Parameters: `M = m = 1`, `alpha = 0.5`, `rho = 1`, `a = 1`, averaging grid on.
 pub fn measure_collision_rate(
     case: &str,

@@ -2,13 +2,13 @@
 //!
 //! `n_bath` bath velocities are drawn from the bath distribution. Trials happen at rate
 //! `omega_max` (exponential waiting times, so the trial sequence is a Poisson process). A
-//! trial picks a side `sigma = +1` (left, "-" side of Eq. 6) or `-1` (right, "+" side) with
+//! trial picks a side `sigma = +1` (left, "-" side of G-6) or `-1` (right, "+" side) with
 //! probability 1/2 and a bath particle `i` uniformly; with `v_i1 = v_i - v1` and
 //! `omega_i1 = 2 rho |v_i1|`, the collision is accepted with probability
-//! `Theta(v_i1 sigma) omega_i1 / omega_max`, and then Eq. 17 updates the intruder. If
+//! `Theta(v_i1 sigma) omega_i1 / omega_max`, and then G-17 updates the intruder. If
 //! `omega_i1 > omega_max` the bound is raised, `omega_max <- omega_i1` (as in the paper).
 //! The mean rate of accepted collisions is `(rho/n) sum_i |v_i - v1|`, the empirical
-//! version of Eq. 7.
+//! version of G-7.
 //!
 //! The bath is thermalised: after every accepted collision one bath slot chosen uniformly
 //! *independently of the velocities* is redrawn from `f`, so that the stored velocities
@@ -145,7 +145,7 @@ impl DsmcTwin {
             self.bound_raises += 1;
         }
         if rel * sigma > 0.0 && self.rng.random::<f64>() * self.omega_max < omega_i {
-            self.v1 += self.params.kick * rel; // Eq. 17
+            self.v1 += self.params.kick * rel; // G-17
             self.collisions += 1;
             let j = self.rng.random_range(0..n);
             self.bath_v[j] = self.params.bath.sample(&mut self.rng);

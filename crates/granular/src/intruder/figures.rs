@@ -55,7 +55,7 @@ fn run_needle(cfg: &NeedleConfig, collisions: u64, seed: u64, index: u64) -> Nee
     n.summary()
 }
 
-/// Fig. 1: total collision rate `phi(v1)/rho` (Eq. 16) for `a = 0.5, 1, 2, 4` on
+/// Fig. 1: total collision rate `phi(v1)/rho` (G-16) for `a = 0.5, 1, 2, 4` on
 /// `v1 in [-3, 3]`, with a Monte Carlo estimate of each value: `collisions` candidate events
 /// of the thinning sampler at fixed `v1`, `phi = rho (|v1| + <|v|>) * acceptance`.
 pub fn fig1_flux(points: usize, collisions: u64, seed: u64) -> Table {
@@ -98,7 +98,7 @@ pub fn fig1_flux(points: usize, collisions: u64, seed: u64) -> Table {
 }
 
 /// Fig. 2: density `g_+(v, v1)` of the bath velocities colliding with the right side
-/// (Eq. 12), `a = 1`, `v1 = -2, -1, 0, 1, 2`: theory and a histogram of `collisions` draws
+/// (G-12), `a = 1`, `v1 = -2, -1, 0, 1, 2`: theory and a histogram of `collisions` draws
 /// of the exact sampler, on 100 bins of `[-5, 3]`.
 pub fn fig2_colliding_velocities(collisions: u64, seed: u64) -> Table {
     let g = Bath::Gaussian(Gaussian::new(1.0).unwrap_or_else(|e| panic!("{e}")));
@@ -153,7 +153,7 @@ fn ratio_sweep(
         .collect()
 }
 
-/// Fig. 3: `T/T_B` versus `alpha` for `M = m = 1`, Gaussian bath `a = 1`, with Eq. 18.
+/// Fig. 3: `T/T_B` versus `alpha` for `M = m = 1`, Gaussian bath `a = 1`, with G-18.
 pub fn fig3_temperature_ratio(alphas: &[f64], collisions: u64, seed: u64) -> Table {
     let base = Intruder1dConfig {
         mass: 1.0,
@@ -185,8 +185,8 @@ pub fn fig3_temperature_ratio(alphas: &[f64], collisions: u64, seed: u64) -> Tab
     t
 }
 
-/// Fig. 4: `T/T_B` versus `alpha` in the power-law bath (Eq. 19, `T_B = 1`) for `M = 1`
-/// and `M = 0.5`, with the Gaussian-bath result (Eq. 18) and the exact value `alpha` at
+/// Fig. 4: `T/T_B` versus `alpha` in the power-law bath (G-19, `T_B = 1`) for `M = 1`
+/// and `M = 0.5`, with the Gaussian-bath result (G-18) and the exact value `alpha` at
 /// `M/m = alpha` (NaN elsewhere).
 pub fn fig4_power_law_ratio(alphas: &[f64], collisions: u64, seed: u64) -> Table {
     let mut t = Table::new("Fig. 4: T/T_B vs alpha, power-law bath (Eq. 19), M = 1 and 0.5");
@@ -232,7 +232,7 @@ pub fn fig4_power_law_ratio(alphas: &[f64], collisions: u64, seed: u64) -> Table
 
 /// Fig. 5: intruder velocity distributions for `alpha = 0, 0.1, ..., 1` at `M = 1/2` in the
 /// power-law bath (`T_B = 1`, so `a = 1`), on `[-8, 8]` (120 bins), with the exact
-/// solution at `alpha = 0.5` (Eq. 19 with the bath's `a`) and its `v^-4` tail
+/// solution at `alpha = 0.5` (G-19 with the bath's `a`) and its `v^-4` tail
 /// `sqrt(2)/(pi a^(3/2) v^4)`.
 pub fn fig5_power_law_distributions(collisions: u64, seed: u64) -> Table {
     let alphas = alpha_grid();
@@ -268,7 +268,7 @@ pub fn fig5_power_law_distributions(collisions: u64, seed: u64) -> Table {
     t
 }
 
-/// Fig. 7: `R = <v^2 w^2>/(<v^2><w^2>)` (Eq. 30) versus `alpha` for needles of
+/// Fig. 7: `R = <v^2 w^2>/(<v^2><w^2>)` (G-30) versus `alpha` for needles of
 /// `M/m = 0.1, 0.5, 1` (`L = 1`, `I = M L^2/12`, `a = 1`, `rho = 1`).
 pub fn fig7_correlation(alphas: &[f64], collisions: u64, seed: u64) -> Table {
     let masses = [0.1, 0.5, 1.0];

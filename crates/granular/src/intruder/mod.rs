@@ -2,12 +2,12 @@
 //! after Gillespie-type event sampling for a granular intruder (seed document
 //! `gillespie-granular-intruder.txt`; equation numbers below refer to it).
 //!
-//! * [`bath`]: bath velocity distributions, side fluxes (Eqs. 5-7, 14-16, 19) and exact
-//!   samplers of the colliding bath velocity (Eqs. 12-13);
-//! * [`one_d`]: the one-dimensional intruder (Eqs. 8-13, 17), stationary and ensemble runs;
-//! * [`needle`]: the two-dimensional needle (Eqs. 20-30);
+//! * [`bath`]: bath velocity distributions, side fluxes (G-5 to G-7, G-14 to G-16, G-19) and exact
+//!   samplers of the colliding bath velocity (G-12 and G-13);
+//! * [`one_d`]: the one-dimensional intruder (G-8 to G-13, G-17), stationary and ensemble runs;
+//! * [`needle`]: the two-dimensional needle (G-20 to G-30);
 //! * [`dsmc_twin`]: the DSMC version of the 1D intruder (section 4);
-//! * [`theory`]: exact results (Eq. 18, the power-law case `M/m = alpha`);
+//! * [`theory`]: exact results (G-18, the power-law case `M/m = alpha`);
 //! * [`figures`]: the data of the paper's figures as tables;
 //! * [`mod@bench`]: collision-rate measurement.
 //!

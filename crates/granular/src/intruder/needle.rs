@@ -1,18 +1,18 @@
 //! The two-dimensional needle (section 3.2): mass `M`, length `L`, moment of inertia `I`,
-//! in a Gaussian bath (Eq. 14 for the velocity component normal to the needle) of point
+//! in a Gaussian bath (G-14 for the velocity component normal to the needle) of point
 //! particles of mass `m` and areal density `rho`.
 //!
 //! State: centre-of-mass velocity `v1 = (v1x, v1y)`, angular velocity `omega`, orientation
 //! `theta`; the unit normal is `n = (-sin theta, cos theta)` so that
-//! `v_n = v1 . n = v1y cos(theta) - v1x sin(theta)` (Eq. 20), and the material point at
+//! `v_n = v1 . n = v1y cos(theta) - v1x sin(theta)` (G-20), and the material point at
 //! distance `x` from the centre moves with normal velocity `v_n + omega x`.
 //!
 //! Two exact event samplers ([`NeedleMethod`]):
 //!
-//! * `paper`: collision time from `int_0^t Phi = -ln(xi3)` (Eq. 23) by Newton-Raphson
-//!   (Eq. 24) safeguarded by bisection, `Phi` from the closed form of Eq. 21 for any `a`,
+//! * `paper`: collision time from `int_0^t Phi = -ln(xi3)` (G-23) by Newton-Raphson
+//!   (G-24) safeguarded by bisection, `Phi` from the closed form of G-21 for any `a`,
 //!   `L` (see [`total_flux`]), its time integral by composite Gauss-Legendre quadrature;
-//!   impact point by acceptance-rejection on Eq. 25, side by Eq. 26, bath velocity from
+//!   impact point by acceptance-rejection on G-25, side by G-26, bath velocity from
 //!   `g_+-` (exact sampler of [`super::bath`]).
 //! * `thinning` (default, faster): candidates at the constant rate
 //!   `Lambda = rho L (|v1| + |omega| L/4 + <|v|>)`, the integral over the impact point `x`
@@ -22,10 +22,10 @@
 //!   three-component mixture, see `Needle::drive`) and is accepted with probability
 //!   `|v - v_n(t) - omega x| / (|v1| + |omega x| + |v|)`. The accepted events have intensity
 //!   `rho |v - v_n - omega x| f(v) dx dv` at time `t`, which is exactly the collision
-//!   intensity whose integrals over `v` and `x` are Eqs. 21 and 25-26, so the process is the
+//!   intensity whose integrals over `v` and `x` are G-21, G-25 and G-26, so the process is the
 //!   same Markov process as the paper's, without Newton iterations or error functions.
 //!
-//! Collision (Eqs. 27-29): `Delta p = -(1 + alpha) g.n / (1/m + 1/M + x^2/I)`,
+//! Collision (G-27 to G-29): `Delta p = -(1 + alpha) g.n / (1/m + 1/M + x^2/I)`,
 //! `g.n = v_n + omega x - v` (relative normal velocity at the impact point),
 //! `v1' = v1 + n Delta p / M`, `omega' = omega + x Delta p / I`.
 
@@ -49,7 +49,7 @@ pub enum NeedleMethod {
     /// Thinning against the rate bound `rho L (|v1| + |omega| L/4 + <|v|>)`.
     #[default]
     Thinning,
-    /// The paper's algorithm, Eqs. 21-26 with Newton-Raphson/bisection on Eq. 23.
+    /// The paper's algorithm, G-21 to G-26 with Newton-Raphson/bisection on G-23.
     Paper,
 }
 
@@ -61,27 +61,27 @@ pub struct NeedleConfig {
     pub mass: f64,
     /// Bath particle mass `m` (mass units), 1 in the paper.
     pub bath_mass: f64,
-    /// Needle length `L` (length units); the paper's Eq. 22 takes `L = 1`.
+    /// Needle length `L` (length units); the paper's G-22 takes `L = 1`.
     pub length: f64,
-    /// Moment of inertia `I` about the centre (mass x length^2), Eqs. 28-29. Default
+    /// Moment of inertia `I` about the centre (mass x length^2), G-28 and G-29. Default
     /// `M L^2 / 12` (thin uniform rod).
     pub moment_of_inertia: Option<f64>,
-    /// Coefficient of restitution `alpha` in `[0, 1]` (Eq. 29).
+    /// Coefficient of restitution `alpha` in `[0, 1]` (G-29).
     pub restitution: f64,
-    /// Bath areal number density `rho` (1/length^2), Eq. 21.
+    /// Bath areal number density `rho` (1/length^2), G-21.
     pub bath_density: f64,
-    /// Bath temperature `T_B` (energy, `k_B = 1`): `a = m/(2 T_B)` in Eq. 14. Default 0.5
-    /// (`a = 1`, as in Eq. 22).
+    /// Bath temperature `T_B` (energy, `k_B = 1`): `a = m/(2 T_B)` in G-14. Default 0.5
+    /// (`a = 1`, as in G-22).
     pub bath_temperature: f64,
     /// Initial centre-of-mass velocity `(v1x, v1y)` (velocity units).
     pub initial_velocity: [f64; 2],
     /// Initial angular velocity `omega` (1/time).
     pub initial_angular_velocity: f64,
-    /// Initial orientation `theta_0` (radians), Eq. 20.
+    /// Initial orientation `theta_0` (radians), G-20.
     pub initial_angle: f64,
     /// Event sampler.
     pub method: NeedleMethod,
-    /// Tolerance on `|int_0^t Phi + ln xi3|` in Eq. 23, relative to `1 - ln xi3` (paper
+    /// Tolerance on `|int_0^t Phi + ln xi3|` in G-23, relative to `1 - ln xi3` (paper
     /// method only).
     pub time_tolerance: f64,
     /// Averaging grid spacing (time units). Default: mean collision time of a needle at
@@ -141,7 +141,7 @@ pub struct NeedleParams {
     pub bath_temperature: f64,
     /// Event sampler.
     pub method: NeedleMethod,
-    /// Eq. 23 tolerance.
+    /// G-23 tolerance.
     pub time_tolerance: f64,
 }
 
@@ -208,13 +208,13 @@ impl NeedleParams {
     }
 
     /// Flux per unit length on both sides of a surface element moving with normal velocity
-    /// `u`: `phi(u)` of Eq. 16 (includes `rho`).
+    /// `u`: `phi(u)` of G-16 (includes `rho`).
     #[inline]
     pub fn local_flux(&self, u: f64) -> f64 {
         self.rho * self.bath.flux(u)
     }
 
-    /// Total flux `Phi` of Eq. 21 for normal velocity `vn` and angular velocity `omega`.
+    /// Total flux `Phi` of G-21 for normal velocity `vn` and angular velocity `omega`.
     pub fn total_flux(&self, vn: f64, omega: f64) -> f64 {
         total_flux(self.rho, self.bath.a, self.length, vn, omega)
     }
@@ -240,7 +240,7 @@ impl NeedleParams {
         )
     }
 
-    /// Solves Eq. 23, `int_0^tau Phi = target`, by Newton-Raphson (Eq. 24, initial guess
+    /// Solves G-23, `int_0^tau Phi = target`, by Newton-Raphson (G-24, initial guess
     /// `target/Phi(0)`) with a bisection fallback whenever a step leaves the bracket (which
     /// is how the paper's oscillations are cured). Returns `(tau, iterations)`; converged
     /// when `|int_0^tau Phi - target| <= tol (1 + target)`.
@@ -267,7 +267,7 @@ impl NeedleParams {
             } else {
                 hi = t;
             }
-            let mut next = t - r / phi_at(t); // Eq. 24
+            let mut next = t - r / phi_at(t); // G-24
             if !(next > lo && next < hi) {
                 next = 0.5 * (lo + hi);
             }
@@ -286,7 +286,7 @@ impl NeedleParams {
 }
 
 /// `Psi(u) = (u^2/2 + 1/(4a)) erf(sqrt(a) u) + u exp(-a u^2)/(2 sqrt(pi a))`, the
-/// antiderivative of `phi(u)/rho` (Eq. 16).
+/// antiderivative of `phi(u)/rho` (G-16).
 #[inline]
 fn flux_antiderivative(a: f64, u: f64) -> f64 {
     let s = a.sqrt();
@@ -294,7 +294,7 @@ fn flux_antiderivative(a: f64, u: f64) -> f64 {
         + u * (-a * u * u).exp() * FRAC_1_SQRT_PI / (2.0 * s)
 }
 
-/// Eq. 21 in closed form for any `a` and `L` (Eq. 22 is the case `a = L = 1`):
+/// G-21 in closed form for any `a` and `L` (G-22 is the case `a = L = 1`):
 /// `Phi = rho [Psi(v_n + omega L/2) - Psi(v_n - omega L/2)] / omega`, with the
 /// antiderivative `Psi` of the flux (derivation in `docs/intruder.md`). When
 /// `|omega| L sqrt(a) < 0.05` the difference quotient loses digits and the `x` integral is
@@ -386,7 +386,7 @@ pub struct NeedleSummary {
     pub translational_ratio: Estimate,
     /// `T_rot / T_B`.
     pub rotational_ratio: Estimate,
-    /// `R = <v^2 omega^2> / (<v^2> <omega^2>)` (Eq. 30).
+    /// `R = <v^2 omega^2> / (<v^2> <omega^2>)` (G-30).
     pub correlation: Estimate,
     /// Histogram of the velocity components `v1x` and `v1y` (both pushed).
     pub component_histogram: Histogram,
@@ -522,7 +522,7 @@ impl Needle {
     /// (mass `rho |omega| L^2/4`: `|x| = (L/2) sqrt(U)`, random sign, `v` from `f`) and
     /// `rho |v| f(v)` (mass `rho L <|v|>`: `x` uniform, `v` from `|v| f/<|v|>`); a candidate
     /// is accepted with probability `|v - v_n(t) - omega x| / (|v1| + |omega x| + |v|)`, so the
-    /// accepted events have exactly the collision intensity (Eqs. 21, 25-26).
+    /// accepted events have exactly the collision intensity (G-21, G-25 and G-26).
     fn drive(
         &mut self,
         until: f64,
@@ -601,7 +601,7 @@ impl Needle {
                 theta = wrap_angle(theta + omega * (te - theta_time));
                 theta_time = te;
                 let (sn, cs) = theta.sin_cos();
-                let vn = v[1] * cs - v[0] * sn; // Eq. 20
+                let vn = v[1] * cs - v[0] * sn; // G-20
                 if acc < (vb - vn - omega * x).abs() {
                     Some((x, vb, sn, cs, vn))
                 } else {
@@ -611,8 +611,8 @@ impl Needle {
                 theta = wrap_angle(theta + omega * (te - theta_time));
                 theta_time = te;
                 let (sn, cs) = theta.sin_cos();
-                let vn = v[1] * cs - v[0] * sn; // Eq. 20
-                // Eq. 25: phi(vn + omega x) is convex in x, so its maximum is at an end.
+                let vn = v[1] * cs - v[0] * sn; // G-20
+                // G-25: phi(vn + omega x) is convex in x, so its maximum is at an end.
                 let fmax = p
                     .local_flux(vn - omega * half)
                     .max(p.local_flux(vn + omega * half));
@@ -623,7 +623,7 @@ impl Needle {
                     }
                 };
                 let u = vn + omega * x;
-                // Eq. 26 (fluxes per unit density; rho cancels).
+                // G-26 (fluxes per unit density; rho cancels).
                 let s = p.bath.sqrt_a();
                 let plus = gaussian_h(s * u);
                 let minus = gaussian_h(-s * u);
@@ -636,7 +636,7 @@ impl Needle {
                 Some((x, vb, sn, cs, vn))
             };
             if let Some((x, vb, sn, cs, vn)) = hit {
-                // Eqs. 27-29.
+                // G-27 to G-29.
                 let gn = vn + omega * x - vb;
                 let dp = kick * gn / (reduced + x * x * inv_inertia);
                 let dv = dp * inv_mass;
@@ -785,7 +785,7 @@ mod tests {
     use super::*;
     use std::f64::consts::PI;
 
-    /// Eq. 22 (a = L = 1) reproduced by the general closed form.
+    /// G-22 (a = L = 1) reproduced by the general closed form.
     #[test]
     fn general_flux_reduces_to_eq_22() {
         let erf = libm::erf;

@@ -1,23 +1,23 @@
 //! The one-dimensional intruder (section 3.1): a particle of mass `M` in a bath of point
-//! particles of mass `m`, density `rho` and velocity distribution `f` (Eqs. 5-17).
+//! particles of mass `m`, density `rho` and velocity distribution `f` (G-5 to G-17).
 //!
 //! Two exact event samplers, selected by [`Method1d`]:
 //!
-//! * `direct`, the paper's algorithm: waiting time `-ln(xi1)/phi(v1)` (Eq. 10), side with
-//!   probability `phi_+/phi` (Eq. 11), bath velocity from `g_+-` (Eqs. 12-13);
+//! * `direct`, the paper's algorithm: waiting time `-ln(xi1)/phi(v1)` (G-10), side with
+//!   probability `phi_+/phi` (G-11), bath velocity from `g_+-` (G-12 and G-13);
 //! * `thinning` (default, faster, no error function): candidate events at the constant
 //!   rate `Lambda = rho (|v1| + <|v|>) >= phi(v1)` (because `|v - v1| <= |v1| + |v|`), each
 //!   with a mark `v` of density `(|v1| + |v|) f(v) / (|v1| + <|v|>)` (a two-component
 //!   mixture of `f` and of `|v| f / <|v|>`), accepted with probability
 //!   `|v - v1| / (|v1| + |v|)`. The accepted events form a Poisson process with intensity
 //!   `Lambda * mark density * acceptance = rho |v - v1| f(v)` in `v`, which is exactly the
-//!   collision kernel of Eq. 8 (total rate Eq. 7; the side is the sign of `v1 - v`, so the
-//!   side and the bath velocity are jointly distributed as Eqs. 11-13). Rejected candidates
+//!   collision kernel of G-8 (total rate G-7; the side is the sign of `v1 - v`, so the
+//!   side and the bath velocity are jointly distributed as G-11 to G-13). Rejected candidates
 //!   leave the state unchanged and `v1` is constant between accepted events, so the bound
 //!   stays valid. Acceptance `phi(v1)/Lambda`: 1 at `v1 = 0`, >= 0.648 for the Gaussian (minimum at sqrt(a)|v1| = 0.66).
 //!
 //! After a collision with a bath particle of velocity `v`:
-//! `v1' = v1 + (1 + alpha) m/(m + M) (v - v1)` (Eq. 17 with the bath mass `m` kept).
+//! `v1' = v1 + (1 + alpha) m/(m + M) (v - v1)` (G-17 with the bath mass `m` kept).
 //!
 //! Averages are taken on a fixed time grid (pseudocode step 2 of the paper): grid points
 //! `t_k = transient + k dt`, the intruder velocity being constant between collisions.
@@ -40,7 +40,7 @@ pub enum Method1d {
     /// Thinning against the rate bound `rho (|v1| + <|v|>)` (exact, fastest).
     #[default]
     Thinning,
-    /// The paper's algorithm, Eqs. 10-13.
+    /// The paper's algorithm, G-10 to G-13.
     Direct,
 }
 
@@ -50,13 +50,13 @@ pub enum Method1d {
 pub struct Intruder1dConfig {
     /// Intruder mass `M` (mass units). Paper: `M = 1` (Fig. 3), `M = 1/2` (Fig. 5).
     pub mass: f64,
-    /// Bath particle mass `m` (mass units); the paper takes `m = 1` (after Eq. 17).
+    /// Bath particle mass `m` (mass units); the paper takes `m = 1` (after G-17).
     pub bath_mass: f64,
-    /// Coefficient of restitution `alpha` in `[0, 1]` (Eq. 17).
+    /// Coefficient of restitution `alpha` in `[0, 1]` (G-17).
     pub restitution: f64,
-    /// Bath number density `rho` (1/length), Eqs. 5-6.
+    /// Bath number density `rho` (1/length), G-5 and G-6.
     pub bath_density: f64,
-    /// Bath velocity distribution: Gaussian (Eq. 14), power law (Eq. 19) or tabulated.
+    /// Bath velocity distribution: Gaussian (G-14), power law (G-19) or tabulated.
     /// Default: Gaussian with `a = 1` (`T_B = m/2`).
     pub bath: BathConfig,
     /// Initial intruder velocity `v1(0)` (velocity units).
@@ -152,7 +152,7 @@ pub struct Intruder1dParams {
     pub bath_mass: f64,
     /// `alpha`.
     pub restitution: f64,
-    /// `(1 + alpha) m / (m + M)`, the factor of Eq. 17.
+    /// `(1 + alpha) m / (m + M)`, the factor of G-17.
     pub kick: f64,
     /// `<|v|>` of the bath.
     pub mean_speed: f64,
@@ -187,7 +187,7 @@ impl Intruder1dParams {
     }
 
     /// `1/rate` of candidate events at intruder velocity `v1`: `1/(rho (|v1| + <|v|>))`
-    /// (thinning) or `1/phi(v1)` (Eq. 10). Constant between collisions.
+    /// (thinning) or `1/phi(v1)` (G-10). Constant between collisions.
     #[inline]
     fn inverse_rate<B: BathDistribution>(&self, bath: &B, v1: f64) -> f64 {
         match self.method {
@@ -229,13 +229,13 @@ impl Intruder1dParams {
             let plus = bath.flux_plus(v1);
             let minus = bath.flux_minus(v1);
             let side = if rng.random::<f64>() * (plus + minus) < plus {
-                Side::Right // Eq. 11
+                Side::Right // G-11
             } else {
                 Side::Left
             };
-            bath.sample_colliding(side, v1, rng) // Eqs. 12-13
+            bath.sample_colliding(side, v1, rng) // G-12 and G-13
         };
-        Some(v1 + self.kick * (v - v1)) // Eq. 17
+        Some(v1 + self.kick * (v - v1)) // G-17
     }
 }
 
@@ -277,7 +277,7 @@ pub struct Intruder1dSummary {
     pub temperature_ratio: Estimate,
     /// `<v1^4>/<v1^2>^2` (3 for a Gaussian).
     pub kurtosis: Estimate,
-    /// Eq. 18 (generalised to `m`), for reference (exact for the Gaussian bath).
+    /// G-18 (generalised to `m`), for reference (exact for the Gaussian bath).
     pub martin_piasecki_ratio: f64,
     /// Histogram of `v1` on the time grid.
     pub histogram: Histogram,
@@ -403,7 +403,7 @@ impl Intruder1d {
                 collisions += 1;
                 inv_rate = self.params.inverse_rate_with::<B, THINNING>(bath, v);
             }
-            next_event = te + exp1(&mut rng) * inv_rate; // Eq. 10 (or the thinning rate)
+            next_event = te + exp1(&mut rng) * inv_rate; // G-10 (or the thinning rate)
         };
         // On an error, the event that failed is counted and its random numbers are used,
         // but the velocity and the next event time are left as they were.
@@ -543,7 +543,7 @@ impl Engine for Intruder1d {
 }
 
 // ---------------------------------------------------------------------------------------
-// Ensembles of independent intruders: the transient F(v1, t) of Eq. 8
+// Ensembles of independent intruders: the transient F(v1, t) of G-8
 // ---------------------------------------------------------------------------------------
 
 /// Initial velocity distribution of the walkers of an ensemble.

@@ -105,7 +105,7 @@ impl Engine for IntruderEngine {
     }
 }
 
-/// The theory value of `T/T_B` for a 1D intruder, when one exists: Eq. 18 (generalised
+/// The theory value of `T/T_B` for a 1D intruder, when one exists: G-18 (generalised
 /// to `m`) for the Gaussian bath, `alpha` in the exact power-law case `M/m = alpha`.
 pub fn theory_ratio(spec: &IntruderSpec) -> Option<(f64, &'static str)> {
     let c = spec.one_d()?;

@@ -3,9 +3,9 @@
 //! The table names the model and then holds the fields of that model's library
 //! configuration, flat and with unknown keys rejected:
 //!
-//! * `model = "1d"`: [`Intruder1dConfig`] (the 1D intruder, Eqs. 8-17 of the Gillespie
-//!   intruder paper; Eq. 18 checks it in a Gaussian bath);
-//! * `model = "needle"`: [`NeedleConfig`] (the 2D needle, Eqs. 20-30);
+//! * `model = "1d"`: [`Intruder1dConfig`] (the 1D intruder, G-8 to G-17 of the Gillespie
+//!   intruder paper; G-18 checks it in a Gaussian bath);
+//! * `model = "needle"`: [`NeedleConfig`] (the 2D needle, G-20 to G-30);
 //! * `model = "dsmc-twin"`: the fields of [`Intruder1dConfig`] plus `bath_particles`
 //!   ([`DsmcTwinConfig`], section 4 of the paper).
 //!

@@ -97,10 +97,10 @@ pub struct DsmcSpec {
     /// `"cell"` (per cell and step, default) or `"global"` bound on relative speeds.
     #[serde(default)]
     pub vmax_mode: crate::dsmc::config::VmaxMode,
-    /// Multiply Eq. 1 by the Enskog contact value χ(φ).
+    /// Multiply DSMC-1 by the Enskog contact value χ(φ).
     #[serde(default)]
     pub enskog: bool,
-    /// Use the free volume `V_c - V_b / ν_rcp` in Eq. 1.
+    /// Use the free volume `V_c - V_b / ν_rcp` in DSMC-1.
     #[serde(default)]
     pub free_volume: bool,
     /// `"global"` (default) or `"cell"` packing fraction for the Enskog factor.
@@ -343,14 +343,14 @@ impl Default for InitialSpec {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CollisionSpec {
-    /// Grain-grain normal restitution ξ in [0, 1] (Eq. 11 of the hard-disk seed).
+    /// Grain-grain normal restitution ξ in [0, 1] (HD-11).
     #[serde(default = "unit")]
     pub restitution: f64,
-    /// Wall normal restitution in [0, 1] (Eqs. 3-4); default: `restitution`.
+    /// Wall normal restitution in [0, 1] (HD-3, HD-4); default: `restitution`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub wall_restitution: Option<f64>,
-    /// Factor on the wall-tangential velocity; default: the wall restitution, as in the
-    /// seed's Eqs. 3-4. Use 1 for smooth walls.
+    /// Factor on the wall-tangential velocity; default: the wall restitution, as in
+    /// HD-3 and HD-4. Use 1 for smooth walls.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub wall_tangential_restitution: Option<f64>,
     /// TC-model contact duration t_c (time units); 0 disables it.

@@ -6,7 +6,7 @@ use std::f64::consts::PI;
 /// Maxwell-Boltzmann probability density of the speed `v` in `D` dimensions, for grains of
 /// mass `m` at temperature `T` (`k_B = 1`):
 /// `p(v) = 2 (m/2T)^{D/2} / Γ(D/2) v^{D-1} exp(-m v²/2T)`. In 2D this is
-/// `p(v) = (m v / T) exp(-m v² / 2T)`, Eq. (12) of the hard-disk seed.
+/// `p(v) = (m v / T) exp(-m v² / 2T)`, HD-12.
 pub fn speed_density(dimension: usize, v: f64, mass: f64, temperature: f64) -> f64 {
     if v < 0.0 {
         return 0.0;

@@ -1,5 +1,5 @@
-//! Homogeneous cooling of inelastic hard disks and spheres: Haff's law (Eq. 3 of the DSMC
-//! seed), the cooling rate with the first Sonine correction, and the Boltzmann/Enskog
+//! Homogeneous cooling of inelastic hard disks and spheres: Haff's law (DSMC-3),
+//! the cooling rate with the first Sonine correction, and the Boltzmann/Enskog
 //! collision frequency.
 //!
 //! References: P. K. Haff, J. Fluid Mech. 134, 401 (1983); T. P. C. van Noije and
@@ -18,7 +18,7 @@ fn check_dimension(dimension: usize) {
 
 /// Total collision cross-section of two equal grains of radius `radius`: the measure of
 /// the set of impact parameters `|b| < 2R` that lead to a collision, i.e. the length `4R`
-/// (twice the diameter) for disks and the area `pi (2R)^2` for spheres (the seed's
+/// (twice the diameter) for disks and the area `pi (2R)^2` for spheres (DSMC-1's
 /// `sigma_2D = 4R`, `sigma_3D = 4 pi R^2`; see `docs/dsmc.md`).
 pub fn cross_section(dimension: usize, radius: f64) -> f64 {
     check_dimension(dimension);
@@ -160,7 +160,7 @@ pub fn haff_time(
     )
 }
 
-/// Haff's law, Eq. 3 of the DSMC seed: `K(t) = K(0) / (1 + t / t0)^2`.
+/// Haff's law, DSMC-3: `K(t) = K(0) / (1 + t / t0)^2`.
 pub fn haff_energy(initial_energy: f64, t: f64, t0: f64) -> f64 {
     initial_energy / ((1.0 + t / t0) * (1.0 + t / t0))
 }

@@ -116,7 +116,7 @@ fn write_statistics(
             let cfg = spec.one_d();
             let bath_temperature = s.temperature.mean / s.temperature_ratio.mean;
             let mass = cfg.map_or(1.0, |c| c.mass);
-            // Reference density: the Gaussian at the theory temperature when Eq. 18 holds,
+            // Reference density: the Gaussian at the theory temperature when G-18 holds,
             // else the best-fit (maximum-likelihood zero-mean) Gaussian.
             let theory = theory_ratio(spec);
             let (sd, reference) = match theory {
