@@ -264,6 +264,9 @@ fn dispatch(cli: Cli) -> Result<(), String> {
 
 fn finish(run: Run, dir: &Path, quiet: bool) -> Result<(), String> {
     let elastic = run.scenario().collisions.law().is_elastic();
+    for w in run.warnings() {
+        eprintln!("warning: {w}");
+    }
     let bar = if !quiet && std::io::stderr().is_terminal() {
         let bar = ProgressBar::new(1000);
         bar.set_style(

@@ -246,6 +246,12 @@ impl Run {
         &self.simulation
     }
 
+    /// Warnings about the set-up (DSMC's validity conditions), also in `log.txt` and the
+    /// summary's `warnings`.
+    pub fn warnings(&self) -> &[String] {
+        &self.recorder.warnings
+    }
+
     /// Attaches an output of the caller's own besides the standard ones. It is called
     /// after them at every output time, but it is not part of checkpoints: a resumed run
     /// has only the standard outputs.
