@@ -4,11 +4,8 @@
 //! terminal, and reports errors. All physics and file formats live in the library.
 
 mod bench;
-mod compare;
-mod figures;
-mod intruder_plots;
-mod plot;
-mod reproduce;
+
+use granular_report::{compare, figures, intruder_plots, reproduce};
 
 use clap::{Parser, Subcommand};
 use granular::run::{ProgressReport, Run, RunError};

@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 type Table = (Vec<String>, Vec<Vec<String>>);
 
 /// Reads a CSV file (lines starting with `#` are comments) into header and rows.
-pub(crate) fn read_csv(path: &Path) -> Result<Table, String> {
+pub fn read_csv(path: &Path) -> Result<Table, String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let mut reader = csv::ReaderBuilder::new()
         .comment(Some(b'#'))
@@ -34,7 +34,7 @@ pub(crate) fn read_csv(path: &Path) -> Result<Table, String> {
     Ok((header, rows))
 }
 
-pub(crate) fn column(t: &Table, name: &str) -> Option<Vec<f64>> {
+pub fn column(t: &Table, name: &str) -> Option<Vec<f64>> {
     let i = t.0.iter().position(|h| h == name)?;
     Some(
         t.1.iter()
