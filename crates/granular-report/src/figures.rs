@@ -137,14 +137,14 @@ fn plot_run(dir: &Path, animate: bool) -> Result<Vec<PathBuf>, String> {
                     .map(|c| c.max(0.0).sqrt() / (total * width))
                     .collect();
                 let mass = scenario.species[s].mass;
-                // Temperature of the pooled samples: mean of m v^2 / D from the density.
+                // Temperature of the pooled samples from the mean of m v^2 over the density.
                 let mv2: f64 = lo
                     .iter()
                     .zip(&hi)
                     .zip(&eq)
                     .map(|((a, b), p)| mass * (0.5 * (a + b)).powi(2) * p * width)
                     .sum();
-                let temperature = mv2 / d as f64;
+                let temperature = equilibrium::kinetic_temperature(d, mv2);
                 let stem = out.join(format!("speed_equilibrium_{name}"));
                 let p =
                     HistogramPlot::new(format!("Equilibrium speeds: {name}"), edges.clone(), eq)
