@@ -1,16 +1,15 @@
 //! `granular`: the command line over the granular library.
 //!
 //! A thin layer: it parses arguments, turns scenario files into runs, shows progress on a
-//! terminal, and reports errors. All physics and file formats live in the library.
+//! terminal, and reports errors (through `miette`). All physics and file formats live in
+//! the library, the figures in `granular-report`.
 
 mod bench;
-mod compare;
-mod figures;
-mod intruder_plots;
-mod plot;
-mod reproduce;
+mod error;
+mod intruder_summary;
 
 use clap::{Parser, Subcommand};
+use error::CliError;
 use granular::run::{ProgressReport, Run, RunError};
 use granular::scenario::Scenario;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -32,7 +31,7 @@ enum Command {
     Run {
         /// Scenario file (TOML; see docs/scenario.md).
         scenario: PathBuf,
-        /// Run directory (default: runs/<scenario name>).
+        /// Run directory (default: `runs/<scenario name>`).
         #[arg(long)]
         out: Option<PathBuf>,
         /// Seed of all random streams (overrides the scenario's `seed`).
@@ -53,11 +52,11 @@ enum Command {
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
     },
-    /// Run a scenario's [sweep]: every value of a key, several seeds each, in parallel.
+    /// Run a scenario's `[sweep]`: every value of a key, several seeds each, in parallel.
     Sweep {
-        /// Scenario file with a [sweep] table.
+        /// Scenario file with a `[sweep]` table.
         scenario: PathBuf,
-        /// Sweep directory (default: runs/<scenario name>); finished members are kept.
+        /// Sweep directory (default: `runs/<scenario name>`); finished members are kept.
         #[arg(long)]
         out: Option<PathBuf>,
         /// Worker threads (default: all cores).
@@ -94,7 +93,7 @@ enum Command {
         quiet: bool,
     },
     /// Reproduce the figures of the Gillespie intruder paper (PNG, SVG and CSV).
-    Reproduce(reproduce::ReproduceArgs),
+    Reproduce(ReproduceArgs),
     /// Measure the speed of an engine on standard cases.
     Bench {
         #[command(subcommand)]
@@ -102,12 +101,33 @@ enum Command {
     },
 }
 
+/// Arguments of `granular reproduce`.
+#[derive(clap::Args, Debug)]
+struct ReproduceArgs {
+    /// Figures to make: fig1 fig2 fig3 fig4 fig5 fig7 fig8, or all.
+    #[arg(required = true, value_name = "FIGURE")]
+    figures: Vec<String>,
+    /// Output directory (created).
+    #[arg(long, default_value = "figures/intruder")]
+    out: PathBuf,
+    /// Ten times fewer collisions than the paper (for tests and previews).
+    #[arg(long)]
+    quick: bool,
+    /// Worker threads (default: all cores); results do not depend on it.
+    #[arg(long, default_value_t = 0)]
+    threads: usize,
+    /// Seed of all random streams.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    error::install_handler();
     match dispatch(cli) {
         Ok(()) => ExitCode::SUCCESS,
-        Err(message) => {
-            eprintln!("error: {message}");
+        Err(e) => {
+            error::report(e);
             ExitCode::from(2)
         }
     }
@@ -122,18 +142,18 @@ fn default_dir(scenario: &Path) -> PathBuf {
     )
 }
 
-fn load(path: &Path, seed: Option<u64>, set: &[String]) -> Result<Scenario, String> {
+fn load(path: &Path, seed: Option<u64>, set: &[String]) -> Result<Scenario, CliError> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let mut overrides = set.to_vec();
     if let Some(s) = seed {
         overrides.push(format!("seed={s}"));
     }
-    let mut sc =
-        Scenario::from_toml(&text, &overrides).map_err(|e| format!("{}: {e}", path.display()))?;
+    let mut sc = Scenario::from_toml(&text, &overrides)
+        .map_err(|e| CliError::scenario(path, &text, &overrides, e))?;
     if let Some(o) = bath_file_override(path, &sc) {
         overrides.push(o);
         sc = Scenario::from_toml(&text, &overrides)
-            .map_err(|e| format!("{}: {e}", path.display()))?;
+            .map_err(|e| CliError::scenario(path, &text, &overrides, e))?;
     }
     Ok(sc)
 }
@@ -159,7 +179,7 @@ fn bath_file_override(path: &Path, sc: &Scenario) -> Option<String> {
     Some(format!("intruder.bath.file={}", toml::Value::String(full)))
 }
 
-fn dispatch(cli: Cli) -> Result<(), String> {
+fn dispatch(cli: Cli) -> Result<(), CliError> {
     match cli.command {
         Command::Run {
             scenario,
@@ -201,18 +221,33 @@ fn dispatch(cli: Cli) -> Result<(), String> {
             let run = Run::resume(&dir).map_err(|e| e.to_string())?;
             finish(run, &dir, quiet)
         }
-        Command::Bench { engine } => bench::run(engine),
+        Command::Bench { engine } => Ok(bench::run(engine)?),
         Command::Compare { dirs, out } => {
-            let files = compare::compare(&dirs, &out)?;
+            let files = granular_report::compare(&dirs, &out)?;
             for f in &files {
                 println!("{}", f.display());
             }
             eprintln!("{}: {} figure files", out.display(), files.len());
             Ok(())
         }
-        Command::Reproduce(args) => reproduce::run(&args),
+        Command::Reproduce(args) => {
+            let options = granular_report::reproduce::Options {
+                out: args.out,
+                quick: args.quick,
+                threads: args.threads,
+                seed: args.seed,
+            };
+            let quick = if args.quick { " (--quick)" } else { "" };
+            granular_report::reproduce::run(&args.figures, &options, &|done| {
+                for f in &done.files {
+                    println!("{}", f.display());
+                }
+                eprintln!("{}: {:.1} s{quick}", done.name, done.seconds);
+            })?;
+            Ok(())
+        }
         Command::Plot { dir, animate } => {
-            let files = figures::plot(&dir, animate)?;
+            let files = granular_report::plot_dir(&dir, animate)?;
             for f in &files {
                 println!("{}", f.display());
             }
@@ -262,7 +297,7 @@ fn dispatch(cli: Cli) -> Result<(), String> {
     }
 }
 
-fn finish(run: Run, dir: &Path, quiet: bool) -> Result<(), String> {
+fn finish(run: Run, dir: &Path, quiet: bool) -> Result<(), CliError> {
     let elastic = run.scenario().collisions.law().is_elastic();
     for w in run.warnings() {
         eprintln!("warning: {w}");
@@ -307,7 +342,7 @@ fn finish(run: Run, dir: &Path, quiet: bool) -> Result<(), String> {
                 summary.collisions_per_second,
                 summary.stop_reason
             );
-            intruder_plots::report(&summary);
+            intruder_summary::print(&summary);
             if let Some(c) = &summary.crater {
                 eprintln!(
                     "  crater: {} of {} `{}` grains moved more than {}",
@@ -327,10 +362,10 @@ fn finish(run: Run, dir: &Path, quiet: bool) -> Result<(), String> {
             }
             Ok(())
         }
-        Err(RunError::Engine(e)) => Err(format!(
+        Err(RunError::Engine(e)) => Err(CliError::Message(format!(
             "{e}\n(state saved in {}; fix the scenario and rerun)",
             dir.display()
-        )),
-        Err(e) => Err(e.to_string()),
+        ))),
+        Err(e) => Err(CliError::Message(e.to_string())),
     }
 }

@@ -129,6 +129,24 @@ pub struct IntruderSummary {
     pub angular_velocity_sigma: Option<f64>,
 }
 
+impl IntruderSummary {
+    /// A number of the block by its key in `summary.json` (an average, its `_error`, or
+    /// one of the named fields); `None` where the model has none.
+    pub fn value(&self, key: &str) -> Option<f64> {
+        match key {
+            "bath_temperature" => self.bath_temperature,
+            "theory_temperature_ratio" => self.theory_temperature_ratio,
+            "temperature_ratio_z" => self.temperature_ratio_z,
+            "bound_raises" => self.bound_raises.map(|b| b as f64),
+            "trials_per_collision" => self.trials_per_collision,
+            "velocity_component_sigma" => self.velocity_component_sigma,
+            "angular_velocity_sigma" => self.angular_velocity_sigma,
+            "samples" => Some(self.samples as f64),
+            _ => self.averages.get(key).copied().flatten(),
+        }
+    }
+}
+
 /// Values the scenario resolved at build time (a packing fraction turned into a radius).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Resolved {

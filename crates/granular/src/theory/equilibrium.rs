@@ -32,6 +32,13 @@ pub fn mean_speed(dimension: usize, mass: f64, temperature: f64) -> f64 {
     (2.0 * temperature / mass).sqrt() * libm::tgamma((d + 1.0) / 2.0) / libm::tgamma(d / 2.0)
 }
 
+/// Kinetic temperature from equipartition, `T = <m v²> / D` (`k_B = 1`): the temperature
+/// of the Maxwell-Boltzmann distribution (HD-12 in 2D, [`speed_density`] in `D`
+/// dimensions) whose mean of `m v²` is `mean_m_v2`. Units: energy (mass × speed²).
+pub fn kinetic_temperature(dimension: usize, mean_m_v2: f64) -> f64 {
+    mean_m_v2 / dimension as f64
+}
+
 /// Compressibility factor `Z = P / (n T)` of the hard-disk fluid at packing fraction `η`
 /// (Liu 2020, arXiv:2010.10624, Eq. 1, fitted to the simulation data of Kolafa and Rottner
 /// 2006): `Z = (1 + η²/8 + η³/18 - 4η⁴/21) / (1 - η)²`. Stated accuracy: a few 10^-3
@@ -100,6 +107,26 @@ mod tests {
             (speed_density(2, v, m, t) - m * v / t * (-m * v * v / (2.0 * t)).exp()).abs() < 1e-14
         );
         assert!((mean_speed(2, m, t) - (PI * t / (2.0 * m)).sqrt()).abs() < 1e-14);
+    }
+
+    #[test]
+    fn kinetic_temperature_inverts_the_maxwell_boltzmann_mean() {
+        // <m v²> of p(v) at T = 1.5, m = 2 is D T: the midpoint sum recovers T.
+        for d in [2, 3] {
+            let n = 200_000;
+            let h = 12.0 / n as f64;
+            let mean_m_v2: f64 = (0..n)
+                .map(|k| {
+                    let v = (k as f64 + 0.5) * h;
+                    2.0 * v * v * speed_density(d, v, 2.0, 1.5) * h
+                })
+                .sum();
+            assert!(
+                (kinetic_temperature(d, mean_m_v2) - 1.5).abs() < 1e-8,
+                "D = {d}"
+            );
+        }
+        assert_eq!(kinetic_temperature(2, 3.0), 1.5);
     }
 
     #[test]

@@ -160,6 +160,44 @@ pub fn haff_time(
     )
 }
 
+/// Haff's time `t0` of DSMC-3 from kinetic theory, as `granular compare` draws it: the
+/// Enskog contact value [`contact_value`] at the packing fraction of `number_density`
+/// grains of radius `radius`, and the first Sonine correction [`sonine_a2`]; that is,
+/// [`haff_time`] with `chi = contact_value(D, packing_fraction(D, n, R))` and
+/// `sonine = true`. Units: those of `radius`, `mass` and `initial_temperature`
+/// (`k_B = 1`); `t0` in the matching time unit.
+pub fn enskog_haff_time(
+    dimension: usize,
+    number_density: f64,
+    radius: f64,
+    initial_temperature: f64,
+    mass: f64,
+    restitution: f64,
+) -> f64 {
+    let phi = packing_fraction(dimension, number_density, radius);
+    let chi = contact_value(dimension, phi);
+    haff_time(
+        dimension,
+        number_density,
+        radius,
+        initial_temperature,
+        mass,
+        restitution,
+        chi,
+        true,
+    )
+}
+
+/// Probability density of the reduced impact parameter `x = |b| / 2R` in `[0, 1]` under
+/// molecular chaos, as DSMC draws it (DSMC section 2, after DSMC-2: `b` uniform on
+/// `[-2R, 2R]` in 2D, uniform on the disk of radius `2R` in 3D): `1` for disks, `2x` for
+/// spheres. Event-driven runs follow it while the gas stays homogeneous (DSMC seed,
+/// Fig. 2b).
+pub fn impact_parameter_density(dimension: usize, x: f64) -> f64 {
+    check_dimension(dimension);
+    if dimension == 2 { 1.0 } else { 2.0 * x }
+}
+
 /// Haff's law, DSMC-3: `K(t) = K(0) / (1 + t / t0)^2`.
 pub fn haff_energy(initial_energy: f64, t: f64, t0: f64) -> f64 {
     initial_energy / ((1.0 + t / t0) * (1.0 + t / t0))
@@ -249,5 +287,48 @@ mod tests {
         );
         close(haff_time(2, 2.0, 0.25, 1.0, 1.0, 0.5, 1.0, false), 2.0 / z0);
         close(haff_energy(8.0, 1.0, 1.0), 2.0);
+    }
+
+    #[test]
+    fn enskog_haff_time_by_hand() {
+        // 2D, R = 0.25, n = 0.5 / (pi R^2) = 8 / pi: phi = 0.5, chi = 3.125 (Henderson),
+        // e = 0.5, T = m = 1. omega = 3.125 n 4R sqrt(pi) = 25 / sqrt(pi) = 14.104739588693908,
+        // a2 = 4 / 48.25, zeta = 0.75 / 2 omega (1 + 3 a2 / 16) = 5.371494092067369,
+        // t0 = 2 / zeta = 0.3723358837820567.
+        let n = 8.0 / PI;
+        let omega = 25.0 / PI.sqrt();
+        close(omega, 14.104_739_588_693_908);
+        let zeta = 0.375 * omega * (1.0 + 3.0 / 16.0 * 4.0 / 48.25);
+        close(zeta, 5.371_494_092_067_369);
+        close(
+            enskog_haff_time(2, n, 0.25, 1.0, 1.0, 0.5),
+            0.372_335_883_782_056_7,
+        );
+        close(
+            enskog_haff_time(3, 0.1, 0.5, 2.0, 3.0, 0.8),
+            haff_time(
+                3,
+                0.1,
+                0.5,
+                2.0,
+                3.0,
+                0.8,
+                contact_value(3, 0.1 * PI / 6.0),
+                true,
+            ),
+        );
+    }
+
+    #[test]
+    fn impact_parameter_densities_are_normalised() {
+        // Midpoint rule is exact for densities linear in x.
+        for d in [2, 3] {
+            let total: f64 = (0..10)
+                .map(|i| impact_parameter_density(d, (f64::from(i) + 0.5) / 10.0) / 10.0)
+                .sum();
+            close(total, 1.0);
+        }
+        close(impact_parameter_density(2, 0.3), 1.0);
+        close(impact_parameter_density(3, 0.3), 0.6);
     }
 }

@@ -1,4 +1,4 @@
-//! `granular plot` and the end-of-run report for intruder run directories
+//! `granular plot` for intruder run directories
 //! (`engine = "intruder"`): the running temperature ratio (or the needle's temperatures and
 //! `R`) against time, and the velocity histograms on the time grid with their reference
 //! densities (`intruder_histograms.csv`, see `docs/output.md`).
@@ -7,37 +7,12 @@ use std::path::{Path, PathBuf};
 
 use granular::run::Summary;
 
-use crate::plot::{HistogramPlot, LinePlot, Series};
-
-type Table = (Vec<String>, Vec<Vec<String>>);
-
-fn read_csv(path: &Path) -> Result<Table, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let mut lines = text.lines().filter(|l| !l.starts_with('#'));
-    let header: Vec<String> = lines
-        .next()
-        .unwrap_or_default()
-        .split(',')
-        .map(str::to_string)
-        .collect();
-    let rows = lines
-        .map(|l| l.split(',').map(str::to_string).collect())
-        .collect();
-    Ok((header, rows))
-}
-
-fn column(t: &Table, name: &str, rows: &[&Vec<String>]) -> Vec<f64> {
-    let Some(i) = t.0.iter().position(|h| h == name) else {
-        return Vec::new();
-    };
-    rows.iter()
-        .map(|r| r.get(i).and_then(|x| x.parse().ok()).unwrap_or(f64::NAN))
-        .collect()
-}
+use crate::plot::{HistogramPlot, LinePlot, PlotError, Series};
+use crate::table::{column_of as column, read_csv};
 
 fn save(
     stem: &Path,
-    r: Result<[PathBuf; 2], crate::plot::PlotError>,
+    r: Result<[PathBuf; 2], PlotError>,
     made: &mut Vec<PathBuf>,
 ) -> Result<(), String> {
     made.extend(r.map_err(|e| format!("{}: {e}", stem.display()))?);
@@ -45,7 +20,7 @@ fn save(
 }
 
 /// Draws the figures of an intruder run directory into `DIR/figures/`.
-pub fn plot_run(dir: &Path) -> Result<Vec<PathBuf>, String> {
+pub(crate) fn plot_run(dir: &Path) -> Result<Vec<PathBuf>, String> {
     let out = dir.join("figures");
     std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
     let mut made = Vec::new();
@@ -132,50 +107,4 @@ pub fn plot_run(dir: &Path) -> Result<Vec<PathBuf>, String> {
         }
     }
     Ok(made)
-}
-
-/// One or two lines on the intruder's result for the end of `granular run`.
-pub fn report(summary: &Summary) {
-    let Some(b) = &summary.intruder else {
-        return;
-    };
-    let f = |k: &str| {
-        b.averages
-            .get(k)
-            .copied()
-            .flatten()
-            .or(match k {
-                "theory_temperature_ratio" => b.theory_temperature_ratio,
-                "temperature_ratio_z" => b.temperature_ratio_z,
-                _ => None,
-            })
-            .unwrap_or(f64::NAN)
-    };
-    if b.averages.contains_key("temperature_ratio") {
-        eprint!(
-            "  T/T_B = {:.5} ± {:.5}, kurtosis = {:.4} ± {:.4}",
-            f("temperature_ratio"),
-            f("temperature_ratio_error"),
-            f("kurtosis"),
-            f("kurtosis_error")
-        );
-        match b.theory_temperature_ratio {
-            Some(_) => eprintln!(
-                "; theory {:.5} (z = {:.2})",
-                f("theory_temperature_ratio"),
-                f("temperature_ratio_z")
-            ),
-            None => eprintln!(),
-        }
-    } else {
-        eprintln!(
-            "  T_tr/T_B = {:.5} ± {:.5}, T_rot/T_B = {:.5} ± {:.5}, R = {:.5} ± {:.5}",
-            f("translational_temperature_ratio"),
-            f("translational_temperature_ratio_error"),
-            f("rotational_temperature_ratio"),
-            f("rotational_temperature_ratio_error"),
-            f("correlation_r"),
-            f("correlation_r_error")
-        );
-    }
 }

@@ -12,9 +12,6 @@
 //! Colours follow the Okabe–Ito palette (safe for colour-blind readers); series are
 //! also told apart by marker shape and dash pattern, so the figures survive grey-scale print.
 
-// Some builders and helpers are public API for future commands and the Python crate.
-#![allow(dead_code, unused_imports)]
-
 mod animation;
 mod chart;
 mod colour;
@@ -27,7 +24,7 @@ pub use animation::Animation;
 pub use chart::LegendPosition;
 pub use colour::{Colour, PALETTE, viridis};
 pub use heatmap::{HeatMaps, HeatPanel};
-pub use histogram::{HistogramPlot, maxwell_speed_density};
+pub use histogram::HistogramPlot;
 pub use line::{LinePlot, Series, SeriesStyle};
 pub use snapshot::{ColourBy, PictureStyle, SnapshotPicture};
 
@@ -193,7 +190,7 @@ pub(crate) fn save_both<F: Draw>(figure: &F, stem: &Path) -> Result<[PathBuf; 2]
 
 /// Two figures side by side in one image (e.g. a distribution and its log-log tail).
 /// Each panel keeps its own size; the image is as wide as both and as tall as the taller.
-pub struct Panels<A, B> {
+pub(crate) struct Panels<A, B> {
     left: A,
     right: B,
 }
@@ -367,12 +364,13 @@ mod tests {
 }
 
 /// A gallery of demonstration figures for looking at by eye:
-/// `cargo test -p granular-cli plot::gallery -- --ignored` writes them to
+/// `cargo test -p granular-report plot::gallery -- --ignored` writes them to
 /// `$GRANULAR_PLOT_DEMOS` (default `/tmp/granular-plot-demos`).
 #[cfg(test)]
 mod gallery {
     use super::*;
     use granular::engine::Snapshot;
+    use granular::theory::equilibrium;
 
     /// A small deterministic generator (xorshift) so the gallery needs no `rand`.
     struct Xorshift(u64);
@@ -455,7 +453,7 @@ mod gallery {
             .x_label("speed v [L/τ]")
             .y_label("probability density p(v) [τ/L]")
             .theory("Maxwell–Boltzmann, T = 1", |v| {
-                maxwell_speed_density(2, 1.0, 1.0, v)
+                equilibrium::speed_density(2, v, 1.0, 1.0)
             })
             .save_png_and_svg(dir.join("speed_histogram"))
             .expect("histogram");

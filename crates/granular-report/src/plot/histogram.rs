@@ -1,7 +1,6 @@
 //! [`HistogramPlot`]: a normalised histogram (probability density per bin) with optional
 //! error bars and theory densities overlaid.
 
-use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 
 use plotters::coord::Shift;
@@ -13,53 +12,18 @@ use super::colour::{Colour, darken, lighten, palette};
 use super::line::{Series, check_range, draw_error_bars, draw_line, sample_points};
 use super::{DEFAULT_SIZE, Draw, Metrics, PlotError, save_both, save_figure};
 
-/// The Maxwell–Boltzmann speed density in `dimension` (2 or 3) dimensions, with `k_B = 1`:
-/// 2D `p(v) = (m v / T) exp(-m v² / 2T)`, 3D `p(v) = 4π v² (m / 2πT)^{3/2} exp(-m v² / 2T)`.
-/// Other dimensions use the general chi form `p(v) ∝ v^{D-1} exp(-m v² / 2T)`.
-pub fn maxwell_speed_density(dimension: usize, mass: f64, temperature: f64, v: f64) -> f64 {
-    if v < 0.0 {
-        return 0.0;
-    }
-    let a = mass / temperature;
-    let boltzmann = (-0.5 * a * v * v).exp();
-    match dimension {
-        2 => a * v * boltzmann,
-        3 => 4.0 * PI * v * v * (a / (2.0 * PI)).powf(1.5) * boltzmann,
-        d => {
-            let d = d as f64;
-            // Normalisation of the chi distribution with scale 1/sqrt(a).
-            let norm = 2.0 * (0.5 * a).powf(0.5 * d) / gamma(0.5 * d);
-            norm * v.powf(d - 1.0) * boltzmann
-        }
-    }
-}
-
-/// Γ(x) for x = n/2 > 0 (exact recursion from Γ(1) = 1 and Γ(1/2) = √π).
-fn gamma(x: f64) -> f64 {
-    let mut g = if (x - x.floor()).abs() < 1e-12 {
-        1.0
-    } else {
-        PI.sqrt()
-    };
-    let mut y = if (x - x.floor()).abs() < 1e-12 {
-        1.0
-    } else {
-        0.5
-    };
-    while y + 0.5 < x {
-        g *= y;
-        y += 1.0;
-    }
-    g
-}
-
 /// A normalised histogram with theory curves.
 ///
-/// ```ignore
-/// HistogramPlot::from_samples("Speed distribution", &speeds, 40, None)
+/// ```no_run
+/// # use granular_report::plot::HistogramPlot;
+/// # use granular::theory::equilibrium::speed_density;
+/// # fn demo(speeds: &[f64]) -> Result<(), granular_report::plot::PlotError> {
+/// HistogramPlot::from_samples("Speed distribution", speeds, 40, None)
 ///     .x_label("speed v [L/τ]").y_label("probability density p(v) [τ/L]")
-///     .theory("Maxwell–Boltzmann, T = 1", |v| maxwell_speed_density(2, 1.0, 1.0, v))
+///     .theory("Maxwell–Boltzmann, T = 1", |v| speed_density(2, v, 1.0, 1.0))
 ///     .save("speeds.png")?;
+/// # Ok(())
+/// # }
 /// ```
 #[derive(Clone, Debug)]
 pub struct HistogramPlot {
@@ -422,6 +386,7 @@ impl Draw for HistogramPlot {
 mod tests {
     use super::super::test_support::{decode_png, ink, temp_dir};
     use super::*;
+    use granular::theory::equilibrium::speed_density;
 
     /// Deterministic 2D Maxwellian speeds (inverse-CDF of a quasi-random sequence).
     fn speeds(n: usize, mass: f64, temperature: f64) -> Vec<f64> {
@@ -431,17 +396,6 @@ mod tests {
                 (-2.0 * temperature / mass * (1.0 - u).ln()).sqrt()
             })
             .collect()
-    }
-
-    #[test]
-    fn maxwell_densities_are_normalised() {
-        for d in [2, 3, 4, 5] {
-            let dv = 1e-3;
-            let total: f64 = (0..20_000)
-                .map(|i| maxwell_speed_density(d, 2.0, 0.7, (i as f64 + 0.5) * dv) * dv)
-                .sum();
-            assert!((total - 1.0).abs() < 1e-6, "D = {d}: {total}");
-        }
     }
 
     #[test]
@@ -465,10 +419,10 @@ mod tests {
                 .x_label("speed v [L/τ]")
                 .y_label("probability density p(v) [τ/L]")
                 .theory("Maxwell–Boltzmann, T = 1", |v| {
-                    maxwell_speed_density(2, 1.0, 1.0, v)
+                    speed_density(2, v, 1.0, 1.0)
                 })
                 .theory("Maxwell–Boltzmann, T = 1.3", |v| {
-                    maxwell_speed_density(2, 1.0, 1.3, v)
+                    speed_density(2, v, 1.0, 1.3)
                 });
         let [png, svg] = plot.save_png_and_svg(dir.join("speeds")).expect("save");
         let (w, h, pixels) = decode_png(&png);

@@ -324,13 +324,17 @@ where
 
 /// A line/marker plot of several named series.
 ///
-/// ```ignore
+/// ```no_run
+/// # use granular_report::plot::{LinePlot, Series};
+/// # fn demo(t: Vec<f64>, temp: Vec<f64>, err: Vec<f64>) -> Result<(), granular_report::plot::PlotError> {
 /// LinePlot::new("Haff's law")
 ///     .x_label("time t [τ₀]").y_label("granular temperature T/T₀")
 ///     .log_x(true).log_y(true)
 ///     .series(Series::markers("EDMD, N = 1000", t, temp).with_errors(err))
 ///     .series(Series::theory_fn("T₀/(1+t/τ)²", (1e-2, 1e3), 200, true, |t| (1.0 + t).powi(-2)))
 ///     .save("haff.png")?;
+/// # Ok(())
+/// # }
 /// ```
 #[derive(Clone, Debug)]
 pub struct LinePlot {
@@ -413,12 +417,6 @@ impl LinePlot {
 
     /// Adds a series.
     pub fn series(mut self, series: Series) -> Self {
-        self.series.push(series);
-        self
-    }
-
-    /// Adds a series (by reference).
-    pub fn add_series(&mut self, series: Series) -> &mut Self {
         self.series.push(series);
         self
     }

@@ -24,10 +24,14 @@ pub struct HeatPanel {
 
 /// Several heat maps in a grid of `columns` panels per row, sharing the colour range.
 ///
-/// ```ignore
+/// ```no_run
+/// # use granular_report::plot::{HeatMaps, HeatPanel};
+/// # fn demo(values: Vec<f64>) -> Result<(), granular_report::plot::PlotError> {
 /// HeatMaps::new("Density / mean density", 2)
 ///     .panel(HeatPanel { title: "EDMD t = 1".into(), nx: 64, ny: 64, values })
 ///     .save("density.png")?;
+/// # Ok(())
+/// # }
 /// ```
 #[derive(Clone, Debug)]
 pub struct HeatMaps {

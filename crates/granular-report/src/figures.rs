@@ -2,50 +2,19 @@
 //! (never by rerunning). Written to `DIR/figures/` as PNG and SVG.
 
 use crate::plot::{
-    Animation, ColourBy, HistogramPlot, LinePlot, PictureStyle, Series, SnapshotPicture,
+    Animation, ColourBy, HistogramPlot, LinePlot, PictureStyle, PlotError, Series, SnapshotPicture,
 };
+use crate::table::{Table, column, read_csv};
 use granular::boundary::AxisKind;
 use granular::scenario::Scenario;
 use granular::theory::equilibrium;
+use granular::theory::haff;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-type Table = (Vec<String>, Vec<Vec<String>>);
-
-/// Reads a CSV file (lines starting with `#` are comments) into header and rows.
-pub(crate) fn read_csv(path: &Path) -> Result<Table, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let mut reader = csv::ReaderBuilder::new()
-        .comment(Some(b'#'))
-        .from_reader(text.as_bytes());
-    let header: Vec<String> = reader
-        .headers()
-        .map_err(|e| e.to_string())?
-        .iter()
-        .map(str::to_string)
-        .collect();
-    let rows = reader
-        .records()
-        .map(|r| {
-            r.map(|r| r.iter().map(str::to_string).collect())
-                .map_err(|e| e.to_string())
-        })
-        .collect::<Result<Vec<Vec<String>>, String>>()?;
-    Ok((header, rows))
-}
-
-pub(crate) fn column(t: &Table, name: &str) -> Option<Vec<f64>> {
-    let i = t.0.iter().position(|h| h == name)?;
-    Some(
-        t.1.iter()
-            .map(|r| r.get(i).and_then(|x| x.parse().ok()).unwrap_or(f64::NAN))
-            .collect(),
-    )
-}
-
 fn save_both(
     stem: &Path,
-    r: Result<[PathBuf; 2], crate::plot::PlotError>,
+    r: Result<[PathBuf; 2], PlotError>,
     made: &mut Vec<PathBuf>,
 ) -> Result<(), String> {
     let files = r.map_err(|e| format!("{}: {e}", stem.display()))?;
@@ -54,7 +23,7 @@ fn save_both(
 }
 
 /// Draws the figures of a run or a sweep directory; returns the files written.
-pub fn plot(dir: &Path, animate: bool) -> Result<Vec<PathBuf>, String> {
+pub(crate) fn plot(dir: &Path, animate: bool) -> Result<Vec<PathBuf>, String> {
     if dir.join("sweep.csv").is_file() {
         plot_sweep(dir)
     } else if dir.join("timeseries.csv").is_file() {
@@ -168,14 +137,14 @@ fn plot_run(dir: &Path, animate: bool) -> Result<Vec<PathBuf>, String> {
                     .map(|c| c.max(0.0).sqrt() / (total * width))
                     .collect();
                 let mass = scenario.species[s].mass;
-                // Temperature of the pooled samples: mean of m v^2 / D from the density.
+                // Temperature of the pooled samples from the mean of m v^2 over the density.
                 let mv2: f64 = lo
                     .iter()
                     .zip(&hi)
                     .zip(&eq)
                     .map(|((a, b), p)| mass * (0.5 * (a + b)).powi(2) * p * width)
                     .sum();
-                let temperature = mv2 / d as f64;
+                let temperature = equilibrium::kinetic_temperature(d, mv2);
                 let stem = out.join(format!("speed_equilibrium_{name}"));
                 let p =
                     HistogramPlot::new(format!("Equilibrium speeds: {name}"), edges.clone(), eq)
@@ -192,7 +161,7 @@ fn plot_run(dir: &Path, animate: bool) -> Result<Vec<PathBuf>, String> {
         }
     }
 
-    // Impact parameters of pair collisions: uniform in 2D, p(x) = 2x in 3D under molecular chaos.
+    // Impact parameters of pair collisions against molecular chaos (uniform in 2D, 2x in 3D).
     if let Ok(h) = read_csv(&dir.join("impact_parameter.csv"))
         && let (Some(lo), Some(hi), Some(dens)) = (
             column(&h, "b_over_sigma_low"),
@@ -207,10 +176,9 @@ fn plot_run(dir: &Path, animate: bool) -> Result<Vec<PathBuf>, String> {
         let p = HistogramPlot::new("Impact parameters of collisions", edges, dens)
             .x_label("impact parameter b / sigma")
             .y_label("probability density")
-            .theory(
-                "molecular chaos",
-                move |x| if d == 2 { 1.0 } else { 2.0 * x },
-            );
+            .theory("molecular chaos", move |x| {
+                haff::impact_parameter_density(d, x)
+            });
         save_both(&stem, p.save_png_and_svg(&stem), &mut made)?;
     }
 
@@ -249,7 +217,7 @@ fn plot_run(dir: &Path, animate: bool) -> Result<Vec<PathBuf>, String> {
         }
     }
     // Impact histograms at several times, S(k), density maps (opt-in [output] keys).
-    made.extend(crate::compare::observables(dir, &out)?);
+    made.extend(crate::observable_plots::observables(dir, &out)?);
     Ok(made)
 }
 

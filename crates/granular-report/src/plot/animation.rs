@@ -16,10 +16,14 @@ use super::{Draw, PlotError, ensure_font};
 /// When colouring by speed without a fixed maximum, the colour bar spans the fastest grain
 /// of *all* frames, so a colour means the same speed throughout.
 ///
-/// ```ignore
-/// Animation::new(&snapshots, PictureStyle::new(1.0, 1.0).title("Cooling gas"))
+/// ```no_run
+/// # use granular_report::plot::{Animation, PictureStyle};
+/// # fn demo(snapshots: &[granular::engine::Snapshot]) -> Result<(), granular_report::plot::PlotError> {
+/// Animation::new(snapshots, PictureStyle::new(1.0, 1.0).title("Cooling gas"))
 ///     .frame_delay_ms(80)
 ///     .save_gif("cooling.gif")?;
+/// # Ok(())
+/// # }
 /// ```
 #[derive(Clone, Debug)]
 pub struct Animation<'a> {

@@ -12,32 +12,38 @@ use std::time::Instant;
 
 use granular::intruder::figures as paper;
 use granular::intruder::observables::Table;
-use granular::intruder::theory::martin_piasecki_ratio;
+use granular::intruder::theory::{GAUSSIAN_KURTOSIS, martin_piasecki_ratio};
 use granular::random::derive_key;
 
+use crate::ReportError;
 use crate::plot::{HistogramPlot, LegendPosition, LinePlot, Panels, PlotError, Series};
 
 /// The figures that can be reproduced (Fig. 6 of the paper is a sketch of the needle).
 pub const FIGURES: [&str; 7] = ["fig1", "fig2", "fig3", "fig4", "fig5", "fig7", "fig8"];
 
-/// Arguments of `granular reproduce`.
-#[derive(clap::Args, Debug)]
-pub struct ReproduceArgs {
-    /// Figures to make: fig1 fig2 fig3 fig4 fig5 fig7 fig8, or all.
-    #[arg(required = true, value_name = "FIGURE")]
-    pub figures: Vec<String>,
+/// What `granular reproduce` makes, besides the figures' names.
+#[derive(Clone, Debug)]
+pub struct Options {
     /// Output directory (created).
-    #[arg(long, default_value = "figures/intruder")]
     pub out: PathBuf,
     /// Ten times fewer collisions than the paper (for tests and previews).
-    #[arg(long)]
     pub quick: bool,
-    /// Worker threads (default: all cores); results do not depend on it.
-    #[arg(long, default_value_t = 0)]
+    /// Worker threads (0: all cores); results do not depend on it.
     pub threads: usize,
     /// Seed of all random streams.
-    #[arg(long, default_value_t = 1)]
     pub seed: u64,
+}
+
+/// One finished figure: its name (`fig3`), the files written (PNG, SVG, CSV) and the wall
+/// time it took.
+#[derive(Clone, Debug)]
+pub struct FigureDone {
+    /// The figure's name.
+    pub name: &'static str,
+    /// The files written.
+    pub files: Vec<PathBuf>,
+    /// Wall-clock seconds.
+    pub seconds: f64,
 }
 
 /// Collisions (or samples) per point.
@@ -62,19 +68,20 @@ impl Statistics {
     }
 }
 
-/// Runs the command: the requested figures, one after the other (each in parallel).
-pub fn run(args: &ReproduceArgs) -> Result<(), String> {
-    let mut wanted: Vec<&str> = Vec::new();
-    for f in &args.figures {
-        let names: Vec<&str> = if f == "all" {
+/// The figures named in `requested` (each one of [`FIGURES`] or `all`), in order, without
+/// repeats.
+pub fn select(requested: &[String]) -> Result<Vec<&'static str>, ReportError> {
+    let mut wanted: Vec<&'static str> = Vec::new();
+    for f in requested {
+        let names: Vec<&'static str> = if f == "all" {
             FIGURES.to_vec()
         } else if let Some(name) = FIGURES.iter().find(|n| **n == f.as_str()) {
             vec![*name]
         } else {
-            return Err(format!(
+            return Err(ReportError::new(format!(
                 "unknown figure `{f}`; use one or more of {} or all",
                 FIGURES.join(" ")
-            ));
+            )));
         };
         for n in names {
             if !wanted.contains(&n) {
@@ -82,32 +89,41 @@ pub fn run(args: &ReproduceArgs) -> Result<(), String> {
             }
         }
     }
-    std::fs::create_dir_all(&args.out).map_err(|e| format!("{}: {e}", args.out.display()))?;
-    let stats = Statistics::new(args.quick);
+    Ok(wanted)
+}
+
+/// Makes the figures named in `requested` (see [`select`]) one after the other (each in
+/// parallel), calling `done` after each.
+pub fn run(
+    requested: &[String],
+    options: &Options,
+    done: &(dyn Fn(&FigureDone) + Sync),
+) -> Result<(), ReportError> {
+    let wanted = select(requested)?;
+    std::fs::create_dir_all(&options.out).map_err(|e| format!("{}: {e}", options.out.display()))?;
+    let stats = Statistics::new(options.quick);
     let work = || -> Result<(), String> {
         for name in &wanted {
             let start = Instant::now();
-            let files = figure(name, &args.out, stats, args.seed)?;
-            for f in &files {
-                println!("{}", f.display());
-            }
-            eprintln!(
-                "{name}: {:.1} s{}",
-                start.elapsed().as_secs_f64(),
-                if args.quick { " (--quick)" } else { "" }
-            );
+            let files = figure(name, &options.out, stats, options.seed)?;
+            done(&FigureDone {
+                name,
+                files,
+                seconds: start.elapsed().as_secs_f64(),
+            });
         }
         Ok(())
     };
-    if args.threads == 0 {
-        work()
+    if options.threads == 0 {
+        work()?;
     } else {
         rayon::ThreadPoolBuilder::new()
-            .num_threads(args.threads)
+            .num_threads(options.threads)
             .build()
-            .map_err(|e| format!("--threads {}: {e}", args.threads))?
-            .install(work)
+            .map_err(|e| format!("--threads {}: {e}", options.threads))?
+            .install(work)?;
     }
+    Ok(())
 }
 
 fn write_csv(table: &Table, path: &Path) -> Result<(), String> {
@@ -240,7 +256,7 @@ fn plot_fig3(t: &Table) -> Panels<LinePlot, LinePlot> {
         .series(Series::theory(
             "Gaussian: 3",
             vec![0.0, 1.0],
-            vec![3.0, 3.0],
+            vec![GAUSSIAN_KURTOSIS, GAUSSIAN_KURTOSIS],
         ));
     Panels::new(left, right)
 }

@@ -159,10 +159,14 @@ impl PictureStyle {
 
 /// A picture of one snapshot.
 ///
-/// ```ignore
+/// ```no_run
+/// # use granular_report::plot::{ColourBy, PictureStyle, SnapshotPicture};
+/// # fn demo(snapshot: &granular::engine::Snapshot) -> Result<(), granular_report::plot::PlotError> {
 /// let style = PictureStyle::new(1.0, 1.0).periodic(true, true)
 ///     .colour_by(ColourBy::Speed { max: None }).title("Clustering, e = 0.8");
-/// SnapshotPicture::new(&snapshot, style).save("clusters.png")?;
+/// SnapshotPicture::new(snapshot, style).save("clusters.png")?;
+/// # Ok(())
+/// # }
 /// ```
 #[derive(Clone, Debug)]
 pub struct SnapshotPicture<'a> {

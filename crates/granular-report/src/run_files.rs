@@ -1,0 +1,104 @@
+//! One finished `edmd` or `dsmc` run as read back from its directory (scenario and time
+//! series), with the theory the figures put next to it (Haff's time `t0`).
+
+use crate::plot::LinePlot;
+use granular::output::npz::NpzArray;
+use granular::scenario::{EngineKind, Scenario};
+use granular::theory::haff;
+use std::path::{Path, PathBuf};
+
+/// One finished run, as read back from its directory.
+pub(crate) struct RunFiles {
+    pub dir: PathBuf,
+    pub label: String,
+    pub scenario: Scenario,
+    pub time: Vec<f64>,
+    pub energy: Vec<f64>,
+    pub temperature: Vec<f64>,
+}
+
+pub(crate) type Arrays = Vec<(String, NpzArray)>;
+
+pub(crate) fn get<'a>(arrays: &'a Arrays, name: &str, file: &Path) -> Result<&'a NpzArray, String> {
+    arrays
+        .iter()
+        .find(|(n, _)| n == name)
+        .map(|(_, a)| a)
+        .ok_or_else(|| format!("{}: no array `{name}`", file.display()))
+}
+
+pub(crate) fn floats<'a>(arrays: &'a Arrays, name: &str, file: &Path) -> Result<&'a [f64], String> {
+    get(arrays, name, file)?
+        .as_f64()
+        .ok_or_else(|| format!("{}: array `{name}` is not float64", file.display()))
+}
+
+pub(crate) fn load(dir: &Path) -> Result<RunFiles, String> {
+    let path = dir.join("scenario.toml");
+    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let scenario =
+        Scenario::from_toml(&text, &[]).map_err(|e| format!("{}: {e}", path.display()))?;
+    let ts = crate::table::read_csv(&dir.join("timeseries.csv"))?;
+    let col = |name: &str| {
+        crate::table::column(&ts, name).ok_or_else(|| {
+            format!(
+                "{}: no column `{name}`",
+                dir.join("timeseries.csv").display()
+            )
+        })
+    };
+    let engine = match scenario.engine {
+        EngineKind::Edmd => "EDMD",
+        EngineKind::Dsmc => "DSMC",
+        EngineKind::Intruder => {
+            return Err(format!(
+                "{}: `granular compare` overlays cooling runs of the edmd and dsmc engines; \
+                 this is an intruder run (use `granular plot` for it)",
+                dir.display()
+            ));
+        }
+    };
+    let name = dir
+        .file_name()
+        .map_or(String::new(), |s| s.to_string_lossy().to_string());
+    Ok(RunFiles {
+        dir: dir.to_path_buf(),
+        label: format!("{engine} ({name})"),
+        time: col("time")?,
+        energy: col("kinetic_energy")?,
+        temperature: col("temperature")?,
+        scenario,
+    })
+}
+
+/// Haff's time of a run from kinetic theory: Enskog contact value at the run's packing
+/// fraction, first Sonine correction, initial temperature from `timeseries.csv`.
+pub(crate) fn haff_time(run: &RunFiles) -> Option<f64> {
+    let sc = &run.scenario;
+    let d = sc.dimension;
+    let radius = sc.radius(0);
+    let volume: f64 = sc.lengths().iter().product();
+    let n = sc.particle_count() as f64 / volume;
+    let t0 = *run.temperature.first()?;
+    let e = sc.collisions.restitution;
+    (e < 1.0 && t0 > 0.0).then(|| haff::enskog_haff_time(d, n, radius, t0, sc.species[0].mass, e))
+}
+
+pub(crate) fn save(plot: &LinePlot, stem: PathBuf, made: &mut Vec<PathBuf>) -> Result<(), String> {
+    let files = plot
+        .save_png_and_svg(&stem)
+        .map_err(|e| format!("{}: {e}", stem.display()))?;
+    made.extend(files);
+    Ok(())
+}
+
+/// A file-name-safe tag of a run.
+pub(crate) fn tag(run: &RunFiles) -> String {
+    run.dir
+        .file_name()
+        .map_or("run".into(), |s| s.to_string_lossy().to_string())
+        .replace(
+            |c: char| !c.is_ascii_alphanumeric() && c != '-' && c != '_',
+            "_",
+        )
+}
