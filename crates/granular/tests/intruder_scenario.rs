@@ -24,14 +24,7 @@ interval = 2000.0
 checkpoint_seconds = 0.0
 "#;
 
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!(
-        "granular-intruder-test-{}-{name}",
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&d);
-    d
-}
+use crate::common::tmp;
 
 fn run(dir: &std::path::Path, s: Scenario) -> Summary {
     Run::create(dir, s)

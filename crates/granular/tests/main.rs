@@ -1,9 +1,11 @@
 //! The library's integration tests, one binary (fast to link on two cores).
 
+mod common;
 mod dsmc;
 mod edmd;
 mod edmd_reference;
 mod engines;
+mod golden;
 mod intruder;
 mod intruder_scenario;
 mod observables;

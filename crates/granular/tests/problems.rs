@@ -6,28 +6,12 @@ use granular::run::{Run, Summary};
 use granular::scenario::Scenario;
 use std::path::PathBuf;
 
-fn scenario_text(name: &str) -> String {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../scenarios")
-        .join(name);
-    std::fs::read_to_string(&path).expect("bundled scenario")
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("granular-problems-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    d
-}
+use crate::common::{scenario_text, tmp};
 
 fn run(name: &str, overrides: &[&str], dir: &str) -> (Summary, PathBuf) {
     let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
     let s = Scenario::from_toml(&scenario_text(name), &o).expect("valid");
-    let d = tmp(dir);
-    let summary = Run::create(&d, s)
-        .unwrap()
-        .run_to_end(&mut |_| {}, None)
-        .unwrap();
-    (summary, d)
+    crate::common::run(dir, s)
 }
 
 #[test]

@@ -39,11 +39,7 @@ snapshot_every = 10
 checkpoint_seconds = 0.0
 "#;
 
-pub(crate) fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("granular-test-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    d
-}
+pub(crate) use crate::common::tmp;
 
 fn error_of(text: &str, overrides: &[&str]) -> granular::scenario::ScenarioError {
     let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
