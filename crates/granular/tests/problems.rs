@@ -2,7 +2,7 @@
 //! scenario files and runner as the CLI, asserting the physics; and sweeps.
 
 use granular::run::sweep::run_sweep;
-use granular::run::{Run, Summary};
+use granular::run::Summary;
 use granular::scenario::Scenario;
 use std::path::PathBuf;
 
