@@ -24,9 +24,6 @@ pub enum Progress {
     BudgetExhausted,
 }
 
-/// A named scalar observable at one output time, e.g. `("kinetic_energy", 12.5)`.
-pub type Scalar = (String, f64);
-
 pub use crate::observation::Observation;
 use crate::stats::Histogram;
 
