@@ -4,12 +4,14 @@
 //! random placement below 0.4 — melted by 5 collisions per grain), and the same with
 //! walls, inelastic collisions, two kinds of grains or gravity ([`FluidCase`]).
 
-use super::init::{self, InitError, Region};
-use super::{Edmd, EdmdOptions, ParticleSet};
+use super::init;
+use super::{Edmd, EdmdOptions};
 use crate::boundary::{AxisKind, SimulationBox};
 use crate::collision_law::CollisionLaw;
 use crate::engine::{Engine, EngineError};
+use crate::particles::ParticleSet;
 use crate::random::stream;
+use crate::setup::{self, InitError, Region};
 use crate::vector::Vector;
 
 /// Why the benchmark state could not be built.
@@ -111,7 +113,7 @@ pub fn fluid<const D: usize>(case: &FluidCase, seed: u64) -> Result<Edmd<D>, Ben
     // Mean grain volume phi V / n = v(r) (1 + size_ratio^D) / 2.
     let mean = (1.0 + size_ratio.powi(D as i32)) / 2.0;
     let r =
-        (phi * bx.volume() / (n as f64 * mean * init::ball_volume::<D>(1.0))).powf(1.0 / D as f64);
+        (phi * bx.volume() / (n as f64 * mean * setup::ball_volume::<D>(1.0))).powf(1.0 / D as f64);
     let second = |i: usize| i % 2 == 1;
     let radii: Vec<f64> = (0..n)
         .map(|i| if second(i) { r * size_ratio } else { r })
@@ -129,9 +131,9 @@ pub fn fluid<const D: usize>(case: &FluidCase, seed: u64) -> Result<Edmd<D>, Ben
     let mut rng = stream(seed, &[0]);
     let region = Region::whole(&bx);
     let positions = if phi < 0.4 {
-        init::random_placement(&bx, &region, &radii, &[], &mut rng, 100_000)?
+        setup::random_placement(&bx, &region, &radii, &[], &mut rng, 100_000)?
     } else {
-        match init::lattice_placement(&bx, &region, &radii) {
+        match setup::lattice_placement(&bx, &region, &radii) {
             Ok(p) => p,
             Err(InitError::Lattice {
                 radius, spacing, ..
@@ -140,7 +142,7 @@ pub fn fluid<const D: usize>(case: &FluidCase, seed: u64) -> Result<Edmd<D>, Ben
                 let shrink = 0.95 * spacing / (2.0 * radius);
                 let small: Vec<f64> = radii.iter().map(|r| r * shrink).collect();
                 let start = ParticleSet {
-                    positions: init::lattice_placement(&bx, &region, &small)?,
+                    positions: setup::lattice_placement(&bx, &region, &small)?,
                     velocities: vec![Vector::zero(); n],
                     radii: small,
                     masses: masses.clone(),
@@ -152,8 +154,8 @@ pub fn fluid<const D: usize>(case: &FluidCase, seed: u64) -> Result<Edmd<D>, Ben
             Err(e) => return Err(e.into()),
         }
     };
-    let mut velocities = init::maxwell_boltzmann::<D>(&masses, 1.0, &mut rng);
-    init::remove_drift(&mut velocities, &masses);
+    let mut velocities = setup::maxwell_boltzmann::<D>(&masses, 1.0, &mut rng);
+    setup::remove_drift(&mut velocities, &masses);
     let set = ParticleSet {
         positions,
         velocities,

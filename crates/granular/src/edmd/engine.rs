@@ -25,6 +25,7 @@ use crate::boundary::SimulationBox;
 use crate::collision_law::CollisionLaw;
 use crate::engine::{Engine, EngineError, Progress, Snapshot};
 use crate::observation::{Observation, SpeciesObservation};
+use crate::particles::ParticleSet;
 use crate::stats::Histogram;
 use crate::vector::Vector;
 use aligned_vec::{AVec, ConstAlign};
@@ -153,35 +154,6 @@ pub struct CollisionRecord {
     pub i: u32,
     /// Partner grain id, or `None` for a wall.
     pub j: Option<u32>,
-}
-
-/// Everything that defines the grains at the start of a run.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct ParticleSet<const D: usize> {
-    /// Centre positions, inside the box.
-    pub positions: Vec<Vector<D>>,
-    /// Velocities.
-    pub velocities: Vec<Vector<D>>,
-    /// Radii (> 0).
-    pub radii: Vec<f64>,
-    /// Masses (> 0).
-    pub masses: Vec<f64>,
-    /// Species index of each grain into `species_names`.
-    pub species: Vec<u32>,
-    /// Species names.
-    pub species_names: Vec<String>,
-}
-
-impl<const D: usize> ParticleSet<D> {
-    /// Number of grains.
-    pub fn len(&self) -> usize {
-        self.positions.len()
-    }
-
-    /// Whether there are no grains.
-    pub fn is_empty(&self) -> bool {
-        self.positions.is_empty()
-    }
 }
 
 /// Options of the event-driven engine that are not part of the collision law.

@@ -9,7 +9,8 @@
 //!   for both grains of a 2D pair collision at once);
 //! * [`prefetch`]: software prefetch of the records a prediction is about to read;
 //! * [`cells`]: the cell grid for neighbour search;
-//! * [`init`]: placements, compression and initial velocities.
+//! * [`init`]: compression to dense states (placements and velocities are shared by all
+//!   engines: [`crate::setup`]).
 
 pub mod bench;
 mod candidates;
@@ -20,4 +21,5 @@ pub mod prediction;
 pub mod prefetch;
 pub mod queue;
 
-pub use engine::{Edmd, EdmdOptions, EventKind, ParticleSet, Totals};
+pub use crate::particles::ParticleSet;
+pub use engine::{Edmd, EdmdOptions, EventKind, Totals};

@@ -3,11 +3,13 @@
 use crate::boundary::SimulationBox;
 use crate::dsmc::config::DsmcConfig;
 use crate::dsmc::engine::DsmcEngine;
-use crate::edmd::init::{self, InitError, Region};
-use crate::edmd::{Edmd, EdmdOptions, ParticleSet};
+use crate::edmd::init;
+use crate::edmd::{Edmd, EdmdOptions};
 use crate::engine::{Engine, EngineError, Observation, Progress, Snapshot};
+use crate::particles::ParticleSet;
 use crate::random::{self, stream};
 use crate::scenario::{EngineKind, Placement, Scenario, ScenarioError, VelocitySpec};
+use crate::setup::{self, InitError, Region};
 use crate::vector::Vector;
 use serde::{Deserialize, Serialize};
 
@@ -174,7 +176,7 @@ pub fn initial_particles<const D: usize>(
         Some(start) => {
             let grains: f64 = (0..scenario.species.len())
                 .map(|s| {
-                    scenario.species[s].count as f64 * init::ball_volume::<D>(scenario.radius(s))
+                    scenario.species[s].count as f64 * setup::ball_volume::<D>(scenario.radius(s))
                 })
                 .sum();
             let target = grains / bx.volume();
@@ -197,7 +199,7 @@ pub fn initial_particles<const D: usize>(
             let place_r = r / shrink;
             let radii = vec![place_r; sp.count];
             let placed = match scenario.initial.placement {
-                Placement::Random => init::random_placement(
+                Placement::Random => setup::random_placement(
                     &bx,
                     &region,
                     &radii,
@@ -205,7 +207,7 @@ pub fn initial_particles<const D: usize>(
                     &mut rng,
                     scenario.initial.max_attempts,
                 ),
-                Placement::Lattice => init::lattice_placement(&bx, &region, &radii),
+                Placement::Lattice => setup::lattice_placement(&bx, &region, &radii),
             }
             .map_err(|source| BuildError::Init {
                 species: sp.name.clone(),
@@ -218,10 +220,10 @@ pub fn initial_particles<const D: usize>(
         let velocities: Vec<Vector<D>> = match &sp.velocity {
             VelocitySpec::Zero => vec![Vector::zero(); sp.count],
             VelocitySpec::FixedSpeed { speed } => {
-                init::fixed_speed::<D>(sp.count, *speed, &mut rng)
+                setup::fixed_speed::<D>(sp.count, *speed, &mut rng)
             }
             VelocitySpec::MaxwellBoltzmann { temperature } => {
-                init::maxwell_boltzmann::<D>(&masses, *temperature, &mut rng)
+                setup::maxwell_boltzmann::<D>(&masses, *temperature, &mut rng)
             }
             VelocitySpec::Given { velocity } => vec![vector::<D>(velocity); sp.count],
             VelocitySpec::PerGrain { velocities } => {
@@ -235,7 +237,7 @@ pub fn initial_particles<const D: usize>(
         set.species.extend(std::iter::repeat_n(s as u32, sp.count));
     }
     if scenario.initial.zero_momentum {
-        init::remove_drift(&mut set.velocities, &set.masses);
+        setup::remove_drift(&mut set.velocities, &set.masses);
     }
     if compress.is_some() {
         let mut small = set.clone();
@@ -247,43 +249,13 @@ pub fn initial_particles<const D: usize>(
             }
         })?;
     }
-    check_overlaps(&bx, &set)?;
+    setup::check_overlaps(&bx, &set).map_err(|o| BuildError::Overlap {
+        a: o.a,
+        b: o.b,
+        distance: o.distance,
+        sigma: o.sigma,
+    })?;
     Ok((bx, set))
-}
-
-/// Rejects initial states in which grains overlap (given positions, mostly).
-fn check_overlaps<const D: usize>(
-    bx: &SimulationBox<D>,
-    set: &ParticleSet<D>,
-) -> Result<(), BuildError> {
-    let n = set.len();
-    // The cells fit all but a few large grains, as in the engine.
-    let (mut grid, cut) = crate::edmd::cells::CellGrid::<D>::for_radii(bx, &set.radii, 1.0, true);
-    for i in 0..n {
-        let c = grid.coords_of(&set.positions[i].0);
-        grid.insert_grain(i, c, set.radii[i], cut);
-    }
-    for i in 0..n {
-        let mut bad = None;
-        grid.for_each_candidate(i, |j| {
-            if j > i && bad.is_none() {
-                let d = bx.separation(&set.positions[i], &set.positions[j]).norm();
-                let sigma = set.radii[i] + set.radii[j];
-                if d < sigma * (1.0 - 1e-9) {
-                    bad = Some((j, d, sigma));
-                }
-            }
-        });
-        if let Some((j, distance, sigma)) = bad {
-            return Err(BuildError::Overlap {
-                a: i,
-                b: j,
-                distance,
-                sigma,
-            });
-        }
-    }
-    Ok(())
 }
 
 fn build_edmd<const D: usize>(scenario: &Scenario) -> Result<Edmd<D>, BuildError> {
