@@ -22,7 +22,7 @@ use super::prediction::{downward_crossing, pair_contact_time, upward_crossing};
 use super::prefetch::{CACHE_LINE, prefetch_all};
 use super::queue::EventQueue;
 use crate::boundary::SimulationBox;
-use crate::collision_law::CollisionLaw;
+use crate::collision_law::{CollisionLaw, WallRestitution, normal_velocity_change};
 use crate::engine::{Engine, EngineError, Progress, Snapshot};
 use crate::observation::{Observation, SpeciesObservation};
 use crate::particles::ParticleSet;
@@ -959,19 +959,28 @@ impl<const D: usize> Edmd<D> {
         Ok(())
     }
 
-    /// The restitution for a collision now of slots `a` (and `b`) under the TC model.
+    /// The pair restitution for a collision now of slots `a` and `b` under the TC rule of
+    /// the collision law, counted in the totals.
     #[inline(always)]
-    fn effective_restitution(&self, coefficient: f64, a: usize, b: Option<usize>) -> f64 {
+    fn pair_restitution(&mut self, a: usize, b: usize) -> f64 {
+        let tc = &mut self.totals.tc_elastic_collisions;
         if self.last_collision.is_empty() {
-            return coefficient;
+            return self.law.pair_restitution(self.now, &[], tc);
         }
-        let la = self.last_collision[a];
-        match b {
-            Some(b) => self
-                .law
-                .effective(coefficient, self.now, &[la, self.last_collision[b]]),
-            None => self.law.effective(coefficient, self.now, &[la]),
+        let last = [self.last_collision[a], self.last_collision[b]];
+        self.law.pair_restitution(self.now, &last, tc)
+    }
+
+    /// The wall restitutions for a collision now of slot `a` under the TC rule of the
+    /// collision law, counted in the totals.
+    #[inline(always)]
+    fn wall_restitution(&mut self, a: usize) -> WallRestitution {
+        let tc = &mut self.totals.tc_elastic_collisions;
+        if self.last_collision.is_empty() {
+            return self.law.wall_restitution_now(self.now, &[], tc);
         }
+        let last = [self.last_collision[a]];
+        self.law.wall_restitution_now(self.now, &last, tc)
     }
 
     /// Resolves a pair collision (HD-11), both grains at `now`.
@@ -987,11 +996,8 @@ impl<const D: usize> Edmd<D> {
         // -+ (mu / m) g dx: with g = -(1 + xi) b / d², no square root on the way from
         // one event to the next.
         let g = if self.growth == 0.0 {
-            let xi = self.effective_restitution(self.law.restitution, i, Some(j));
-            if xi == 1.0 && self.law.restitution != 1.0 {
-                self.totals.tc_elastic_collisions += 1;
-            }
-            -(1.0 + xi) * b / d2
+            let xi = self.pair_restitution(i, j);
+            normal_velocity_change(xi, b) / d2
         } else {
             // Lubachevsky-Stillinger: elastic reflection in the frame of the growing
             // surfaces, so that they separate at least as fast as they grow.
@@ -1035,16 +1041,7 @@ impl<const D: usize> Edmd<D> {
         let k0 = 0.5 * m * v.norm_squared();
         let mut v_new = v;
         if self.growth == 0.0 {
-            let e = self.effective_restitution(self.law.wall_restitution, i, None);
-            let et = if e == 1.0 && self.law.wall_restitution != 1.0 {
-                self.totals.tc_elastic_collisions += 1;
-                1.0
-            } else {
-                self.law.wall_tangential_restitution
-            };
-            for k in 0..D {
-                v_new[k] = if k == axis { -e * v[k] } else { et * v[k] };
-            }
+            v_new = self.wall_restitution(i).apply(&v, axis);
         } else {
             let rate = self.base_radius(i) * self.growth;
             v_new[axis] = if upper {
