@@ -2,6 +2,7 @@
 //! (Boltzmann, Enskog, free volume), Haff's law with the Sonine correction, thread-count
 //! independence, walls and gravity.
 
+use granular::collision_law::CollisionLaw;
 use granular::dsmc::{DensityScope, DsmcConfig, DsmcEngine, GuardKind, VmaxMode};
 use granular::engine::{Engine, Progress};
 use granular::random::{RngExt, stream};
@@ -286,7 +287,7 @@ fn hcs<const D: usize>(n: usize, e: f64, seed: u64) -> (f64, f64) {
     let density = n as f64;
     let cfg = DsmcConfig {
         cell_size: Some(0.25),
-        restitution: e,
+        law: CollisionLaw::uniform(e),
         ..DsmcConfig::default()
     };
     let mut eng = DsmcEngine::<D>::new(cfg, periodic(), n, r, 1.0, 1.0, seed).unwrap();
@@ -361,14 +362,17 @@ fn bitwise<const D: usize>() {
         g[D - 1] = -0.5;
         let cfg = DsmcConfig {
             cell_size: Some(0.05),
-            restitution: 0.8,
-            wall_restitution: 0.9,
+            law: CollisionLaw {
+                restitution: 0.8,
+                wall_restitution: 0.9,
+                wall_tangential_restitution: 0.95,
+                contact_duration: 1e-3,
+            },
             gravity: g,
             enskog: true,
             density_scope: DensityScope::Cell,
             free_volume: true,
             consistent_boltzmann: true,
-            tc: Some(1e-3),
             ..DsmcConfig::default()
         };
         let mut e = DsmcEngine::<D>::new(cfg, bx, n, r, 1.0, 1.0, 77).unwrap();
@@ -429,7 +433,10 @@ fn walls<const D: usize>() {
     // Inelastic walls (elastic grains) lose energy.
     let cfg = DsmcConfig {
         cell_size: Some(0.1),
-        wall_restitution: 0.5,
+        law: CollisionLaw {
+            wall_restitution: 0.5,
+            ..CollisionLaw::default()
+        },
         ..DsmcConfig::default()
     };
     let mut e = DsmcEngine::<D>::new(cfg, SimulationBox::unit_walled(), n, r, 1.0, 1.0, 8).unwrap();
@@ -480,15 +487,18 @@ fn gravity_free_fall_is_exact() {
 #[test]
 fn config_toml_round_trip() {
     let c: DsmcConfig = toml::from_str(
-        "time_step = 0.01\ncell_size = 0.1\nvmax_mode = \"global\"\nenskog = true\nrestitution = 0.9\ntc = 1e-4",
+        "time_step = 0.01\ncell_size = 0.1\nvmax_mode = \"global\"\nenskog = true\n[law]\nrestitution = 0.9\ncontact_duration = 1e-4",
     )
     .unwrap();
     assert_eq!(c.vmax_mode, VmaxMode::Global);
     assert_eq!(c.time_step, Some(0.01));
     assert!(c.enskog && !c.free_volume && !c.consistent_boltzmann);
+    assert_eq!((c.law.restitution, c.law.contact_duration), (0.9, 1e-4));
+    assert_eq!(c.law.wall_restitution, 1.0);
     let back: DsmcConfig = toml::from_str(&toml::to_string(&c).unwrap()).unwrap();
     assert_eq!(back, c);
     assert!(toml::from_str::<DsmcConfig>("time_stepp = 0.1").is_err());
+    assert!(toml::from_str::<DsmcConfig>("[law]\nrestitushun = 0.9").is_err());
 }
 
 /// Validity guards flag a dense gas in big cells with a long step, and the engine's

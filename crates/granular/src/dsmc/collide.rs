@@ -1,7 +1,9 @@
 //! The collision stage: candidate pairs per cell (DSMC-1), acceptance (DSMC-2), random
-//! impact parameter and the hard-grain collision rule with normal restitution.
+//! impact parameter and the shared collision law (HD-11 with normal restitution, the TC
+//! rule with its counter: [`crate::collision_law`]).
 
 use super::config::VmaxMode;
+use crate::collision_law::{CollisionLaw, normal_velocity_change};
 use crate::random::{DYNAMICS, RngExt, Stream, stream};
 use crate::vector::Vector;
 use rand_distr::{Distribution, StandardNormal};
@@ -18,7 +20,8 @@ pub(crate) struct StepParams {
     pub sigma: f64,
     pub radius: f64,
     pub cell_volume: f64,
-    pub restitution: f64,
+    /// The collision law (pair restitution and TC rule).
+    pub law: CollisionLaw,
     pub vmax_mode: VmaxMode,
     pub global_vmax: f64,
     /// `Some(chi)` with a global packing fraction, `None` with the cell's own.
@@ -28,7 +31,6 @@ pub(crate) struct StepParams {
     pub grain_volume: f64,
     pub nu_rcp: f64,
     pub consistent_boltzmann: bool,
-    pub tc: Option<f64>,
     pub impact_bins: usize,
     /// Box lengths and which axes are periodic, for the consistent-Boltzmann displacement.
     pub lengths: Vec<f64>,
@@ -42,6 +44,9 @@ pub(crate) struct Tally {
     pub candidates: u64,
     pub vmax_exceeded: u64,
     pub impact: Vec<u64>,
+    /// Collisions (pair and wall) made elastic by the TC rule.
+    #[serde(default)]
+    pub tc_elastic: u64,
 }
 
 impl Tally {
@@ -49,6 +54,7 @@ impl Tally {
         self.collisions += o.collisions;
         self.candidates += o.candidates;
         self.vmax_exceeded += o.vmax_exceeded;
+        self.tc_elastic += o.tc_elastic;
         if self.impact.len() < o.impact.len() {
             self.impact.resize(o.impact.len(), 0);
         }
@@ -125,7 +131,9 @@ fn collide_cell<const D: usize>(
         VmaxMode::Cell => relative_speed_bound(vel),
         VmaxMode::Global => p.global_vmax,
     };
-    if vmax <= 0.0 {
+    // No relative motion, or a non-finite velocity in the cell (reported by the engine
+    // after the step; an infinite bound would draw endless candidates).
+    if !(vmax > 0.0 && vmax.is_finite()) {
         return;
     }
     let nf = n as f64;
@@ -178,17 +186,21 @@ fn collide_cell<const D: usize>(
         let cos = (1.0 - r * r).max(0.0).sqrt();
         let normal = ghat * cos + eperp * r;
         let gn = gm * cos;
-        let mut e = p.restitution;
-        if let Some(tc) = p.tc {
-            if p.time - last[i] < tc || p.time - last[j] < tc {
-                e = 1.0;
-            }
+        // The TC rule (`last` is empty without it), then HD-11 with equal masses: the
+        // normal relative velocity g.n changes by du, each grain takes half of it.
+        let e = if last.is_empty() {
+            p.law.pair_restitution(p.time, &[], &mut tally.tc_elastic)
+        } else {
+            let e = p
+                .law
+                .pair_restitution(p.time, &[last[i], last[j]], &mut tally.tc_elastic);
             last[i] = p.time;
             last[j] = p.time;
-        }
-        let jmp = normal * (0.5 * (1.0 + e) * gn);
-        vel[i] -= jmp;
-        vel[j] += jmp;
+            e
+        };
+        let half = normal * (0.5 * normal_velocity_change(e, gn));
+        vel[i] += half;
+        vel[j] -= half;
         tally.collisions += 1;
         if !tally.impact.is_empty() {
             let b = ((r * tally.impact.len() as f64) as usize).min(tally.impact.len() - 1);

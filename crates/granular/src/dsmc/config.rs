@@ -1,5 +1,6 @@
 //! The `[dsmc]` table of a scenario: every numerical choice of the DSMC engine.
 
+use crate::collision_law::CollisionLaw;
 use serde::{Deserialize, Serialize};
 
 /// How the upper bound `v_max` on the relative speed (DSMC-1 and DSMC-2)
@@ -52,12 +53,11 @@ pub struct DsmcConfig {
     /// at least `L` (exactly `L` when `L_k` is a multiple). `None`: the smaller of the
     /// initial mean free path and the edge holding 10 particles on average.
     pub cell_size: Option<f64>,
-    /// Normal restitution coefficient `e` of particle collisions (Sec. 2 of the seed:
-    /// `v'^(n) = -e v^(n)`, tangential part unchanged). `1` is elastic.
-    pub restitution: f64,
-    /// Normal restitution of the hard walls (specular reflection with the normal velocity
-    /// component scaled by this factor). `1` conserves energy.
-    pub wall_restitution: f64,
+    /// The collision law, the same as the event-driven engine's (the scenario's
+    /// `[collisions]` table): pair restitution `e` (HD-11 with a random impact parameter;
+    /// DSMC-2 picks the pair), the wall law with normal and tangential restitution (HD-3,
+    /// HD-4), and the TC model with its counter. See [`CollisionLaw`].
+    pub law: CollisionLaw,
     /// Constant acceleration (gravity), `D` components (length / time^2), applied
     /// analytically in the free-flight stage. Empty: no external force.
     pub gravity: Vec<f64>,
@@ -75,10 +75,9 @@ pub struct DsmcConfig {
     /// Consistent-Boltzmann advection (Alexander, Garcia & Alder 1995): after a
     /// collision each partner is displaced by `2R` along its momentum change.
     pub consistent_boltzmann: bool,
-    /// TC model (Luding & McNamara 1998): a collision is elastic when one of the partners
-    /// collided less than `tc` time units before. `None`: off.
-    pub tc: Option<f64>,
-    /// Number of bins of the impact-parameter histogram (`b / 2R` in `[0, 1)`).
+    /// Number of bins of the impact-parameter histogram (`b / 2R` in `[0, 1)`). A scenario
+    /// sets it with the key `edmd.impact_bins`, which serves both engines (the run builder
+    /// passes it here).
     pub impact_bins: usize,
 }
 
@@ -87,15 +86,13 @@ impl Default for DsmcConfig {
         Self {
             time_step: None,
             cell_size: None,
-            restitution: 1.0,
-            wall_restitution: 1.0,
+            law: CollisionLaw::default(),
             gravity: Vec::new(),
             vmax_mode: VmaxMode::Cell,
             enskog: false,
             free_volume: false,
             density_scope: DensityScope::Global,
             consistent_boltzmann: false,
-            tc: None,
             impact_bins: 20,
         }
     }

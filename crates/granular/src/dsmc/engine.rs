@@ -6,8 +6,10 @@ use super::config::{DensityScope, DsmcConfig};
 use super::guards::{self, ValidityWarning};
 use super::observables::{self, DensityMap, StructureFactor};
 use crate::boundary::{AxisKind, SimulationBox};
+use crate::collision_law::CollisionLaw;
 use crate::engine::{Engine, EngineError, Progress, Snapshot};
 use crate::observation::{DsmcCounters, Observation};
+use crate::particles::ParticleSet;
 use crate::random::{INITIAL_STATE, RngExt, stream};
 use crate::stats::Histogram;
 use crate::theory::haff;
@@ -59,6 +61,16 @@ pub struct DsmcEngine<const D: usize> {
     time: f64,
     steps: u64,
     tally: Tally,
+    /// Name of the (single) species, for snapshots.
+    #[serde(default = "default_species_name")]
+    species_name: String,
+    /// The validity conditions violated by the initial state (computed once at build).
+    #[serde(default)]
+    validity: Vec<ValidityWarning>,
+}
+
+fn default_species_name() -> String {
+    "grain".into()
 }
 
 impl<const D: usize> DsmcEngine<D> {
@@ -116,7 +128,48 @@ impl<const D: usize> DsmcEngine<D> {
         Self::from_state(config, sim_box, radius, mass, pos, vel, seed)
     }
 
-    /// An engine from explicit positions and velocities (equal radius and mass).
+    /// An engine from a particle set of one species (the shared placement and velocities
+    /// of `crate::setup`): every grain must have the same radius and mass. Snapshots carry
+    /// the set's species name.
+    pub fn from_particles(
+        config: DsmcConfig,
+        sim_box: SimulationBox<D>,
+        particles: ParticleSet<D>,
+        seed: u64,
+    ) -> Result<Self, DsmcError> {
+        let (Some(&radius), Some(&mass)) = (particles.radii.first(), particles.masses.first())
+        else {
+            return Err(DsmcError::Invalid(
+                "need at least 2 particles, got 0".into(),
+            ));
+        };
+        if particles.radii.iter().any(|&r| r != radius)
+            || particles.masses.iter().any(|&m| m != mass)
+        {
+            return Err(DsmcError::Invalid(
+                "the DSMC engine takes grains of one radius and one mass; give one species".into(),
+            ));
+        }
+        let name = particles
+            .species_names
+            .first()
+            .cloned()
+            .unwrap_or_else(default_species_name);
+        let mut engine = Self::from_state(
+            config,
+            sim_box,
+            radius,
+            mass,
+            particles.positions,
+            particles.velocities,
+            seed,
+        )?;
+        engine.species_name = name;
+        Ok(engine)
+    }
+
+    /// An engine from explicit positions and velocities (equal radius and mass). Its one
+    /// species is called `grain`.
     pub fn from_state(
         config: DsmcConfig,
         sim_box: SimulationBox<D>,
@@ -141,11 +194,7 @@ impl<const D: usize> DsmcEngine<D> {
         if !positive(radius) || !positive(mass) {
             return bad(format!("radius {radius} and mass {mass} must be > 0"));
         }
-        if !(0.0..=1.0).contains(&config.restitution)
-            || !(0.0..=1.0).contains(&config.wall_restitution)
-        {
-            return bad("restitution coefficients must lie in [0, 1]".into());
-        }
+        check_law(&config.law)?;
         if !config.gravity.is_empty() && config.gravity.len() != D {
             return bad(format!(
                 "gravity has {} components, expected {D}",
@@ -207,7 +256,7 @@ impl<const D: usize> DsmcEngine<D> {
                 }
             }
         }
-        let last = if config.tc.is_some() {
+        let last = if config.law.has_tc() {
             vec![f64::NEG_INFINITY; n]
         } else {
             Vec::new()
@@ -238,9 +287,26 @@ impl<const D: usize> DsmcEngine<D> {
             scratch_last: Vec::new(),
             time: 0.0,
             steps: 0,
+            species_name: default_species_name(),
+            validity: Vec::new(),
         };
         engine.sort_by_cell(None);
+        engine.validity = engine.check_validity();
         Ok(engine)
+    }
+
+    /// Replaces the collision law from the next step on (as the event-driven engine's
+    /// `set_collision_law`). Turning the TC model on starts every grain with no previous
+    /// collision; turning it off forgets the collision times.
+    pub fn set_collision_law(&mut self, law: CollisionLaw) -> Result<(), DsmcError> {
+        check_law(&law)?;
+        if !law.has_tc() {
+            self.last = Vec::new();
+        } else if self.last.is_empty() {
+            self.last = vec![f64::NEG_INFINITY; self.pos.len()];
+        }
+        self.config.law = law;
+        Ok(())
     }
 
     /// The time step `tau` in use.
@@ -291,6 +357,18 @@ impl<const D: usize> DsmcEngine<D> {
     /// Number of candidate pairs drawn so far (DSMC-1).
     pub fn candidates(&self) -> u64 {
         self.tally.candidates
+    }
+
+    /// Collisions (pair and wall) made elastic by the TC rule so far (section 2.3 of the
+    /// hard-disk seed; counted by [`CollisionLaw`]): those that would otherwise have lost
+    /// energy. Zero without the TC model.
+    pub fn tc_elastic_collisions(&self) -> u64 {
+        self.tally.tc_elastic
+    }
+
+    /// Name of the engine's one species (as in snapshots).
+    pub fn species_name(&self) -> &str {
+        &self.species_name
     }
 
     /// How often a candidate's relative speed exceeded the current `v_max`.
@@ -403,9 +481,33 @@ impl<const D: usize> DsmcEngine<D> {
         0.5 * self.mass * parts.into_iter().sum::<f64>()
     }
 
-    /// The validity conditions of the seed (Sec. 2) at the current state: warnings, with
-    /// numbers, for each one that is violated.
-    pub fn validity_warnings(&self) -> Vec<ValidityWarning> {
+    /// The identity of a particle whose velocity has a non-finite component (the smallest
+    /// such identity), or `None` when every velocity is finite. Checks every particle
+    /// (in parallel chunks).
+    pub fn first_non_finite(&self) -> Option<u32> {
+        let finite = |v: &Vector<D>| v.0.iter().all(|c| c.is_finite());
+        if self.vel.par_chunks(SUM_CHUNK).all(|c| c.iter().all(finite)) {
+            return None;
+        }
+        self.vel
+            .iter()
+            .zip(&self.ids)
+            .filter(|(v, _)| !finite(v))
+            .map(|(_, &id)| id)
+            .min()
+    }
+
+    /// The validity conditions of the DSMC seed (Sec. 2) violated by the initial state,
+    /// with numbers: computed once when the engine is built. See [`Self::check_validity`]
+    /// for the current state.
+    pub fn validity_warnings(&self) -> &[ValidityWarning] {
+        &self.validity
+    }
+
+    /// The validity conditions of the DSMC seed (Sec. 2) at the current state (the gas
+    /// cools, so the mean free time grows): warnings, with numbers, for each one that is
+    /// violated.
+    pub fn check_validity(&self) -> Vec<ValidityWarning> {
         let edge = self.grid.edges.iter().cloned().fold(0.0, f64::max);
         let min_len = self
             .sim_box
@@ -436,28 +538,35 @@ impl<const D: usize> DsmcEngine<D> {
         let chunk = n.div_ceil(threads).max(1);
         let cells = self.grid.len();
         // 1. Free flight (analytic under constant acceleration), walls, cell index.
-        let g = self.gravity;
-        let bx = &self.sim_box;
-        let grid = &self.grid;
-        let ew = self.config.wall_restitution;
-        let counts: Vec<Vec<u32>> = self
-            .pos
-            .par_chunks_mut(chunk)
-            .zip(self.vel.par_chunks_mut(chunk))
-            .zip(self.cell_of.par_chunks_mut(chunk))
-            .map(|((p, v), c)| {
-                let mut cnt = vec![0u32; cells];
-                for ((x, u), ci) in p.iter_mut().zip(v.iter_mut()).zip(c.iter_mut()) {
-                    *x = x.add_scaled(dt, u).add_scaled(0.5 * dt * dt, &g);
-                    *u = u.add_scaled(dt, &g);
-                    confine(bx, ew, x, u);
-                    let k = grid.index(&x.0);
-                    *ci = k;
-                    cnt[k as usize] += 1;
-                }
-                cnt
-            })
-            .collect();
+        let flight = Flight {
+            bx: &self.sim_box,
+            grid: &self.grid,
+            law: &self.config.law,
+            gravity: self.gravity,
+            dt,
+            t_end: self.time + dt,
+        };
+        let moved: Vec<(Vec<u32>, u64)> = if self.last.is_empty() {
+            self.pos
+                .par_chunks_mut(chunk)
+                .zip(self.vel.par_chunks_mut(chunk))
+                .zip(self.cell_of.par_chunks_mut(chunk))
+                .map(|((p, v), c)| flight.fly(p, v, c, &mut []))
+                .collect()
+        } else {
+            self.pos
+                .par_chunks_mut(chunk)
+                .zip(self.vel.par_chunks_mut(chunk))
+                .zip(self.cell_of.par_chunks_mut(chunk))
+                .zip(self.last.par_chunks_mut(chunk))
+                .map(|(((p, v), c), l)| flight.fly(p, v, c, l))
+                .collect()
+        };
+        let mut counts = Vec::with_capacity(moved.len());
+        for (cnt, tc) in moved {
+            counts.push(cnt);
+            self.tally.tc_elastic += tc;
+        }
         self.time += dt;
         self.sort_by_cell(Some((chunk, counts)));
         // 2. Collisions.
@@ -485,7 +594,7 @@ impl<const D: usize> DsmcEngine<D> {
             sigma: haff::cross_section(D, self.radius),
             radius: self.radius,
             cell_volume: self.grid.volume,
-            restitution: self.config.restitution,
+            law: self.config.law.clone(),
             vmax_mode: self.config.vmax_mode,
             global_vmax,
             enskog_global: (self.config.enskog
@@ -496,7 +605,6 @@ impl<const D: usize> DsmcEngine<D> {
             grain_volume: haff::grain_volume(D, self.radius),
             nu_rcp: haff::random_close_packing(D),
             consistent_boltzmann: self.config.consistent_boltzmann,
-            tc: self.config.tc,
             impact_bins: self.config.impact_bins,
             lengths: self.sim_box.lengths.0.to_vec(),
             periodic: (0..D).map(|k| self.sim_box.is_periodic(k)).collect(),
@@ -585,33 +693,142 @@ fn positive(x: f64) -> bool {
     x > 0.0
 }
 
-/// Hard walls: specular reflection with the normal velocity scaled by `ew` (the overshoot
-/// is mirrored and scaled by `ew`, exact without gravity); periodic axes: wrap.
-#[inline(always)]
-fn confine<const D: usize>(bx: &SimulationBox<D>, ew: f64, x: &mut Vector<D>, v: &mut Vector<D>) {
-    for k in 0..D {
-        let l = bx.lengths[k];
-        match bx.axes[k] {
-            AxisKind::Periodic => {
-                if x[k] >= l || x[k] < 0.0 {
-                    x[k] = x[k].rem_euclid(l);
-                    if x[k] >= l {
-                        x[k] = 0.0;
-                    }
-                }
+/// Rejects restitutions outside `[0, 1]` and a negative or non-finite contact duration.
+fn check_law(law: &CollisionLaw) -> Result<(), DsmcError> {
+    for (key, x) in [
+        ("restitution", law.restitution),
+        ("wall_restitution", law.wall_restitution),
+        (
+            "wall_tangential_restitution",
+            law.wall_tangential_restitution,
+        ),
+    ] {
+        if !(0.0..=1.0).contains(&x) {
+            return Err(DsmcError::Invalid(format!(
+                "law.{key} is {x}; a restitution must lie in [0, 1] (1 = elastic)"
+            )));
+        }
+    }
+    let t = law.contact_duration;
+    if !(t.is_finite() && t >= 0.0) {
+        return Err(DsmcError::Invalid(format!(
+            "law.contact_duration is {t}; give a duration >= 0 (0: no TC model)"
+        )));
+    }
+    Ok(())
+}
+
+/// What the free flight of one step needs (the same for every grain).
+struct Flight<'a, const D: usize> {
+    bx: &'a SimulationBox<D>,
+    grid: &'a CellGrid<D>,
+    law: &'a CollisionLaw,
+    gravity: Vector<D>,
+    /// Length of the step (time units).
+    dt: f64,
+    /// Time at the end of the step.
+    t_end: f64,
+}
+
+impl<const D: usize> Flight<'_, D> {
+    /// Moves one chunk of grains (positions `p`, velocities `v`, last collision times `l`,
+    /// empty without the TC model), records their cells in `c`: the chunk's cell
+    /// occupations and its count of wall collisions made elastic by the TC rule.
+    fn fly(
+        &self,
+        p: &mut [Vector<D>],
+        v: &mut [Vector<D>],
+        c: &mut [u32],
+        l: &mut [f64],
+    ) -> (Vec<u32>, u64) {
+        let (g, dt) = (self.gravity, self.dt);
+        let mut cnt = vec![0u32; self.grid.len()];
+        let mut tc_elastic = 0;
+        for (k, ((x, u), ci)) in p.iter_mut().zip(v.iter_mut()).zip(c.iter_mut()).enumerate() {
+            *x = x.add_scaled(dt, u).add_scaled(0.5 * dt * dt, &g);
+            *u = u.add_scaled(dt, &g);
+            let last = l.get_mut(k);
+            self.confine(x, u, last, &mut tc_elastic);
+            let cell = self.grid.index(&x.0);
+            *ci = cell;
+            cnt[cell as usize] += 1;
+        }
+        (cnt, tc_elastic)
+    }
+
+    /// Hard walls: the shared wall law (HD-3, HD-4 with the TC rule, see
+    /// [`CollisionLaw::wall_restitution_now`]) applied at each crossing of a wall during
+    /// the flight; periodic axes: wrap. A grain that ended the flight a distance `s` past a
+    /// wall hit it `s / |v_n|` before the end of the step (exact without gravity): after
+    /// the hit its normal speed is `e_w |v_n|` (its overshoot is mirrored and scaled by
+    /// `e_w`) and its tangential velocity `e_t v_t` (its tangential displacement since the
+    /// hit is scaled by `e_t`); the hit time is the one the TC rule sees and records.
+    #[inline(always)]
+    fn confine(
+        &self,
+        x: &mut Vector<D>,
+        v: &mut Vector<D>,
+        mut last: Option<&mut f64>,
+        tc_elastic: &mut u64,
+    ) {
+        let bx = self.bx;
+        // Tangential displacement to take back (only when e_t < 1).
+        let mut shift = Vector::<D>::zero();
+        let mut shifted = false;
+        for k in 0..D {
+            if bx.axes[k] != AxisKind::Wall {
+                continue;
             }
-            AxisKind::Wall => {
-                let mut guard = 0;
-                while (x[k] < 0.0 || x[k] > l) && guard < 8 {
-                    if x[k] < 0.0 {
-                        x[k] *= -ew;
-                    } else {
-                        x[k] = l - ew * (x[k] - l);
+            let l = bx.lengths[k];
+            let mut guard = 0;
+            while (x[k] < 0.0 || x[k] > l) && guard < 8 {
+                let over = if x[k] < 0.0 { -x[k] } else { x[k] - l };
+                let since = (over / v[k].abs()).min(self.dt);
+                let w = match last.as_deref_mut() {
+                    Some(t) => {
+                        let hit = self.t_end - since;
+                        let w = self.law.wall_restitution_now(hit, &[*t], tc_elastic);
+                        *t = hit;
+                        w
                     }
-                    v[k] *= -ew;
-                    guard += 1;
+                    None => self.law.wall_restitution_now(self.t_end, &[], tc_elastic),
+                };
+                let e = w.normal;
+                if x[k] < 0.0 {
+                    x[k] *= -e;
+                } else {
+                    x[k] = l - e * (x[k] - l);
                 }
-                x[k] = x[k].clamp(0.0, l);
+                if w.tangential != 1.0 {
+                    for t in (0..D).filter(|&t| t != k) {
+                        shift[t] -= (1.0 - w.tangential) * v[t] * since;
+                    }
+                    shifted = true;
+                }
+                *v = w.apply(v, k);
+                guard += 1;
+            }
+            x[k] = x[k].clamp(0.0, l);
+        }
+        for k in 0..D {
+            if shifted {
+                x[k] += shift[k];
+            }
+            let l = bx.lengths[k];
+            match bx.axes[k] {
+                AxisKind::Periodic => {
+                    if x[k] >= l || x[k] < 0.0 {
+                        x[k] = x[k].rem_euclid(l);
+                        if x[k] >= l {
+                            x[k] = 0.0;
+                        }
+                    }
+                }
+                AxisKind::Wall => {
+                    if shifted {
+                        x[k] = x[k].clamp(0.0, l);
+                    }
+                }
             }
         }
     }
@@ -654,13 +871,11 @@ impl<const D: usize> Engine for DsmcEngine<D> {
             if left <= self.tau * (1.0 + 1e-9) {
                 self.time = until;
             }
-            if !self
-                .vel
-                .iter()
-                .take(1)
-                .all(|v| v.0.iter().all(|c| c.is_finite()))
-            {
-                return Err(EngineError::Numerical("non-finite velocity".into()));
+            if let Some(id) = self.first_non_finite() {
+                return Err(EngineError::Numerical(format!(
+                    "non-finite velocity of particle {id} at t = {}",
+                    self.time
+                )));
             }
             if self.time < until && self.events() - e0 >= max_events {
                 return Ok(Progress::BudgetExhausted);
@@ -725,7 +940,7 @@ impl<const D: usize> Engine for DsmcEngine<D> {
             radii: vec![self.radius; n],
             masses: vec![self.mass; n],
             species: vec![0; n],
-            species_names: vec!["grain".into()],
+            species_names: vec![self.species_name.clone()],
         })
     }
 }

@@ -274,31 +274,22 @@ fn build_edmd<const D: usize>(scenario: &Scenario) -> Result<Edmd<D>, BuildError
 /// member by member.
 fn build_dsmc<const D: usize>(scenario: &Scenario) -> Result<DsmcEngine<D>, BuildError> {
     let (bx, set) = initial_particles::<D>(scenario)?;
-    let law = scenario.collisions.law();
     let spec = &scenario.dsmc;
     let config = DsmcConfig {
         time_step: spec.time_step,
         cell_size: spec.cell_size,
-        restitution: law.restitution,
-        wall_restitution: law.wall_restitution,
+        // The same collision law as the event-driven engine: pair, wall (normal and
+        // tangential) and TC rule.
+        law: scenario.collisions.law(),
         gravity: scenario.gravity.clone(),
         vmax_mode: spec.vmax_mode,
         enskog: spec.enskog,
         free_volume: spec.free_volume,
         density_scope: spec.density_scope,
         consistent_boltzmann: spec.consistent_boltzmann,
-        tc: (law.contact_duration > 0.0).then_some(law.contact_duration),
+        // The scenario key `edmd.impact_bins` sets the histogram of both engines.
         impact_bins: scenario.edmd.impact_bins,
     };
     let seed = crate::random::derive_key(scenario.seed, &[crate::random::DYNAMICS]);
-    DsmcEngine::from_state(
-        config,
-        bx,
-        set.radii[0],
-        set.masses[0],
-        set.positions,
-        set.velocities,
-        seed,
-    )
-    .map_err(|e| BuildError::Dsmc(e.to_string()))
+    DsmcEngine::from_particles(config, bx, set, seed).map_err(|e| BuildError::Dsmc(e.to_string()))
 }

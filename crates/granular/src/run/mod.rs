@@ -150,10 +150,10 @@ impl Run {
     fn with_log(dir: &Path, simulation: Simulation, log: std::fs::File) -> Run {
         let mut warnings = Vec::new();
         if let AnyEngine::Dsmc2(e) = simulation.engine() {
-            warnings.extend(e.validity_warnings().into_iter().map(|w| w.message));
+            warnings.extend(e.validity_warnings().iter().map(|w| w.message.clone()));
         }
         if let AnyEngine::Dsmc3(e) = simulation.engine() {
-            warnings.extend(e.validity_warnings().into_iter().map(|w| w.message));
+            warnings.extend(e.validity_warnings().iter().map(|w| w.message.clone()));
         }
         let mut recorder = Recorder {
             dir: dir.to_path_buf(),
