@@ -24,6 +24,7 @@ pub mod cells;
 mod collide;
 pub mod config;
 pub mod engine;
+mod flight;
 pub mod guards;
 pub mod observables;
 
