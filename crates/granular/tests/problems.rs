@@ -1,8 +1,8 @@
 //! Fast versions of the four problems of the hard-disk seed, run through the same
 //! scenario files and runner as the CLI, asserting the physics; and sweeps.
 
-use granular::run::sweep::run_sweep;
 use granular::run::Summary;
+use granular::run::sweep::run_sweep;
 use granular::scenario::Scenario;
 use std::path::PathBuf;
 

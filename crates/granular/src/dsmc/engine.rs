@@ -767,7 +767,7 @@ impl<const D: usize> Engine for DsmcEngine<D> {
             species: Vec::new(),
             wall_collisions: None,
             dissipated_energy: None,
-            tc_elastic_collisions: None,
+            tc_elastic_collisions: Some(self.tc_elastic_collisions()),
             virial: None,
             wall_impulse: None,
             volume,
