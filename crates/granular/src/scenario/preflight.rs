@@ -180,7 +180,7 @@ fn memory(sc: &Scenario, n: f64) -> Result<(), ScenarioError> {
 
 /// The DSMC time step must stay below the initial mean free time.
 fn dsmc_step(sc: &Scenario, g: &Gas) -> Result<(), ScenarioError> {
-    if sc.engine != EngineKind::Dsmc || !(g.omega > 0.0) {
+    if sc.engine != EngineKind::Dsmc || g.omega.is_nan() || g.omega <= 0.0 {
         return Ok(());
     }
     let Some(tau) = sc.dsmc.time_step else {

@@ -131,7 +131,9 @@ pub(super) fn span_of(source: &str, key: &str) -> Option<Range<usize>> {
     best
 }
 
-/// The line of `key` in `source` (see [`span_of`]).
+/// The 1-based line of dotted `key` (`species[1].velocity.speed`) in TOML `source`, from
+/// the parser's spans: the key's own line when it is written there, else the line of the
+/// deepest enclosing table or entry that is; `None` when nothing of it is in the text.
 pub fn locate(source: &str, key: &str) -> Option<usize> {
     span_of(source, key).map(|s| line_of(source, s.start))
 }

@@ -128,8 +128,7 @@ fn region(
             format!("needs lo and hi with {d} entries each"),
         ));
     }
-    for k in 0..d {
-        let (lo, hi) = (region.lo[k], region.hi[k]);
+    for (k, (&lo, &hi)) in region.lo.iter().zip(&region.hi).enumerate() {
         if !(lo >= 0.0 && hi <= lengths[k] && hi > lo) {
             return Err(ScenarioError::new(
                 key("region"),
