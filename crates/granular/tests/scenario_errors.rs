@@ -239,3 +239,51 @@ fn errors_carry_the_line_or_the_override() {
     assert_eq!(e.key, "species[0].velocity.temperature", "{e}");
     assert!(e.message.contains("-1"), "{e}");
 }
+
+/// Every column an engine writes is an observable a sweep accepts (the list in the
+/// scenario module follows `Observation::columns`).
+#[test]
+fn sweep_observables_cover_every_column() {
+    use granular::prelude::*;
+    let grains = |engine: &str| {
+        format!(
+            "engine = \"{engine}\"\n[box]\nlengths = [1.0, 1.0]\nboundary = \"wall\"\n[[species]]\nname = \"a\"\ncount = 40\nradius = 0.02\n[[species]]\nname = \"b\"\ncount = 1\nradius = 0.02\n[collisions]\nrestitution = 0.9\ncontact_duration = 1e-6\n[stop]\ntime = 0.05\n[output]\ninterval = 0.01\n"
+        )
+    };
+    let texts = [
+        grains("edmd"),
+        grains("dsmc").replace("[[species]]\nname = \"b\"\ncount = 1\nradius = 0.02\n", ""),
+        std::fs::read_to_string(
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/intruder-1d.toml"),
+        )
+        .expect("1d"),
+        std::fs::read_to_string(
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/intruder-needle.toml"),
+        )
+        .expect("needle"),
+    ];
+    for text in &texts {
+        let scenario = Scenario::from_toml(text, &[]).expect("valid");
+        let known = granular::scenario::sweep_observables(&scenario);
+        let mut simulation = Simulation::new(scenario).expect("builds");
+        let first = simulation.observe();
+        simulation.advance(0.02).expect("advances");
+        let later = simulation.observe();
+        let rates = later.rates_since(&first);
+        for (name, _) in later.columns(Some(&rates)) {
+            assert!(known.contains(&name), "{name} missing from {known:?}");
+        }
+    }
+    // An intruder run with `twin` too.
+    let twin = texts[2].replace(
+        "model = \"1d\"",
+        "model = \"dsmc-twin\"\nbath_particles = 500",
+    );
+    let scenario = Scenario::from_toml(&twin, &[]).expect("twin");
+    let known = granular::scenario::sweep_observables(&scenario);
+    let mut simulation = Simulation::new(scenario).expect("builds");
+    simulation.advance(100.0).expect("advances");
+    for (name, _) in simulation.observe().columns(None) {
+        assert!(known.contains(&name), "{name} missing from {known:?}");
+    }
+}

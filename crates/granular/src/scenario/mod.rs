@@ -23,6 +23,7 @@ pub use overrides::apply_override;
 pub use preflight::{FALLBACK_MEMORY, MAX_COLLISIONS, MAX_OUTPUTS, available_memory};
 pub use spans::locate;
 pub use species::MAX_NAME_LEN;
+pub use sweep::sweep_observables;
 pub use validate::{MAGNITUDE, MAX_BINS, MAX_HISTOGRAM_SPEED};
 
 /// Whether `--set` assignment `o` set `key` or a table above it.

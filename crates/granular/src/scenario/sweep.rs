@@ -3,26 +3,26 @@
 
 use super::{EngineKind, Scenario, ScenarioError, SweepSpec};
 
-/// Scalars every many-grain run writes to `summary.json`'s `final`.
-const GRAIN_COMMON: &[&str] = &[
+/// Columns of the many-grain engines' observations (`Observation::columns`; an engine
+/// leaves out those it does not measure); `kinetic_energy_per_grain.<name>` and
+/// `temperature.<name>` are added per species.
+const GRAINS: &[&str] = &[
     "time",
     "kinetic_energy",
     "temperature",
-    "collisions_per_particle",
-];
-/// ... the event-driven engine's own.
-const EDMD: &[&str] = &[
     "pair_collisions",
     "wall_collisions",
+    "collisions_per_particle",
     "collision_frequency",
     "mean_free_time",
     "pressure",
     "wall_pressure",
     "dissipated_energy",
+    "a2",
+    "steps",
+    "vmax_exceeded",
     "tc_elastic_collisions",
 ];
-/// ... DSMC's own.
-const DSMC: &[&str] = &["collisions", "a2", "steps", "vmax_exceeded"];
 /// ... the 1D intruder's (and its DSMC twin's).
 const ONE_D: &[&str] = &[
     "time",
@@ -56,20 +56,24 @@ const NEEDLE: &[&str] = &[
     "rotational_temperature_error",
     "correlation_r",
     "correlation_r_error",
+    "translational_temperature_ratio",
+    "translational_temperature_ratio_error",
+    "rotational_temperature_ratio",
+    "rotational_temperature_ratio_error",
 ];
 
-/// The observables a sweep of `sc` can plot.
-pub(super) fn observables(sc: &Scenario) -> Vec<String> {
+/// The observables a sweep of `sc` can plot: the columns of its `timeseries.csv` (the
+/// final row is `summary.json`'s `final`) and `crater_size` with a `[crater]` table.
+pub fn sweep_observables(sc: &Scenario) -> Vec<String> {
     let mut out: Vec<String> = Vec::new();
     let mut add = |names: &[&str]| out.extend(names.iter().map(|s| s.to_string()));
     match (sc.engine, &sc.intruder) {
-        (EngineKind::Edmd, _) => {
-            add(GRAIN_COMMON);
-            add(EDMD);
-        }
-        (EngineKind::Dsmc, _) => {
-            add(GRAIN_COMMON);
-            add(DSMC);
+        (EngineKind::Edmd | EngineKind::Dsmc, _) => {
+            add(GRAINS);
+            for sp in &sc.species {
+                out.push(format!("kinetic_energy_per_grain.{}", sp.name));
+                out.push(format!("temperature.{}", sp.name));
+            }
         }
         (EngineKind::Intruder, Some(super::IntruderSpec::Needle(_))) => add(NEEDLE),
         (EngineKind::Intruder, Some(super::IntruderSpec::DsmcTwin(_))) => {
@@ -77,12 +81,6 @@ pub(super) fn observables(sc: &Scenario) -> Vec<String> {
             add(TWIN);
         }
         (EngineKind::Intruder, _) => add(ONE_D),
-    }
-    if sc.engine == EngineKind::Edmd && sc.species.len() > 1 {
-        for sp in &sc.species {
-            out.push(format!("kinetic_energy_per_grain.{}", sp.name));
-            out.push(format!("temperature.{}", sp.name));
-        }
     }
     if sc.crater.is_some() {
         out.push("crater_size".into());
@@ -114,7 +112,7 @@ impl SweepSpec {
                 ),
             ));
         }
-        let known = observables(sc);
+        let known = sweep_observables(sc);
         if !known.contains(&self.observable) {
             return Err(ScenarioError::new(
                 "sweep.observable",
