@@ -63,7 +63,7 @@ fn picture_style(scenario: &Scenario, species: usize) -> PictureStyle {
 fn plot_run(dir: &Path, animate: bool) -> Result<Vec<PathBuf>, String> {
     let text = std::fs::read_to_string(dir.join("scenario.toml"))
         .map_err(|e| format!("{}: {e}", dir.join("scenario.toml").display()))?;
-    let scenario = Scenario::from_toml(&text, &[]).map_err(|e| e.to_string())?;
+    let scenario = Scenario::from_resolved_toml(&text).map_err(|e| e.to_string())?;
     if scenario.intruder.is_some() {
         return crate::intruder_plots::plot_run(dir);
     }

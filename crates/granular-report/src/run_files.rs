@@ -37,7 +37,7 @@ pub(crate) fn load(dir: &Path) -> Result<RunFiles, String> {
     let path = dir.join("scenario.toml");
     let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
     let scenario =
-        Scenario::from_toml(&text, &[]).map_err(|e| format!("{}: {e}", path.display()))?;
+        Scenario::from_resolved_toml(&text).map_err(|e| format!("{}: {e}", path.display()))?;
     let ts = crate::table::read_csv(&dir.join("timeseries.csv"))?;
     let col = |name: &str| {
         crate::table::column(&ts, name).ok_or_else(|| {

@@ -11,5 +11,6 @@ mod intruder;
 mod intruder_scenario;
 mod observables;
 mod problems;
+mod scenario_errors;
 mod simulation;
 mod spine;

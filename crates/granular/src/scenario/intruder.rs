@@ -229,6 +229,12 @@ fn validate_1d(c: &Intruder1dConfig) -> Result<(), ScenarioError> {
             positive("bath.temperature", *temperature, "the bath temperature T_B")?;
         }
         BathConfig::Tabulated { file, points } => {
+            if file.is_some() && points.is_some() {
+                return Err(err(
+                    "bath",
+                    "is tabulated with both file and points; keep one (file = \"path\" or points = [[v, f], ...])".into(),
+                ));
+            }
             if file.is_none() && points.is_none() {
                 return Err(err(
                     "bath",
@@ -281,8 +287,9 @@ fn validate_needle(c: &NeedleConfig) -> Result<(), ScenarioError> {
     Ok(())
 }
 
-/// Validates a scenario with `engine = "intruder"`: the `[intruder]` table, the stop rules
-/// that make sense for a single driven particle, the output interval and the sweep.
+/// Validates a scenario with `engine = "intruder"`: the `[intruder]` table and the stop
+/// rules that make sense for a single driven particle (the shared `[stop]` and `[output]`
+/// checks follow in `Scenario::validate`).
 pub(super) fn validate(sc: &Scenario) -> Result<(), ScenarioError> {
     let Some(spec) = &sc.intruder else {
         return Err(ScenarioError::new(
@@ -292,12 +299,6 @@ pub(super) fn validate(sc: &Scenario) -> Result<(), ScenarioError> {
             ),
         ));
     };
-    if !sc.species.is_empty() {
-        return Err(ScenarioError::new(
-            "species",
-            "is given, but the intruder engine has no grains; remove the [[species]] tables (the bath is described in [intruder])",
-        ));
-    }
     match spec {
         IntruderSpec::OneD(c) => validate_1d(c)?,
         IntruderSpec::DsmcTwin(c) => {
@@ -318,48 +319,6 @@ pub(super) fn validate(sc: &Scenario) -> Result<(), ScenarioError> {
             format!(
                 "is {f}, but the intruder is driven by a thermal bath and its energy does not decay; use stop.time, stop.collisions or stop.events"
             ),
-        ));
-    }
-    if stop.time.is_none()
-        && stop.collisions.is_none()
-        && stop.collisions_per_particle.is_none()
-        && stop.events.is_none()
-        && stop.wall_seconds.is_none()
-    {
-        return Err(ScenarioError::new(
-            "stop",
-            "has no rule; set stop.collisions (e.g. 500000, the paper's statistics) or stop.time",
-        ));
-    }
-    if let Some(t) = stop.time
-        && !(t > 0.0 && t.is_finite())
-    {
-        return Err(ScenarioError::new(
-            "stop.time",
-            format!("is {t}; give a positive simulation time"),
-        ));
-    }
-    if sc.output.interval.is_nan() || sc.output.interval <= 0.0 {
-        return Err(ScenarioError::new(
-            "output.interval",
-            format!(
-                "is {}; it must be positive (for the intruder, e.g. 1000 mean collision times)",
-                sc.output.interval
-            ),
-        ));
-    }
-    if let Some(sw) = &sc.sweep {
-        sw.validate()?;
-    }
-    Ok(())
-}
-
-/// An `[intruder]` table in a scenario of another engine is a mistake worth reporting.
-pub(super) fn check_unused(sc: &Scenario) -> Result<(), ScenarioError> {
-    if sc.intruder.is_some() {
-        return Err(ScenarioError::new(
-            "intruder",
-            "is only read by engine = \"intruder\"; remove the [intruder] table or set engine = \"intruder\"",
         ));
     }
     Ok(())

@@ -7,12 +7,42 @@
 //! typed [`Scenario`] (serde, unknown keys rejected) → [`Scenario::validate`]. Every error
 //! names the key, the value, the line when it comes from the file, and the fix.
 
+mod de;
 mod intruder;
 mod observables;
 mod overrides;
+mod preflight;
+mod spans;
+mod species;
+mod sweep;
+mod tables;
+mod validate;
 
 pub use intruder::IntruderSpec;
 pub use overrides::apply_override;
+pub use preflight::{FALLBACK_MEMORY, MAX_COLLISIONS, MAX_OUTPUTS, available_memory};
+pub use spans::locate;
+pub use species::MAX_NAME_LEN;
+pub use sweep::sweep_observables;
+pub use validate::{MAGNITUDE, MAX_BINS, MAX_HISTOGRAM_SPEED};
+
+/// Whether `--set` assignment `o` set `key` or a table above it.
+fn overridden(o: &str, key: &str) -> bool {
+    let Some((k, _)) = o.split_once('=') else {
+        return false;
+    };
+    let k = k.trim();
+    let norm = |s: &str| {
+        spans::parse_path(s)
+            .map(|p| spans::path_text(&p))
+            .unwrap_or_else(|_| s.to_string())
+    };
+    let (k, key) = (norm(k), norm(key));
+    key == k
+        || key.starts_with(&format!("{k}."))
+        || key.starts_with(&format!("{k}["))
+        || k.starts_with(&format!("{key}."))
+}
 
 use serde::{Deserialize, Serialize};
 use std::fmt;
@@ -83,6 +113,39 @@ pub struct Scenario {
     pub sweep: Option<SweepSpec>,
 }
 
+/// The resolved scenario as written by [`Scenario::to_toml`]: the fields of [`Scenario`]
+/// in its order, without the tables its engine does not read.
+#[derive(Serialize)]
+struct Resolved<'a> {
+    engine: EngineKind,
+    dimension: usize,
+    seed: u64,
+    #[serde(skip_serializing_if = "str::is_empty")]
+    description: &'a str,
+    #[serde(rename = "box", skip_serializing_if = "Option::is_none")]
+    simulation_box: Option<&'a BoxSpec>,
+    #[serde(skip_serializing_if = "<[_]>::is_empty")]
+    species: &'a [SpeciesSpec],
+    #[serde(skip_serializing_if = "Option::is_none")]
+    initial: Option<&'a InitialSpec>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    collisions: Option<&'a CollisionSpec>,
+    #[serde(skip_serializing_if = "<[_]>::is_empty")]
+    gravity: &'a [f64],
+    stop: &'a StopSpec,
+    output: &'a OutputSpec,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    edmd: Option<&'a EdmdSpec>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    dsmc: Option<&'a DsmcSpec>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    intruder: Option<&'a IntruderSpec>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    crater: Option<&'a CraterSpec>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    sweep: Option<&'a SweepSpec>,
+}
+
 /// `[dsmc]`: numerical choices of the DSMC engine (see `docs/dsmc.md`).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -140,25 +203,6 @@ pub struct SweepSpec {
     pub observable: String,
 }
 
-impl SweepSpec {
-    /// Checks that the sweep has values and seeds.
-    pub(crate) fn validate(&self) -> Result<(), ScenarioError> {
-        if self.values.is_empty() {
-            return Err(ScenarioError::new(
-                "sweep.values",
-                "is empty; list the values to scan",
-            ));
-        }
-        if self.seeds == 0 {
-            return Err(ScenarioError::new(
-                "sweep.seeds",
-                "is 0; use at least 1 seed per value",
-            ));
-        }
-        Ok(())
-    }
-}
-
 fn four() -> usize {
     4
 }
@@ -205,8 +249,9 @@ impl BoxSpec {
     }
 }
 
-/// Boundary kinds: one for all axes or one per axis.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+/// Boundary kinds: one for all axes or one per axis (read by a hand-written reader that
+/// names the accepted values).
+#[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(untagged)]
 pub enum BoundarySpec {
     /// The same on every axis.
@@ -257,9 +302,10 @@ pub struct RegionSpec {
     pub hi: Vec<f64>,
 }
 
-/// Initial velocities of a species.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "distribution", rename_all = "snake_case", deny_unknown_fields)]
+/// Initial velocities of a species (read by a hand-written reader: a misspelt key is
+/// reported as unknown, with the expected keys).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(tag = "distribution", rename_all = "snake_case")]
 pub enum VelocitySpec {
     /// All grains at rest.
     Zero,
@@ -552,103 +598,99 @@ impl ScenarioError {
             line: None,
         }
     }
-}
 
-/// Finds the line of `key` (dotted, with `[i]` for arrays of tables) in TOML `source`.
-pub fn locate(source: &str, key: &str) -> Option<usize> {
-    // Split "species[1].velocity.speed" into table path and leaf.
-    let parts: Vec<&str> = key.split('.').collect();
-    let (leaf, tables) = parts.split_last()?;
-    let leaf = leaf.split('[').next().unwrap_or(leaf);
-    let mut section = String::new();
-    let mut occurrence: Vec<(String, usize)> = Vec::new();
-    let wanted: Vec<(String, Option<usize>)> = tables
-        .iter()
-        .map(|t| {
-            let name = t.split('[').next().unwrap_or(t).to_string();
-            let idx = t
-                .split('[')
-                .nth(1)
-                .and_then(|s| s.trim_end_matches(']').parse().ok());
-            (name, idx)
-        })
-        .collect();
-    let wanted_header: String = wanted
-        .iter()
-        .map(|w| w.0.clone())
-        .collect::<Vec<_>>()
-        .join(".");
-    let wanted_index = wanted.iter().find_map(|w| w.1).unwrap_or(0);
-    let mut index_in_section = 0usize;
-    let mut fallback = None;
-    for (n, raw) in source.lines().enumerate() {
-        let line = raw.trim();
-        if line.starts_with('[') {
-            let name = line
-                .trim_matches(|c| c == '[' || c == ']')
-                .trim()
-                .to_string();
-            let count = occurrence.iter_mut().find(|o| o.0 == name);
-            index_in_section = match count {
-                Some(o) => {
-                    o.1 += 1;
-                    o.1
-                }
-                None => {
-                    occurrence.push((name.clone(), 0));
-                    0
-                }
-            };
-            section = name;
-            if section == wanted_header && index_in_section == wanted_index && fallback.is_none() {
-                fallback = Some(n + 1);
-            }
-            continue;
+    /// Adds the line of the key in `source` when it is not known yet.
+    fn at(mut self, source: &str) -> Self {
+        if self.line.is_none() {
+            self.line = locate(source, &self.key);
         }
-        let in_section = section == wanted_header && index_in_section == wanted_index;
-        let (k, _) = match line.split_once('=') {
-            Some(kv) => kv,
-            None => continue,
-        };
-        let k = k.trim();
-        if in_section && k == leaf {
-            return Some(n + 1);
-        }
-        // Dotted or inline forms: `velocity = { distribution = ... }` or `box.lengths = ...`.
-        if in_section && line.contains(leaf) && tables.len() > wanted.len().saturating_sub(1) {
-            fallback = fallback.or(Some(n + 1));
-        }
-        if section.is_empty() && (k == key || (wanted_header.is_empty() && k == leaf)) {
-            return Some(n + 1);
-        }
+        self
     }
-    fallback
 }
 
 impl Scenario {
     /// Parses a scenario from TOML text, applies `--set KEY=VALUE` overrides and validates.
+    ///
+    /// Errors carry the key (from the parser's span of the value or key at fault), the
+    /// line in `source` when the key is written there, and the fix.
     pub fn from_toml(source: &str, overrides: &[String]) -> Result<Scenario, ScenarioError> {
-        // First pass on the text alone, so that type errors and unknown keys get a line.
-        let mut table: toml::Table = toml::from_str(source).map_err(|e| toml_error(source, &e))?;
-        if let Err(e) = toml::from_str::<Scenario>(source) {
-            return Err(toml_error(source, &e));
+        let scenario = Self::parse(source, overrides)?;
+        scenario.validate().map_err(|e| e.at(source))?;
+        if let Some(sw) = &scenario.sweep {
+            sweep::check_members(source, overrides, sw)?;
         }
-        for o in overrides {
-            apply_override(&mut table, o)?;
-        }
-        let scenario: Scenario = Scenario::deserialize(table).map_err(|e| {
-            ScenarioError::new("--set", format!("after the overrides: {}", e.message()))
-        })?;
-        scenario.validate().map_err(|mut e| {
-            e.line = locate(source, &e.key);
-            e
-        })?;
         Ok(scenario)
     }
 
-    /// The resolved scenario as TOML (defaults filled in).
+    /// Reads a resolved scenario written by an earlier version (checkpoints, run
+    /// directories): tables that do not apply to its engine, which older versions wrote
+    /// with their defaults, are dropped before [`Scenario::from_toml`]'s checks.
+    pub fn from_resolved_toml(source: &str) -> Result<Scenario, ScenarioError> {
+        let mut table: toml::Table =
+            toml::from_str(source).map_err(|e| spans::parse_error(source, source, &e))?;
+        if let Some(engine) = table
+            .get("engine")
+            .and_then(|v| EngineKind::deserialize(v.clone()).ok())
+        {
+            tables::strip(&mut table, engine);
+        }
+        Self::from_toml(&toml::to_string(&table).unwrap_or_default(), &[])
+    }
+
+    /// Parses and applies the overrides, without validating the values.
+    fn parse(source: &str, overrides: &[String]) -> Result<Scenario, ScenarioError> {
+        let mut table: toml::Table =
+            toml::from_str(source).map_err(|e| spans::parse_error(source, source, &e))?;
+        for o in overrides {
+            apply_override(&mut table, o)?;
+        }
+        tables::check_table(&table).map_err(|e| e.at(source))?;
+        match Scenario::deserialize(table.clone()) {
+            Ok(s) => Ok(s),
+            Err(_) if overrides.is_empty() => Err(match toml::from_str::<Scenario>(source) {
+                Err(e) => spans::parse_error(source, source, &e),
+                Ok(_) => ScenarioError::new("scenario", "could not be read"),
+            }),
+            Err(plain) => {
+                // Locate the error in the overridden text, then in the file.
+                let text = toml::to_string(&table).unwrap_or_default();
+                let mut e = match toml::from_str::<Scenario>(&text) {
+                    Err(e) => spans::parse_error(source, &text, &e),
+                    Ok(_) => ScenarioError::new("--set", plain.message().to_string()),
+                };
+                if let Some(o) = overrides.iter().rev().find(|o| overridden(o, &e.key)) {
+                    e.message = format!("{} (set by --set {o})", e.message);
+                    e.line = None;
+                }
+                Err(e)
+            }
+        }
+    }
+
+    /// The resolved scenario as TOML (defaults filled in; only the tables its engine
+    /// reads).
     pub fn to_toml(&self) -> String {
-        toml::to_string_pretty(self)
+        let grains = self.engine != EngineKind::Intruder;
+        let view = Resolved {
+            engine: self.engine,
+            dimension: self.dimension,
+            seed: self.seed,
+            description: &self.description,
+            simulation_box: (grains && !self.simulation_box.is_default())
+                .then_some(&self.simulation_box),
+            species: if grains { &self.species } else { &[] },
+            initial: grains.then_some(&self.initial),
+            collisions: grains.then_some(&self.collisions),
+            gravity: if grains { &self.gravity } else { &[] },
+            stop: &self.stop,
+            output: &self.output,
+            edmd: (self.engine == EngineKind::Edmd).then_some(&self.edmd),
+            dsmc: (self.engine == EngineKind::Dsmc).then_some(&self.dsmc),
+            intruder: self.intruder.as_ref(),
+            crater: self.crater.as_ref().filter(|_| grains),
+            sweep: self.sweep.as_ref(),
+        };
+        toml::to_string_pretty(&view)
             .unwrap_or_else(|e| format!("# could not serialise the scenario: {e}\n"))
     }
 
@@ -692,358 +734,29 @@ impl Scenario {
         self.species.iter().map(|s| s.count).sum()
     }
 
-    /// Checks every value; the error names the key, the value and the fix.
+    /// Checks every value, table by table, then the pre-flight rules (the stop rule can
+    /// be reached, the outputs, collisions and memory are within the documented limits);
+    /// the error names the key, the value and the fix.
     pub fn validate(&self) -> Result<(), ScenarioError> {
+        tables::check_fields(self)?;
         if self.engine == EngineKind::Intruder {
-            return intruder::validate(self);
+            intruder::validate(self)?;
+        } else {
+            validate::dimension(self)?;
+            validate::simulation_box(self)?;
+            validate::collisions(self)?;
+            validate::gravity(self)?;
+            species::validate(self)?;
+            validate::initial(self)?;
+            validate::dsmc(self)?;
+            validate::edmd(self)?;
+            validate::crater(self)?;
         }
-        intruder::check_unused(self)?;
-        let d = self.dimension;
-        if d != 2 && d != 3 {
-            return Err(ScenarioError::new(
-                "dimension",
-                format!("is {d}; use 2 (disks) or 3 (spheres)"),
-            ));
-        }
-        let lengths = self.lengths();
-        if lengths.len() != d {
-            return Err(ScenarioError::new(
-                "box.lengths",
-                format!(
-                    "has {} entries for dimension {d}; give one length per axis",
-                    lengths.len()
-                ),
-            ));
-        }
-        for (k, &l) in lengths.iter().enumerate() {
-            if !(l > 0.0 && l.is_finite()) {
-                return Err(ScenarioError::new(
-                    "box.lengths".to_string(),
-                    format!("entry {k} is {l}; lengths must be positive"),
-                ));
-            }
-        }
-        if self.axes().len() != d {
-            return Err(ScenarioError::new(
-                "box.boundary",
-                format!(
-                    "lists {} axes for dimension {d}; give one per axis or a single \"wall\"/\"periodic\"",
-                    self.axes().len()
-                ),
-            ));
-        }
-        if self.species.is_empty() {
-            return Err(ScenarioError::new(
-                "species",
-                "no [[species]] table; add at least one with name, count and radius",
-            ));
-        }
-        let unit_interval = |key: &str, v: f64| {
-            if (0.0..=1.0).contains(&v) {
-                Ok(())
-            } else {
-                Err(ScenarioError::new(
-                    key,
-                    format!(
-                        "is {v}; a restitution coefficient must lie in [0, 1] (1 = elastic, 0 = perfectly inelastic)"
-                    ),
-                ))
-            }
-        };
-        unit_interval("collisions.restitution", self.collisions.restitution)?;
-        if let Some(w) = self.collisions.wall_restitution {
-            unit_interval("collisions.wall_restitution", w)?;
-        }
-        if let Some(w) = self.collisions.wall_tangential_restitution {
-            unit_interval("collisions.wall_tangential_restitution", w)?;
-        }
-        if self.collisions.contact_duration.is_nan() || self.collisions.contact_duration < 0.0 {
-            return Err(ScenarioError::new(
-                "collisions.contact_duration",
-                format!(
-                    "is {}; t_c must be >= 0 (0 disables the TC model)",
-                    self.collisions.contact_duration
-                ),
-            ));
-        }
-        if !self.gravity.is_empty() && self.gravity.len() != d {
-            return Err(ScenarioError::new(
-                "gravity",
-                format!(
-                    "has {} components; give {d} (one per axis) or leave it out",
-                    self.gravity.len()
-                ),
-            ));
-        }
-        let mut names = std::collections::HashSet::new();
-        for (s, sp) in self.species.iter().enumerate() {
-            let key = |f: &str| format!("species[{s}].{f}");
-            if !names.insert(sp.name.clone()) {
-                return Err(ScenarioError::new(
-                    key("name"),
-                    format!(
-                        "\"{}\" is used twice; give each species its own name",
-                        sp.name
-                    ),
-                ));
-            }
-            if sp.count == 0 {
-                return Err(ScenarioError::new(
-                    key("count"),
-                    "is 0; a species needs at least one grain",
-                ));
-            }
-            match (sp.radius, sp.packing_fraction) {
-                (Some(_), Some(_)) => {
-                    return Err(ScenarioError::new(
-                        key("radius"),
-                        "and packing_fraction are both given; keep one",
-                    ));
-                }
-                (None, None) => {
-                    return Err(ScenarioError::new(
-                        key("radius"),
-                        "is missing; give radius or packing_fraction",
-                    ));
-                }
-                (Some(r), None) if !(r > 0.0 && r.is_finite()) => {
-                    return Err(ScenarioError::new(
-                        key("radius"),
-                        format!("is {r}; a radius must be positive"),
-                    ));
-                }
-                (None, Some(p)) if !(p > 0.0 && p < 1.0) => {
-                    return Err(ScenarioError::new(
-                        key("packing_fraction"),
-                        format!("is {p}; it must lie in (0, 1)"),
-                    ));
-                }
-                _ => {}
-            }
-            if !(sp.mass > 0.0 && sp.mass.is_finite()) {
-                return Err(ScenarioError::new(
-                    key("mass"),
-                    format!("is {}; a mass must be positive", sp.mass),
-                ));
-            }
-            let r = self.radius(s);
-            for (k, &l) in lengths.iter().enumerate() {
-                if 2.0 * r > l {
-                    return Err(ScenarioError::new(
-                        key("radius"),
-                        format!(
-                            "is {r}: the grain does not fit in the box (axis {k} is {l} long); make it smaller than {}",
-                            l / 2.0
-                        ),
-                    ));
-                }
-            }
-            if let Some(region) = &sp.region {
-                if region.lo.len() != d || region.hi.len() != d {
-                    return Err(ScenarioError::new(
-                        key("region"),
-                        format!("needs lo and hi with {d} entries each"),
-                    ));
-                }
-                #[allow(clippy::needless_range_loop)]
-                for k in 0..d {
-                    if !(region.lo[k] >= 0.0
-                        && region.hi[k] <= lengths[k]
-                        && region.hi[k] > region.lo[k])
-                    {
-                        return Err(ScenarioError::new(
-                            key("region"),
-                            format!(
-                                "axis {k}: [{}, {}] must satisfy 0 <= lo < hi <= {}",
-                                region.lo[k], region.hi[k], lengths[k]
-                            ),
-                        ));
-                    }
-                }
-            }
-            if !sp.positions.is_empty() {
-                if sp.positions.len() != sp.count {
-                    return Err(ScenarioError::new(
-                        key("positions"),
-                        format!(
-                            "lists {} positions for count = {}; give one per grain",
-                            sp.positions.len(),
-                            sp.count
-                        ),
-                    ));
-                }
-                for (i, p) in sp.positions.iter().enumerate() {
-                    if p.len() != d {
-                        return Err(ScenarioError::new(
-                            key("positions"),
-                            format!("position {i} has {} components; give {d}", p.len()),
-                        ));
-                    }
-                    for k in 0..d {
-                        let walled = self.axes()[k] == crate::boundary::AxisKind::Wall;
-                        if !(p[k] >= 0.0 && p[k] <= lengths[k])
-                            || (walled && (p[k] < r || p[k] > lengths[k] - r))
-                        {
-                            return Err(ScenarioError::new(
-                                key("positions"),
-                                format!(
-                                    "position {i} = {p:?} puts the grain (radius {r}) outside the box or into a wall along axis {k}"
-                                ),
-                            ));
-                        }
-                    }
-                }
-            }
-            match &sp.velocity {
-                VelocitySpec::FixedSpeed { speed } if speed.is_nan() || *speed < 0.0 => {
-                    return Err(ScenarioError::new(
-                        key("velocity.speed"),
-                        format!("is {speed}; a speed must be >= 0"),
-                    ));
-                }
-                VelocitySpec::MaxwellBoltzmann { temperature }
-                    if temperature.is_nan() || *temperature < 0.0 =>
-                {
-                    return Err(ScenarioError::new(
-                        key("velocity.temperature"),
-                        format!("is {temperature}; a temperature must be >= 0"),
-                    ));
-                }
-                VelocitySpec::Given { velocity } if velocity.len() != d => {
-                    return Err(ScenarioError::new(
-                        key("velocity.velocity"),
-                        format!("has {} components; give {d}", velocity.len()),
-                    ));
-                }
-                VelocitySpec::PerGrain { velocities }
-                    if velocities.len() != sp.count || velocities.iter().any(|v| v.len() != d) =>
-                {
-                    return Err(ScenarioError::new(
-                        key("velocity.velocities"),
-                        format!("needs {} vectors of {d} components", sp.count),
-                    ));
-                }
-                _ => {}
-            }
-        }
-        if let Some(p) = self.initial.compress_from
-            && !(p > 0.0 && p < 1.0)
-        {
-            return Err(ScenarioError::new(
-                "initial.compress_from",
-                format!(
-                    "is {p}; give the packing fraction to start the compression from, in (0, 1)"
-                ),
-            ));
-        }
-        let stop = &self.stop;
-        if stop.time.is_none()
-            && stop.collisions.is_none()
-            && stop.collisions_per_particle.is_none()
-            && stop.events.is_none()
-            && stop.energy_fraction.is_none()
-            && stop.wall_seconds.is_none()
-        {
-            return Err(ScenarioError::new(
-                "stop",
-                "has no rule; set at least one of time, collisions, collisions_per_particle, events, energy_fraction, wall_seconds",
-            ));
-        }
-        if let Some(f) = stop.energy_fraction
-            && !(f > 0.0 && f < 1.0)
-        {
-            return Err(ScenarioError::new(
-                "stop.energy_fraction",
-                format!(
-                    "is {f}; give the fraction of the initial energy at which to stop, in (0, 1)"
-                ),
-            ));
-        }
-        if self.output.interval.is_nan() || self.output.interval <= 0.0 {
-            return Err(ScenarioError::new(
-                "output.interval",
-                format!("is {}; it must be positive", self.output.interval),
-            ));
-        }
-        if self.engine == EngineKind::Dsmc {
-            if self.species.len() != 1 {
-                return Err(ScenarioError::new(
-                    "species",
-                    format!(
-                        "has {} species; the DSMC engine takes one species of equal grains",
-                        self.species.len()
-                    ),
-                ));
-            }
-            if let Some(t) = self.dsmc.time_step
-                && (t.is_nan() || t <= 0.0)
-            {
-                return Err(ScenarioError::new(
-                    "dsmc.time_step",
-                    format!("is {t}; give a positive time step (well below the mean free time)"),
-                ));
-            }
-            if let Some(l) = self.dsmc.cell_size
-                && (l.is_nan() || l <= 0.0)
-            {
-                return Err(ScenarioError::new(
-                    "dsmc.cell_size",
-                    format!("is {l}; give a positive cell edge (below the mean free path)"),
-                ));
-            }
-        }
-        if let Some(c) = &self.crater {
-            if !self.species.iter().any(|s| s.name == c.species) {
-                return Err(ScenarioError::new(
-                    "crater.species",
-                    format!(
-                        "\"{}\" is not a species of this scenario; use one of the [[species]] names",
-                        c.species
-                    ),
-                ));
-            }
-            if c.displacement.is_nan() || c.displacement <= 0.0 {
-                return Err(ScenarioError::new(
-                    "crater.displacement",
-                    format!("is {}; give a positive distance", c.displacement),
-                ));
-            }
-        }
+        validate::stop(self)?;
+        validate::output(self)?;
         if let Some(sw) = &self.sweep {
-            sw.validate()?;
+            sw.validate(self)?;
         }
-        self.output.validate_observables(self.dimension)?;
-        if self.output.histogram_bins == 0 {
-            return Err(ScenarioError::new(
-                "output.histogram_bins",
-                "is 0; use at least 1",
-            ));
-        }
-        Ok(())
-    }
-}
-
-/// Converts a TOML/serde error into a scenario error with its line.
-fn toml_error(source: &str, e: &toml::de::Error) -> ScenarioError {
-    let line = e
-        .span()
-        .map(|s| source[..s.start.min(source.len())].matches('\n').count() + 1);
-    let message = e.message().to_string();
-    let key = message
-        .split('`')
-        .nth(1)
-        .map(str::to_string)
-        .unwrap_or_else(|| "scenario".to_string());
-    let fix = if message.contains("unknown field") {
-        " (check the spelling; docs/scenario.md lists every key)"
-    } else if message.contains("missing field") {
-        " (add it; docs/scenario.md describes it)"
-    } else {
-        ""
-    };
-    ScenarioError {
-        key,
-        message: format!("{message}{fix}"),
-        line,
+        preflight::check(self)
     }
 }

@@ -2,6 +2,7 @@
 //! override is checked exactly like the file.
 
 use super::ScenarioError;
+use super::spans::Segment;
 
 /// Applies one `KEY=VALUE` override, e.g. `collisions.restitution=0.9`,
 /// `species[1].mass=4` or `species.1.mass=4`. The value is read as a TOML value (number,
@@ -14,15 +15,18 @@ pub fn apply_override(table: &mut toml::Table, assignment: &str) -> Result<(), S
     })?;
     let key = key.trim();
     let value = parse_value(raw.trim());
-    let mut parts: Vec<String> = Vec::new();
-    for p in key.split('.') {
-        if let Some((name, rest)) = p.split_once('[') {
-            parts.push(name.to_string());
-            parts.push(rest.trim_end_matches(']').to_string());
-        } else {
-            parts.push(p.to_string());
-        }
-    }
+    let parts: Vec<String> = super::spans::parse_path(key)
+        .map_err(|m| ScenarioError {
+            key: key.to_string(),
+            message: format!("{m} (in --set {assignment})"),
+            line: None,
+        })?
+        .into_iter()
+        .map(|s| match s {
+            Segment::Key(k) => k,
+            Segment::Index(i) => i.to_string(),
+        })
+        .collect();
     let bad = |msg: String| ScenarioError {
         key: key.to_string(),
         message: msg,
@@ -98,5 +102,17 @@ mod tests {
         assert_eq!(t["species"][0]["name"].as_str(), Some("light"));
         assert!(apply_override(&mut t, "species[5].mass=4").is_err());
         assert!(apply_override(&mut t, "nonsense").is_err());
+        for bad in [
+            "species[0.mass=2",
+            "species[x].mass=2",
+            "species[0]mass=2",
+            ".mass=2",
+            "=2",
+            "species..mass=2",
+            "species[0].ma ss=2",
+        ] {
+            let e = apply_override(&mut t, bad).expect_err(bad);
+            assert!(!e.message.is_empty(), "{bad}");
+        }
     }
 }
