@@ -725,7 +725,7 @@ fn large_projectile_in_a_bed_of_small_grains() {
 #[test]
 fn large_systems_with_look_ahead_stay_exact_and_reproducible() {
     use granular::edmd::bench::{advance_collisions, equilibrated_fluid};
-    use granular::edmd::queue::{LOOK_AHEAD_MIN_GRAINS, TOURNAMENT_MAX_GRAINS};
+    use granular::edmd::internals::{LOOK_AHEAD_MIN_GRAINS, TOURNAMENT_MAX_GRAINS};
     let n = TOURNAMENT_MAX_GRAINS.max(LOOK_AHEAD_MIN_GRAINS) + 1000;
     let mut a = equilibrated_fluid::<2>(n, 0.6, 3).expect("bench state");
     let mut b = a.clone();
@@ -748,7 +748,7 @@ fn large_systems_with_look_ahead_stay_exact_and_reproducible() {
 #[test]
 fn memory_stays_within_the_target_per_grain() {
     use granular::edmd::bench::{advance_collisions, equilibrated_fluid};
-    use granular::edmd::queue::TOURNAMENT_MAX_GRAINS;
+    use granular::edmd::internals::TOURNAMENT_MAX_GRAINS;
     fn check<const D: usize>(n: usize, phi: f64, limit: f64) {
         let mut e = equilibrated_fluid::<D>(n, phi, 1).expect("bench state");
         let before = e.memory_bytes();
@@ -927,7 +927,7 @@ fn long_runs_stay_exact() {
         p.species.push(0);
     }
     assert!(init::packing_fraction::<2>(&p.radii, 1.0) > 0.3);
-    assert!(granular::edmd::cells::large_grain_cut::<2>(&p.radii, 1.0).is_some());
+    assert!(granular::edmd::internals::large_grain_cut::<2>(&p.radii, 1.0).is_some());
     let n = p.len();
     let mut e = Edmd::new(bx, p, CollisionLaw::default(), EdmdOptions::default());
     let k0 = e.kinetic_energy_now();

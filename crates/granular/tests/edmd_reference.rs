@@ -312,7 +312,7 @@ fn optimised_engine_matches_the_reference_away_from_the_faces() {
 /// never take (`cells::large_grain_cut` returns a cut here, checked first).
 #[test]
 fn optimised_engine_matches_the_reference_with_large_intruders() {
-    use granular::edmd::cells::large_grain_cut;
+    use granular::edmd::internals::large_grain_cut;
     let cases_2d = [(AxisKind::Periodic, 1.0, 4.0), (AxisKind::Wall, 0.9, 6.0)];
     for (kind, restitution, ratio) in cases_2d {
         let (bx, set) = intruder_gas::<2>(200, 3, ratio, kind, 0.3, 21);

@@ -7,7 +7,7 @@
 //! 1. **free flight** of every grain (exact under a constant acceleration), with
 //!    specular, possibly inelastic, walls or periodic faces;
 //! 2. **sorting** of the particle arrays by cell (stable parallel counting sort, see
-//!    [`cells`]);
+//!    `cells`);
 //! 3. **collisions** in every cell independently: `M_c` candidate pairs (DSMC-1, with the
 //!    true cross-section, see `docs/dsmc.md`), each accepted with probability
 //!    `|v_i - v_j| / v_max` (DSMC-2), with a random impact parameter and normal
@@ -19,8 +19,9 @@
 //!
 //! Generic over the dimension `D` (2: disks, 3: spheres).
 
+#[doc(hidden)]
 pub mod bench;
-pub mod cells;
+pub(crate) mod cells;
 mod collide;
 pub mod config;
 pub mod engine;

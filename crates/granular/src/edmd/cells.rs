@@ -33,10 +33,10 @@ pub const MAX_LARGE_GRAINS: usize = 16;
 /// with the split).
 ///
 /// With a cut at `r_c`, the cells are `2 r_c` wide, the grains above `r_c` (at most
-/// [`MAX_LARGE_GRAINS`]) stay out of the cell lists, every other prediction tests them
+/// `MAX_LARGE_GRAINS`) stay out of the cell lists, every other prediction tests them
 /// all, and each of them searches the cells within its own reach. The cut minimises the
 /// estimated candidates per prediction of a small grain, `n (3 w)^D + K` (`n` grains per
-/// volume, `w` the cell width, never below the width of [`MAX_CELLS_PER_GRAIN`] cells
+/// volume, `w` the cell width, never below the width of `MAX_CELLS_PER_GRAIN` cells
 /// per grain, `K` large grains), and is taken only when it at least halves them.
 pub fn large_grain_cut<const D: usize>(radii: &[f64], volume: f64) -> Option<f64> {
     let n = radii.len();

@@ -2,24 +2,34 @@
 //! after the hard-disk seed (`event-driven-hard-disk-gas.txt`).
 //!
 //! * [`engine`]: the event loop ([`Edmd`]);
-//! * [`prediction`]: collision and crossing times (HD-1, HD-2, HD-7 to HD-10);
-//! * [`queue`]: the event priority queue;
-//! * `candidates`: the grain record and the earliest contact among a prediction's
-//!   candidates (eight at a time with AVX-512, or four with AVX2, when there are many;
-//!   for both grains of a 2D pair collision at once);
-//! * [`prefetch`]: software prefetch of the records a prediction is about to read;
-//! * [`cells`]: the cell grid for neighbour search;
 //! * [`init`]: compression to dense states (placements and velocities are shared by all
 //!   engines: [`crate::setup`]).
+//!
+//! The internals are private to the crate: `prediction` (collision and crossing times,
+//! HD-1, HD-2, HD-7 to HD-10), `queue` (the event priority queue: a tournament tree or a
+//! calendar), `candidates` (the grain record and the earliest contact among a
+//! prediction's candidates, eight at a time with AVX-512 or four with AVX2 when there are
+//! many, both grains of a 2D pair collision at once), `prefetch` (software prefetch of
+//! the records a prediction is about to read) and `cells` (the cell grid of the
+//! neighbour search). `docs/edmd.md` describes them.
 
+#[doc(hidden)]
 pub mod bench;
 mod candidates;
-pub mod cells;
+pub(crate) mod cells;
 pub mod engine;
 pub mod init;
-pub mod prediction;
-pub mod prefetch;
-pub mod queue;
+pub(crate) mod prediction;
+pub(crate) mod prefetch;
+pub(crate) mod queue;
+
+/// Internal thresholds and tests' hooks, not a stable API (the integration tests check
+/// the queue's switch-over sizes and the large-grain cut through them).
+#[doc(hidden)]
+pub mod internals {
+    pub use super::cells::large_grain_cut;
+    pub use super::queue::{LOOK_AHEAD_MIN_GRAINS, TOURNAMENT_MAX_GRAINS};
+}
 
 pub use crate::particles::ParticleSet;
 pub use engine::{Edmd, EdmdOptions, EventKind, Totals};

@@ -15,6 +15,7 @@
 //! (default 1) and the bath density `rho` set the collision rate.
 
 pub mod bath;
+#[doc(hidden)]
 pub mod bench;
 pub mod dsmc_twin;
 pub mod figures;
