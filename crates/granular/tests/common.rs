@@ -33,3 +33,21 @@ pub fn run(name: &str, scenario: Scenario) -> (Summary, PathBuf) {
         .expect("run");
     (summary, dir)
 }
+
+/// The observations of `scenario` run in memory to its stop rule: at `t = 0` and at every
+/// output time, as the rows of its `timeseries.csv` would be (no file is written).
+pub fn observations(scenario: Scenario) -> Vec<granular::Observation> {
+    use granular::simulation::RunHooks;
+    struct Collect(Vec<granular::Observation>);
+    impl RunHooks for Collect {
+        type Error = granular::engine::EngineError;
+        fn at_output(&mut self, s: &granular::Simulation) -> Result<(), Self::Error> {
+            self.0.push(s.observe());
+            Ok(())
+        }
+    }
+    let mut simulation = granular::Simulation::new(scenario).expect("build");
+    let mut hooks = Collect(vec![simulation.observe()]);
+    simulation.run_with(&mut hooks).expect("run");
+    hooks.0
+}

@@ -2,7 +2,6 @@
 //! (Enskog-)Boltzmann equation, so their cooling curves must agree, and both must follow
 //! Haff's law with the kinetic-theory cooling time.
 
-use granular::run::Run;
 use granular::scenario::Scenario;
 use granular::stats::RunningStats;
 use granular::theory::haff;
@@ -26,27 +25,9 @@ fn cooling_curve(engine: &str, seed: u64) -> Vec<(f64, f64)> {
         o.push("dsmc.enskog=true".into());
     }
     let s = Scenario::from_toml(&text, &o).unwrap();
-    let dir = std::env::temp_dir().join(format!(
-        "granular-engines-{}-{engine}-{seed}",
-        std::process::id()
-    ));
-    Run::create(&dir, s)
-        .unwrap()
-        .run_to_end(&mut |_| {}, None)
-        .unwrap();
-    let csv = std::fs::read_to_string(dir.join("timeseries.csv")).unwrap();
-    let _ = std::fs::remove_dir_all(&dir);
-    let mut lines = csv.lines();
-    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let (it, ik) = (
-        header.iter().position(|h| *h == "time").unwrap(),
-        header.iter().position(|h| *h == "kinetic_energy").unwrap(),
-    );
-    let rows: Vec<(f64, f64)> = lines
-        .map(|l| {
-            let v: Vec<f64> = l.split(',').map(|x| x.parse().unwrap()).collect();
-            (v[it], v[ik])
-        })
+    let rows: Vec<(f64, f64)> = crate::common::observations(s)
+        .iter()
+        .map(|o| (o.time, o.kinetic_energy))
         .collect();
     let k0 = rows[0].1;
     rows.into_iter().map(|(t, k)| (t, k / k0)).collect()

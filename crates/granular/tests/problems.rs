@@ -69,45 +69,34 @@ fn problem2_mixture_reaches_equipartition() {
 fn cooling_ratio(restitution: f64) -> (f64, f64) {
     let mut ratios = granular::stats::RunningStats::new();
     for seed in 0..4 {
-        let (_, d) = run(
-            "problem3-cooling.toml",
-            &[
-                "species[0].count=1000",
-                "species[1].count=1000",
-                "species[0].radius=0.008",
-                "species[1].radius=0.008",
-                &format!("collisions.restitution={restitution}"),
-                &format!("seed={}", 100 + seed),
-                "output.interval=0.002",
-            ],
-            &format!("p3-{restitution}-{seed}"),
-        );
-        let text = std::fs::read_to_string(d.join("timeseries.csv")).unwrap();
-        let mut lines = text.lines();
-        let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-        let il = header
+        let overrides = [
+            "species[0].count=1000".to_string(),
+            "species[1].count=1000".into(),
+            "species[0].radius=0.008".into(),
+            "species[1].radius=0.008".into(),
+            format!("collisions.restitution={restitution}"),
+            format!("seed={}", 100 + seed),
+            "output.interval=0.002".into(),
+        ];
+        let scenario = Scenario::from_toml(&scenario_text("problem3-cooling.toml"), &overrides)
+            .expect("valid");
+        let observations = crate::common::observations(scenario);
+        let rows: Vec<Vec<f64>> = observations
             .iter()
-            .position(|h| *h == "kinetic_energy_per_grain.m0")
-            .unwrap();
-        let ih = header
-            .iter()
-            .position(|h| *h == "kinetic_energy_per_grain.4m0")
-            .unwrap();
-        let ic = header
-            .iter()
-            .position(|h| *h == "collisions_per_particle")
-            .unwrap();
-        let rows: Vec<Vec<f64>> = lines
-            .map(|l| {
-                l.split(',')
-                    .map(|x| x.parse().unwrap_or(f64::NAN))
-                    .collect()
+            .map(|o| {
+                let per_grain = |name: &str| {
+                    o.species
+                        .iter()
+                        .find(|s| s.name == name)
+                        .map_or(f64::NAN, |s| s.kinetic_energy_per_grain)
+                };
+                vec![per_grain("m0"), per_grain("4m0"), o.collisions_per_particle]
             })
             .collect();
+        let (il, ih, ic) = (0, 1, 2);
         let late: Vec<&Vec<f64>> = rows.iter().filter(|r| r[ic] >= 10.0).collect();
         let r = late.iter().map(|r| r[il] / r[ih]).sum::<f64>() / late.len() as f64;
         ratios.push(r);
-        let _ = std::fs::remove_dir_all(d);
     }
     (ratios.mean(), ratios.standard_error())
 }
