@@ -5,6 +5,7 @@
 //! The binding holds no physics: scenarios, engines, theory and run directories all come
 //! from the `granular` library; this crate only converts between Python and Rust.
 
+mod cli;
 mod convert;
 mod errors;
 mod scenario;
@@ -22,6 +23,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("SimulationError", py.get_type::<errors::SimulationError>())?;
     m.add_class::<scenario::PyScenario>()?;
     m.add_function(wrap_pyfunction!(sweep::run_sweep, m)?)?;
+    m.add_function(wrap_pyfunction!(cli::cli_main, m)?)?;
     theory::register(m)?;
     Ok(())
 }
