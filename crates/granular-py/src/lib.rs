@@ -9,6 +9,7 @@ mod cli;
 mod convert;
 mod errors;
 mod scenario;
+mod simulation;
 mod sweep;
 mod theory;
 
@@ -22,6 +23,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("ScenarioError", py.get_type::<errors::ScenarioError>())?;
     m.add("SimulationError", py.get_type::<errors::SimulationError>())?;
     m.add_class::<scenario::PyScenario>()?;
+    m.add_class::<simulation::PySimulation>()?;
     m.add_function(wrap_pyfunction!(sweep::run_sweep, m)?)?;
     m.add_function(wrap_pyfunction!(cli::cli_main, m)?)?;
     theory::register(m)?;

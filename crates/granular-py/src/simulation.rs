@@ -80,6 +80,14 @@ there; read it with granular.load_run(...), or build a new Simulation",
     ))
 }
 
+/// A row-major `n x d` vector as a NumPy array of shape `(n, d)`, without copying it again.
+fn matrix<'py>(py: Python<'py>, values: Vec<f64>, n: usize, d: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let a = numpy::ndarray::Array2::from_shape_vec((n, d), values).map_err(|e| {
+        simulation_error(format!("internal error: a snapshot array is not {n} x {d}: {e}"))
+    })?;
+    Ok(PyArray2::from_owned_array(py, a))
+}
+
 fn engine_error(e: EngineError) -> PyErr {
     simulation_error(format!("{e}\n(fix the scenario and rerun)"))
 }
@@ -287,8 +295,8 @@ impl PySimulation {
         let dim = s.dimension.max(1);
         let n = s.radii.len();
         d.set_item("time", s.time)?;
-        d.set_item("positions", PyArray1::from_vec(py, s.positions).reshape([n, dim])?)?;
-        d.set_item("velocities", PyArray1::from_vec(py, s.velocities).reshape([n, dim])?)?;
+        d.set_item("positions", matrix(py, s.positions, n, dim)?)?;
+        d.set_item("velocities", matrix(py, s.velocities, n, dim)?)?;
         d.set_item("radii", PyArray1::from_vec(py, s.radii))?;
         d.set_item("masses", PyArray1::from_vec(py, s.masses))?;
         d.set_item("species", PyArray1::from_vec(py, s.species))?;
@@ -302,7 +310,7 @@ impl PySimulation {
     fn positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let s = self.snapshot_or_error()?;
         let n = s.radii.len();
-        PyArray1::from_vec(py, s.positions).reshape([n, s.dimension.max(1)])
+        matrix(py, s.positions, n, s.dimension.max(1))
     }
 
     /// Velocities, float64 (N, D), input order; a new copy at every access.
@@ -310,7 +318,7 @@ impl PySimulation {
     fn velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let s = self.snapshot_or_error()?;
         let n = s.radii.len();
-        PyArray1::from_vec(py, s.velocities).reshape([n, s.dimension.max(1)])
+        matrix(py, s.velocities, n, s.dimension.max(1))
     }
 
     /// Radii, float64 (N,), input order; a new copy at every access.

@@ -5,6 +5,7 @@ structured arrays otherwise), snapshots and histograms as NumPy arrays."""
 from __future__ import annotations
 
 import csv
+import importlib
 import io
 import json
 import re
@@ -29,16 +30,16 @@ _CSV_HISTOGRAMS = {
 }
 
 
-def _want_frame(frame: Optional[bool]) -> bool:
+def _pandas(frame: Optional[bool]) -> Any:
+    """The pandas module when tables should be DataFrames, else None."""
     if frame is False:
-        return False
+        return None
     try:
-        import pandas  # noqa: F401
+        return importlib.import_module("pandas")
     except ImportError:
         if frame:
             raise ImportError("frame=True needs pandas: pip install pandas") from None
-        return False
-    return True
+        return None
 
 
 def _column(values: list[str]) -> np.ndarray:
@@ -62,9 +63,8 @@ def read_table(path: Union[str, Path], frame: Optional[bool] = None) -> Table:
         raise ValueError(f"{path}: the table is empty (no header row)")
     header, body = rows[0], rows[1:]
     columns = {name: _column([r[i] for r in body]) for i, name in enumerate(header)}
-    if _want_frame(frame):
-        import pandas as pd
-
+    pd = _pandas(frame)
+    if pd is not None:
         return pd.DataFrame(columns)
     dtype = [(name, col.dtype) for name, col in columns.items()]
     out = np.empty(len(body), dtype=dtype)
