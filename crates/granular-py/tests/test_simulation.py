@@ -64,8 +64,8 @@ def test_input_order_is_kept(edmd2d: granular.Scenario) -> None:
     sim = granular.Simulation(edmd2d)
     expect_species = np.repeat(np.array([0, 1], dtype=np.uint32), [300, 100])
     x0, v0 = sim.positions, sim.velocities
-    sim.advance(0.3)  # many collisions, and the engine re-sorts its records in space
-    assert sim.collisions > 1000
+    sim.advance(1.0)  # thousands of collisions, and the engine re-sorts its records in space
+    assert sim.collisions > 2000
     np.testing.assert_array_equal(sim.species, expect_species)
     np.testing.assert_array_equal(sim.radii, np.where(expect_species == 0, 0.005, 0.01))
     np.testing.assert_array_equal(sim.masses, np.where(expect_species == 0, 1.0, 4.0))
@@ -74,7 +74,7 @@ def test_input_order_is_kept(edmd2d: granular.Scenario) -> None:
     vmax = np.sqrt(2 * energy / sim.masses)
     dx = sim.positions - x0
     dx -= np.round(dx)  # periodic unit box: minimum image
-    assert (np.linalg.norm(dx, axis=1) <= vmax * 0.3 + 1e-12).all()
+    assert (np.linalg.norm(dx, axis=1) <= vmax * 1.0 + 1e-12).all()
 
 
 def test_given_positions_come_back_in_order() -> None:

@@ -31,7 +31,8 @@ def test_maxwell_boltzmann_by_hand() -> None:
         rtol=1e-13,
     )
     assert theory.speed_cdf(np.inf) == 1.0
-    assert theory.speed_cdf(1.0) == pytest.approx(1 - math.exp(-0.5), rel=1e-14)
+    # puruspe's incomplete gamma function: about 1e-11 relative.
+    assert theory.speed_cdf(1.0) == pytest.approx(1 - math.exp(-0.5), rel=1e-10)
     assert theory.mean_speed(2.0, 1.5) == pytest.approx(math.sqrt(math.pi * 1.5 / 4.0), rel=1e-14)
     # Normalised (trapezoid on a fine grid).
     grid = np.linspace(0, 12, 200001)

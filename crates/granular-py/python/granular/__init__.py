@@ -30,7 +30,7 @@ from pathlib import Path
 from typing import Optional, Union
 
 from . import _core, theory
-from ._core import Scenario, ScenarioError, SimulationError  # TEMP
+from ._core import Scenario, ScenarioError, Simulation, SimulationError
 from .rundir import RunData, Snapshot, SweepData, load_run, load_sweep, read_table
 
 __version__: str = _core.__version__

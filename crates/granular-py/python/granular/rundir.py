@@ -99,7 +99,6 @@ class Snapshot:
     def load(cls, path: Union[str, Path]) -> "Snapshot":
         """Reads ``snapshot_NNNNNN.npz``."""
         a = _load_npz(Path(path))
-        names = json.loads(str(a["species_names"].item())) if "species_names" in a else []
         return cls(
             time=float(a["time"]),
             positions=a["positions"],
@@ -107,9 +106,21 @@ class Snapshot:
             radii=a["radii"],
             masses=a["masses"],
             species=a["species"],
-            species_names=names,
+            species_names=_species_names(a.get("species_names")),
             arrays=a,
         )
+
+
+def _species_names(raw: Optional[np.ndarray]) -> list[str]:
+    """A snapshot's species names: an array of strings, or (older files) one JSON list."""
+    if raw is None:
+        return []
+    if raw.size == 1:
+        text = str(raw.reshape(-1)[0])
+        if text.startswith("["):
+            return [str(n) for n in json.loads(text)]
+        return [text]
+    return [str(n) for n in raw]
 
 
 @dataclass
