@@ -10,6 +10,7 @@ mod convert;
 mod errors;
 mod scenario;
 mod simulation;
+mod state;
 mod sweep;
 mod theory;
 

@@ -81,9 +81,16 @@ there; read it with granular.load_run(...), or build a new Simulation",
 }
 
 /// A row-major `n x d` vector as a NumPy array of shape `(n, d)`, without copying it again.
-fn matrix<'py>(py: Python<'py>, values: Vec<f64>, n: usize, d: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+fn matrix<'py>(
+    py: Python<'py>,
+    values: Vec<f64>,
+    n: usize,
+    d: usize,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let a = numpy::ndarray::Array2::from_shape_vec((n, d), values).map_err(|e| {
-        simulation_error(format!("internal error: a snapshot array is not {n} x {d}: {e}"))
+        simulation_error(format!(
+            "internal error: a snapshot array is not {n} x {d}: {e}"
+        ))
     })?;
     Ok(PyArray2::from_owned_array(py, a))
 }
@@ -114,11 +121,32 @@ observe() for the intruder's velocity and statistics",
         })
     }
 
+    /// Positions or velocities alone, without the rest of a snapshot.
+    fn one_array<'py>(
+        &self,
+        py: Python<'py>,
+        what: crate::state::Quantity,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let sim = self.sim()?;
+        if let Some((values, n, d)) = py.detach(|| crate::state::by_id(sim, what)) {
+            return matrix(py, values, n, d);
+        }
+        let s = self.snapshot_or_error()?;
+        let n = s.radii.len();
+        let values = match what {
+            crate::state::Quantity::Positions => s.positions,
+            crate::state::Quantity::Velocities => s.velocities,
+        };
+        matrix(py, values, n, s.dimension.max(1))
+    }
+
     fn run_in_memory(&mut self, py: Python<'_>) -> PyResult<String> {
         let sim = self.sim_mut()?;
         let result = py.detach(|| {
             guard("run", || {
-                Ok(sim.run_with(&mut SignalHooks).map(|r| r.as_str().to_string()))
+                Ok(sim
+                    .run_with(&mut SignalHooks)
+                    .map(|r| r.as_str().to_string()))
             })
         })?;
         match result {
@@ -128,7 +156,11 @@ observe() for the intruder's velocity and statistics",
         }
     }
 
-    fn run_to_directory<'py>(&mut self, py: Python<'py>, out: PathBuf) -> PyResult<Bound<'py, PyAny>> {
+    fn run_to_directory<'py>(
+        &mut self,
+        py: Python<'py>,
+        out: PathBuf,
+    ) -> PyResult<Bound<'py, PyAny>> {
         let sim = self.simulation.take().ok_or_else(|| gone(&self.recorded))?;
         self.recorded = Some(out.clone());
         let dir = out.clone();
@@ -308,17 +340,13 @@ impl PySimulation {
     /// snapshot() to get several arrays of one instant).
     #[getter]
     fn positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let s = self.snapshot_or_error()?;
-        let n = s.radii.len();
-        matrix(py, s.positions, n, s.dimension.max(1))
+        self.one_array(py, crate::state::Quantity::Positions)
     }
 
     /// Velocities, float64 (N, D), input order; a new copy at every access.
     #[getter]
     fn velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let s = self.snapshot_or_error()?;
-        let n = s.radii.len();
-        matrix(py, s.velocities, n, s.dimension.max(1))
+        self.one_array(py, crate::state::Quantity::Velocities)
     }
 
     /// Radii, float64 (N,), input order; a new copy at every access.
@@ -445,7 +473,9 @@ impl PySimulation {
             ),
             None => format!(
                 "<granular.Simulation run to its end into {:?}>",
-                self.recorded.as_deref().unwrap_or(std::path::Path::new("?"))
+                self.recorded
+                    .as_deref()
+                    .unwrap_or(std::path::Path::new("?"))
             ),
         }
     }
