@@ -6,6 +6,10 @@ use crate::scenario::PyScenario;
 use pyo3::prelude::*;
 use std::path::PathBuf;
 
+/// One row of `sweep.csv`: the value (TOML text), its number, and
+/// `(observable, mean, standard error, members)` per observable.
+type Row = (String, f64, Vec<(String, f64, f64, u64)>);
+
 /// run_sweep(scenario, out, threads=0) -> list[tuple[str, float, list[tuple[str, float, float, int]]]]
 ///
 /// Runs the scenario's [sweep] into the directory `out` (the files of `granular sweep`),
@@ -19,7 +23,7 @@ pub fn run_sweep(
     scenario: &PyScenario,
     out: PathBuf,
     threads: usize,
-) -> PyResult<Vec<(String, f64, Vec<(String, f64, f64, u64)>)>> {
+) -> PyResult<Vec<Row>> {
     let (text, overrides) = (scenario.source.clone(), scenario.overrides.clone());
     let origin = scenario.origin.clone();
     let rows = py.detach(move || {
