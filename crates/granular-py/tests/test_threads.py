@@ -19,8 +19,17 @@ LONG = EDMD_2D.replace("count = 300", "count = 3000").replace("radius = 0.005", 
 )
 
 
+def _calibrated_step(sim: granular.Simulation, seconds: float) -> float:
+    """A time to advance to that takes about ``seconds`` of wall time (the machine may be busy)."""
+    start = time.perf_counter()
+    sim.advance(sim.time + 0.02)
+    rate = 0.02 / max(time.perf_counter() - start, 1e-6)
+    return sim.time + seconds * rate
+
+
 def test_other_threads_run_during_advance() -> None:
     sim = granular.Simulation(granular.Scenario.from_toml(LONG))
+    until = _calibrated_step(sim, 0.5)
     counter = [0]
     done = threading.Event()
 
@@ -32,13 +41,13 @@ def test_other_threads_run_during_advance() -> None:
     worker.start()
     try:
         start = time.perf_counter()
-        sim.advance(0.5)
+        sim.advance(until)
         elapsed = time.perf_counter() - start
         during = counter[0]
     finally:
         done.set()
         worker.join()
-    assert elapsed > 0.2, "the step is too short to show anything; make LONG longer"
+    assert elapsed > 0.1, "the step is too short to show anything"
     # A Python thread that held no lock would count millions per second; with the lock held by
     # a Rust loop it would get a few switch intervals at most.
     assert during > 100_000 * elapsed, (during, elapsed)
@@ -46,13 +55,14 @@ def test_other_threads_run_during_advance() -> None:
 
 def test_advance_in_a_thread_while_python_works() -> None:
     sim = granular.Simulation(granular.Scenario.from_toml(LONG))
-    t = threading.Thread(target=sim.advance, args=(0.3,))
+    until = _calibrated_step(sim, 0.3)
+    t = threading.Thread(target=sim.advance, args=(until,))
     t.start()
     spins = 0
     while t.is_alive():
         spins += 1
     t.join()
-    assert sim.time == 0.3
+    assert sim.time == until
     assert spins > 10_000
 
 
