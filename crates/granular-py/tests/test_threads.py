@@ -102,7 +102,8 @@ def test_ctrl_c_interrupts_advance(how: str) -> None:
 
 def test_ctrl_c_interrupts_run(tmp_path) -> None:  # type: ignore[no-untyped-def]
     sc = granular.Scenario.from_toml(LONG)
-    sc.set("stop.collisions_per_particle", 1e8)  # far beyond the test, within the pre-flight limit
+    # Far beyond the interruption, within the pre-flight limits on collisions and outputs.
+    sc.update({"stop.collisions_per_particle": 1e5, "stop.wall_seconds": 100.0})
     sim = granular.Simulation(sc)
     raised, fired = _interrupt_during(sim.run, 0.3, "signal")
     assert raised - fired < 0.25
