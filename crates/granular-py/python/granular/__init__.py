@@ -1,0 +1,78 @@
+"""granular: granular gases — many hard grains that collide and lose energy — simulated by a compiled
+Rust core (event-driven molecular dynamics ``edmd``, DSMC ``dsmc``, Gillespie intruders ``intruder``)
+and checked against exact theory.
+
+The tour is ``docs/python.md``. In short::
+
+    import granular
+    sc = granular.Scenario.load("scenarios/maxwell-boltzmann.toml")
+    sc.set("collisions.restitution", 0.9)        # like `granular run --set`
+    sim = granular.Simulation(sc, seed=3)
+    sim.advance(1.0)                             # interpreter lock released, Ctrl-C works
+    v = sim.velocities                           # float64 (N, D), input order, a copy
+    sim.observe()["temperature"]
+    granular.theory.speed_density(v, temperature=1.0)
+
+Names:
+
+* :class:`Scenario` — a validated scenario (TOML file, text or dict, with ``--set`` overrides);
+* :class:`Simulation` — a simulation in memory: ``advance``, ``run``, ``observe``, NumPy state;
+* :func:`load_run`, :func:`load_sweep` — read run and sweep directories;
+* :func:`run_sweep` — a scenario's ``[sweep]`` on all cores;
+* :mod:`granular.theory` — the exact theory on NumPy arrays;
+* :class:`ScenarioError`, :class:`SimulationError` — the exceptions, with the command line's messages;
+* :func:`main` — the command line (``python -m granular ...`` is ``granular ...``).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Optional, Union
+
+from . import _core, theory
+from ._core import Scenario, ScenarioError, Simulation, SimulationError
+from .rundir import RunData, Snapshot, SweepData, load_run, load_sweep, read_table
+
+__version__: str = _core.__version__
+
+__all__ = [
+    "Scenario",
+    "Simulation",
+    "ScenarioError",
+    "SimulationError",
+    "RunData",
+    "Snapshot",
+    "SweepData",
+    "load_run",
+    "load_sweep",
+    "read_table",
+    "run_sweep",
+    "theory",
+    "main",
+    "__version__",
+]
+
+
+def run_sweep(
+    scenario: Union[Scenario, str, Path],
+    out: Union[str, Path],
+    threads: int = 0,
+    frame: Optional[bool] = None,
+) -> SweepData:
+    """Runs a scenario's ``[sweep]`` (every value of its key, several seeds each) on ``threads`` worker
+    threads (0: all cores) into the directory ``out``, exactly as ``granular sweep``, and returns it read
+    by :func:`load_sweep`. Members already finished in ``out`` are kept. The interpreter lock is released
+    while the members run. Raises ScenarioError or SimulationError."""
+    if not isinstance(scenario, Scenario):
+        scenario = Scenario.load(scenario)
+    _core.run_sweep(scenario, Path(out), threads)
+    return load_sweep(out, frame)
+
+
+def main(argv: Optional[list[str]] = None) -> int:
+    """Runs the command line with ``argv`` (default: ``sys.argv[1:]``), as the ``granular`` binary does,
+    and returns its exit status (0 on success, 2 on an error, whose message goes to stderr)."""
+    import sys
+
+    args = list(sys.argv[1:] if argv is None else argv)
+    return int(_core.cli_main(["granular", *args]))

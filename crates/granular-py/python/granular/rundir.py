@@ -1,0 +1,231 @@
+"""Reading run and sweep directories (the files of ``granular run`` and ``granular sweep``, docs/output.md)
+in pure Python: summaries as dicts, tables as pandas DataFrames when pandas is installed (NumPy
+structured arrays otherwise), snapshots and histograms as NumPy arrays."""
+
+from __future__ import annotations
+
+import csv
+import importlib
+import io
+import json
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Iterator, Optional, Union
+
+import numpy as np
+
+__all__ = ["RunData", "SweepData", "load_run", "load_sweep", "read_table"]
+
+#: A table: a pandas DataFrame when pandas is installed (and ``frame`` is not False), otherwise a NumPy
+#: structured array with one named field per column.
+Table = Any
+
+_NPZ_FILES = ("impact_histograms", "structure_factor", "density_maps", "intruder_histograms")
+_CSV_HISTOGRAMS = {
+    "speed": "speed_histograms.csv",
+    "velocity": "velocity_histograms.csv",
+    "impact_parameter": "impact_parameter.csv",
+    "intruder": "intruder_histograms.csv",
+}
+
+
+def _pandas(frame: Optional[bool]) -> Any:
+    """The pandas module when tables should be DataFrames, else None."""
+    if frame is False:
+        return None
+    try:
+        return importlib.import_module("pandas")
+    except ImportError:
+        if frame:
+            raise ImportError("frame=True needs pandas: pip install pandas") from None
+        return None
+
+
+def _column(values: list[str]) -> np.ndarray:
+    """A CSV column as float64 when every entry is a number (``nan``/``inf`` included), else as str."""
+    try:
+        return np.array([float(v) for v in values], dtype=np.float64)
+    except ValueError:
+        return np.array(values, dtype=str)
+
+
+def read_table(path: Union[str, Path], frame: Optional[bool] = None) -> Table:
+    """Reads one of the run directory's CSV files (``#`` comment lines skipped, header row first).
+
+    Numeric columns become float64, others str. Returns a pandas DataFrame when pandas is installed
+    (``frame=None``) or asked for (``frame=True``), a NumPy structured array with ``frame=False``.
+    """
+    text = Path(path).read_text()
+    lines = [line for line in text.splitlines() if line and not line.startswith("#")]
+    rows = list(csv.reader(io.StringIO("\n".join(lines))))
+    if not rows:
+        raise ValueError(f"{path}: the table is empty (no header row)")
+    header, body = rows[0], rows[1:]
+    columns = {name: _column([r[i] for r in body]) for i, name in enumerate(header)}
+    pd = _pandas(frame)
+    if pd is not None:
+        return pd.DataFrame(columns)
+    dtype = [(name, col.dtype) for name, col in columns.items()]
+    out = np.empty(len(body), dtype=dtype)
+    for name, col in columns.items():
+        out[name] = col
+    return out
+
+
+def _load_npz(path: Path) -> dict[str, np.ndarray]:
+    with np.load(path, allow_pickle=False) as data:
+        return {k: data[k] for k in data.files}
+
+
+@dataclass
+class Snapshot:
+    """One snapshot file: arrays in input order (grain ``i`` is the ``i``-th grain of the scenario).
+
+    ``positions`` and ``velocities`` are float64 ``(N, D)``, ``radii`` and ``masses`` float64 ``(N,)``,
+    ``species`` uint32 ``(N,)`` indices into ``species_names``; ``time`` the simulation time.
+    """
+
+    time: float
+    positions: np.ndarray
+    velocities: np.ndarray
+    radii: np.ndarray
+    masses: np.ndarray
+    species: np.ndarray
+    species_names: list[str]
+    arrays: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
+
+    @classmethod
+    def load(cls, path: Union[str, Path]) -> "Snapshot":
+        """Reads ``snapshot_NNNNNN.npz``."""
+        a = _load_npz(Path(path))
+        return cls(
+            time=float(a["time"]),
+            positions=a["positions"],
+            velocities=a["velocities"],
+            radii=a["radii"],
+            masses=a["masses"],
+            species=a["species"],
+            species_names=_species_names(a.get("species_names")),
+            arrays=a,
+        )
+
+
+def _species_names(raw: Optional[np.ndarray]) -> list[str]:
+    """A snapshot's species names: an array of strings, or (older files) one JSON list."""
+    if raw is None:
+        return []
+    if raw.size == 1:
+        text = str(raw.reshape(-1)[0])
+        if text.startswith("["):
+            return [str(n) for n in json.loads(text)]
+        return [text]
+    return [str(n) for n in raw]
+
+
+@dataclass
+class RunData:
+    """A run directory, read: see :func:`load_run`."""
+
+    #: The directory.
+    path: Path
+    #: ``summary.json`` as a dict (None while the run has not finished).
+    summary: Optional[dict[str, Any]]
+    #: ``timeseries.csv`` (one row per output time; see docs/output.md for the columns).
+    timeseries: Table
+    #: The CSV histograms present: ``speed``, ``velocity``, ``impact_parameter``, ``intruder``.
+    histograms: dict[str, Table]
+    #: The NumPy files present (``impact_histograms``, ``structure_factor``, ``density_maps``,
+    #: ``intruder_histograms``), each a dict of arrays.
+    arrays: dict[str, dict[str, np.ndarray]]
+    #: ``scenario.toml`` (the resolved scenario), as text.
+    scenario_toml: Optional[str]
+    #: The snapshot files, in output order.
+    snapshot_paths: list[Path]
+
+    def snapshot(self, index: int = -1) -> Snapshot:
+        """Snapshot number ``index`` in output order (default: the last), read from its file."""
+        if not self.snapshot_paths:
+            raise IndexError(f"{self.path}: the run has no snapshots (intruder runs write none)")
+        return Snapshot.load(self.snapshot_paths[index])
+
+    def snapshots(self) -> Iterator[Snapshot]:
+        """Every snapshot in output order, read one at a time."""
+        for p in self.snapshot_paths:
+            yield Snapshot.load(p)
+
+    def scenario(self) -> Any:
+        """The run's resolved scenario as a :class:`granular.Scenario`."""
+        from . import Scenario
+
+        if self.scenario_toml is None:
+            raise FileNotFoundError(f"{self.path / 'scenario.toml'}: no scenario file in the run directory")
+        return Scenario.from_toml(self.scenario_toml)
+
+
+def load_run(path: Union[str, Path], frame: Optional[bool] = None) -> RunData:
+    """Reads a run directory written by ``granular run`` or ``Simulation.run(out=...)``.
+
+    ``frame``: tables as pandas DataFrames (None: when pandas is installed) or NumPy structured arrays.
+    Snapshots are not read until asked for (:meth:`RunData.snapshot`).
+    """
+    d = Path(path)
+    if not d.is_dir():
+        raise FileNotFoundError(f"{d}: no such run directory")
+    summary_path = d / "summary.json"
+    summary = json.loads(summary_path.read_text()) if summary_path.exists() else None
+    ts_path = d / "timeseries.csv"
+    if not ts_path.exists():
+        raise FileNotFoundError(f"{ts_path}: not a run directory (no timeseries.csv); a sweep? use load_sweep")
+    histograms = {k: read_table(d / f, frame) for k, f in _CSV_HISTOGRAMS.items() if (d / f).exists()}
+    arrays = {k: _load_npz(d / f"{k}.npz") for k in _NPZ_FILES if (d / f"{k}.npz").exists()}
+    scenario = d / "scenario.toml"
+    return RunData(
+        path=d,
+        summary=summary,
+        timeseries=read_table(ts_path, frame),
+        histograms=histograms,
+        arrays=arrays,
+        scenario_toml=scenario.read_text() if scenario.exists() else None,
+        snapshot_paths=sorted((d / "snapshots").glob("snapshot_*.npz")),
+    )
+
+
+@dataclass
+class SweepData:
+    """A sweep directory, read: see :func:`load_sweep`."""
+
+    #: The directory.
+    path: Path
+    #: The swept key (from ``sweep.csv``'s first line), e.g. ``collisions.restitution``.
+    key: str
+    #: ``sweep.csv``: ``value`` (TOML text), ``parameter`` (its number), ``members``, and
+    #: ``<observable>_mean`` / ``<observable>_stderr`` for every scalar observable.
+    table: Table
+    #: Member directories ``[point][seed]``.
+    members: list[list[Path]]
+
+    def member(self, point: int, seed: int = 0, frame: Optional[bool] = None) -> RunData:
+        """The run directory of member ``(point, seed)``, read with :func:`load_run`."""
+        return load_run(self.members[point][seed], frame)
+
+    def summaries(self) -> list[list[dict[str, Any]]]:
+        """``summary.json`` of every member, ``[point][seed]``."""
+        return [[json.loads((m / "summary.json").read_text()) for m in row] for row in self.members]
+
+
+def load_sweep(path: Union[str, Path], frame: Optional[bool] = None) -> SweepData:
+    """Reads a sweep directory written by ``granular sweep`` or :func:`granular.run_sweep`."""
+    d = Path(path)
+    table_path = d / "sweep.csv"
+    if not table_path.exists():
+        raise FileNotFoundError(f"{table_path}: not a finished sweep directory (no sweep.csv)")
+    first = table_path.read_text().splitlines()[0]
+    m = re.match(r"#\s*sweep of\s+(.*)", first)
+    points = sorted(p for p in d.glob("point_*") if p.is_dir())
+    return SweepData(
+        path=d,
+        key=m.group(1).strip() if m else "",
+        table=read_table(table_path, frame),
+        members=[sorted(s for s in p.glob("seed_*") if s.is_dir()) for p in points],
+    )

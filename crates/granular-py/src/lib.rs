@@ -1,0 +1,32 @@
+//! `granular._core`: the compiled half of the `granular` Python package (PyO3, stable ABI
+//! for Python 3.10 and newer). The Python half (`python/granular/`) re-exports these names
+//! with NumPy-friendly wrappers; users import `granular`, never `granular._core`.
+//!
+//! The binding holds no physics: scenarios, engines, theory and run directories all come
+//! from the `granular` library; this crate only converts between Python and Rust.
+
+mod cli;
+mod convert;
+mod errors;
+mod scenario;
+mod simulation;
+mod state;
+mod sweep;
+mod theory;
+
+use pyo3::prelude::*;
+
+/// The compiled core of the `granular` package (use `import granular`).
+#[pymodule]
+fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("ScenarioError", py.get_type::<errors::ScenarioError>())?;
+    m.add("SimulationError", py.get_type::<errors::SimulationError>())?;
+    m.add_class::<scenario::PyScenario>()?;
+    m.add_class::<simulation::PySimulation>()?;
+    m.add_function(wrap_pyfunction!(sweep::run_sweep, m)?)?;
+    m.add_function(wrap_pyfunction!(cli::cli_main, m)?)?;
+    theory::register(m)?;
+    Ok(())
+}

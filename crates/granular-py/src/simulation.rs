@@ -1,0 +1,482 @@
+//! `granular.Simulation`: the library's in-memory [`Simulation`], advanced with the
+//! interpreter lock released and Ctrl-C checked between chunks of events.
+
+use crate::convert::json_to_python;
+use crate::errors::{SimulationError, guard, scenario_error, simulation_error, value_error};
+use crate::scenario::PyScenario;
+use granular::engine::{EngineError, Progress};
+use granular::run::{BuildError, Run, RunError};
+use granular::simulation::{RunHooks, Simulation};
+use numpy::{PyArray1, PyArray2};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use std::path::PathBuf;
+
+/// Events per chunk of `advance`: between chunks the interpreter lock is taken back
+/// briefly to check for Ctrl-C (a chunk is a few milliseconds of work).
+const CHUNK_EVENTS: u64 = 20_000;
+
+/// A simulation of any engine (edmd, dsmc, intruder) held in memory.
+///
+/// Simulation(scenario, seed=None): `scenario` is a granular.Scenario or the path of a
+/// scenario file; `seed` overrides the scenario's seed (as `granular run --seed`). The
+/// initial state is built at once (SimulationError when it cannot be, e.g. grains that do
+/// not fit). The same scenario and seed give the same trajectory as `granular run`, bit for
+/// bit. Long calls (advance, run) release the interpreter lock, so other Python threads
+/// run meanwhile, and raise KeyboardInterrupt within milliseconds of Ctrl-C, leaving the
+/// simulation at a consistent state (the time it reached).
+#[pyclass(name = "Simulation", module = "granular")]
+pub struct PySimulation {
+    simulation: Option<Simulation>,
+    scenario: PyScenario,
+    /// Where `run(out=...)` wrote the run, once it has (the simulation then lives there).
+    recorded: Option<PathBuf>,
+}
+
+/// Errors of the interruptible run loop: the engine's, or a Python exception (Ctrl-C).
+enum LoopError {
+    Engine(EngineError),
+    Python(PyErr),
+}
+
+impl From<EngineError> for LoopError {
+    fn from(e: EngineError) -> Self {
+        LoopError::Engine(e)
+    }
+}
+
+/// Hooks of `Simulation::run_with` that take the interpreter lock after each chunk to
+/// check for signals.
+struct SignalHooks;
+
+impl RunHooks for SignalHooks {
+    type Error = LoopError;
+
+    fn after_chunk(&mut self, _simulation: &Simulation) -> Result<(), LoopError> {
+        Python::attach(|py| py.check_signals()).map_err(LoopError::Python)
+    }
+}
+
+/// Payload of the unwind that stops `Run::run_to_end` when Ctrl-C arrives (its progress
+/// callback cannot return an error).
+struct Interrupted(PyErr);
+
+fn build_error(py: Python<'_>, e: BuildError, origin: Option<&str>) -> PyErr {
+    match e {
+        BuildError::Scenario(s) => scenario_error(py, &s, origin),
+        other => simulation_error(match origin {
+            Some(o) => format!("{o}: {other}"),
+            None => other.to_string(),
+        }),
+    }
+}
+
+/// The error of a simulation that `run(out=...)` took over.
+fn gone(recorded: &Option<PathBuf>) -> PyErr {
+    SimulationError::new_err(format!(
+        "this simulation was handed to run(out={:?}), which ran it to its end and wrote it \
+there; read it with granular.load_run(...), or build a new Simulation",
+        recorded.as_deref().unwrap_or(std::path::Path::new("?"))
+    ))
+}
+
+/// A row-major `n x d` vector as a NumPy array of shape `(n, d)`, without copying it again.
+fn matrix<'py>(
+    py: Python<'py>,
+    values: Vec<f64>,
+    n: usize,
+    d: usize,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let a = numpy::ndarray::Array2::from_shape_vec((n, d), values).map_err(|e| {
+        simulation_error(format!(
+            "internal error: a snapshot array is not {n} x {d}: {e}"
+        ))
+    })?;
+    Ok(PyArray2::from_owned_array(py, a))
+}
+
+fn engine_error(e: EngineError) -> PyErr {
+    simulation_error(format!("{e}\n(fix the scenario and rerun)"))
+}
+
+impl PySimulation {
+    fn sim(&self) -> PyResult<&Simulation> {
+        self.simulation.as_ref().ok_or_else(|| gone(&self.recorded))
+    }
+
+    fn sim_mut(&mut self) -> PyResult<&mut Simulation> {
+        self.simulation.as_mut().ok_or_else(|| gone(&self.recorded))
+    }
+
+    /// The snapshot, or a SimulationError for the intruder engine.
+    fn snapshot_or_error(&self) -> PyResult<granular::engine::Snapshot> {
+        let sim = self.sim()?;
+        guard("snapshot", || {
+            sim.snapshot().ok_or_else(|| {
+                simulation_error(
+                    "the intruder engine has no grain state (no positions or velocities); use \
+observe() for the intruder's velocity and statistics",
+                )
+            })
+        })
+    }
+
+    /// Positions or velocities alone, without the rest of a snapshot.
+    fn one_array<'py>(
+        &self,
+        py: Python<'py>,
+        what: crate::state::Quantity,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let sim = self.sim()?;
+        if let Some((values, n, d)) = py.detach(|| crate::state::by_id(sim, what)) {
+            return matrix(py, values, n, d);
+        }
+        let s = self.snapshot_or_error()?;
+        let n = s.radii.len();
+        let values = match what {
+            crate::state::Quantity::Positions => s.positions,
+            crate::state::Quantity::Velocities => s.velocities,
+        };
+        matrix(py, values, n, s.dimension.max(1))
+    }
+
+    fn run_in_memory(&mut self, py: Python<'_>) -> PyResult<String> {
+        let sim = self.sim_mut()?;
+        let result = py.detach(|| {
+            guard("run", || {
+                Ok(sim
+                    .run_with(&mut SignalHooks)
+                    .map(|r| r.as_str().to_string()))
+            })
+        })?;
+        match result {
+            Ok(reason) => Ok(reason),
+            Err(LoopError::Engine(e)) => Err(engine_error(e)),
+            Err(LoopError::Python(e)) => Err(e),
+        }
+    }
+
+    fn run_to_directory<'py>(
+        &mut self,
+        py: Python<'py>,
+        out: PathBuf,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let sim = self.simulation.take().ok_or_else(|| gone(&self.recorded))?;
+        self.recorded = Some(out.clone());
+        let dir = out.clone();
+        let outcome = py.detach(move || {
+            std::panic::catch_unwind(std::panic::AssertUnwindSafe(move || {
+                let run = Run::from_simulation(&dir, sim)?;
+                run.run_to_end(
+                    &mut |_| {
+                        if let Err(e) = Python::attach(|py| py.check_signals()) {
+                            std::panic::resume_unwind(Box::new(Interrupted(e)));
+                        }
+                    },
+                    None,
+                )
+            }))
+        });
+        let summary = match outcome {
+            Ok(Ok(summary)) => summary,
+            Ok(Err(RunError::Engine(e))) => {
+                return Err(simulation_error(format!(
+                    "{e}\n(state saved in {}; fix the scenario and rerun)",
+                    out.display()
+                )));
+            }
+            Ok(Err(e)) => return Err(simulation_error(e)),
+            Err(payload) => {
+                return Err(match payload.downcast::<Interrupted>() {
+                    Ok(i) => i.0,
+                    Err(p) => {
+                        let detail = p
+                            .downcast_ref::<&str>()
+                            .map(|s| s.to_string())
+                            .or_else(|| p.downcast_ref::<String>().cloned())
+                            .unwrap_or_default();
+                        simulation_error(format!(
+                            "internal error in run: {detail} (a bug in granular: please report it with the scenario)"
+                        ))
+                    }
+                });
+            }
+        };
+        let value = serde_json::to_value(&summary).map_err(simulation_error)?;
+        json_to_python(py, &value)
+    }
+}
+
+#[pymethods]
+impl PySimulation {
+    #[new]
+    #[pyo3(signature = (scenario, seed = None))]
+    fn new(py: Python<'_>, scenario: &Bound<'_, PyAny>, seed: Option<u64>) -> PyResult<Self> {
+        let base: PyScenario = match scenario.cast::<PyScenario>() {
+            Ok(s) => s.borrow().clone(),
+            Err(_) => {
+                let path: PathBuf = scenario.extract().map_err(|_| {
+                    pyo3::exceptions::PyTypeError::new_err(
+                        "scenario must be a granular.Scenario or the path of a scenario file",
+                    )
+                })?;
+                let text = std::fs::read_to_string(&path).map_err(|e| {
+                    pyo3::exceptions::PyOSError::new_err(format!("{}: {e}", path.display()))
+                })?;
+                PyScenario::build(py, text, Vec::new(), Some(path.display().to_string()))?
+            }
+        };
+        let scenario = match seed {
+            Some(s) => base.with_overrides(py, &[format!("seed={s}")])?,
+            None => base,
+        };
+        let resolved = scenario.resolved.clone();
+        let origin = scenario.origin.clone();
+        let built = py.detach(|| guard("Simulation()", || Ok(Simulation::new(resolved))))?;
+        let simulation = built.map_err(|e| build_error(py, e, origin.as_deref()))?;
+        Ok(Self {
+            simulation: Some(simulation),
+            scenario,
+            recorded: None,
+        })
+    }
+
+    /// advance(until) -> None
+    ///
+    /// Advances to exactly the time `until` (not before the current time). The interpreter
+    /// lock is released while the engine works; Ctrl-C raises KeyboardInterrupt between two
+    /// chunks of events, with the simulation at the (earlier) time it reached. Raises
+    /// SimulationError when the engine cannot go on (e.g. inelastic collapse).
+    fn advance(&mut self, py: Python<'_>, until: f64) -> PyResult<()> {
+        let sim = self.sim_mut()?;
+        let now = sim.time();
+        if !(until.is_finite() && until >= now) {
+            return Err(value_error(format!(
+                "until is {until}; give a finite time not before the current time {now}"
+            )));
+        }
+        loop {
+            let progress = py.detach(|| {
+                guard("advance", || {
+                    sim.advance_chunk(until, CHUNK_EVENTS).map_err(engine_error)
+                })
+            })?;
+            if progress == Progress::Reached {
+                return Ok(());
+            }
+            py.check_signals()?;
+        }
+    }
+
+    /// run(out=None) -> str | dict
+    ///
+    /// Runs until the scenario's stop rule ([stop]), on the scenario's output grid: the same
+    /// trajectory as `granular run`. Without `out`, in memory: returns the stop reason
+    /// ("time", "collisions_per_particle", "collisions", "events", "energy_fraction",
+    /// "wall_seconds") and the simulation stays usable. With `out` (a directory), writes the
+    /// run directory of `granular run` (summary.json, timeseries.csv, snapshots, histograms;
+    /// the same files bit for bit for the same scenario and seed) and returns the summary as
+    /// a dict; the simulation is then handed over to the run and this object can no longer
+    /// be advanced (read the results with granular.load_run(out)). Ctrl-C raises
+    /// KeyboardInterrupt (a run directory is left as a killed run: `granular resume` continues it).
+    #[pyo3(signature = (out = None))]
+    fn run<'py>(&mut self, py: Python<'py>, out: Option<PathBuf>) -> PyResult<Bound<'py, PyAny>> {
+        match out {
+            None => Ok(self.run_in_memory(py)?.into_pyobject(py)?.into_any()),
+            Some(dir) => self.run_to_directory(py, dir),
+        }
+    }
+
+    /// observe() -> dict
+    ///
+    /// The typed observation at the current time as a dict (the library's Observation:
+    /// engine, dimension, particles, time, events, collisions, collisions_per_particle,
+    /// kinetic_energy, temperature, species (list of dicts), and the engine's optional
+    /// counters, None where an engine does not measure one). No side effect.
+    fn observe<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let sim = self.sim()?;
+        let obs = guard("observe", || Ok(sim.observe()))?;
+        let value = serde_json::to_value(&obs).map_err(simulation_error)?;
+        json_to_python(py, &value)
+    }
+
+    /// columns() -> dict[str, float]
+    ///
+    /// The observation as the named values of a `timeseries.csv` row (same names, same
+    /// order; the rates over an output interval are not included).
+    fn columns<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let sim = self.sim()?;
+        let cols = guard("columns", || Ok(sim.observe().columns(None)))?;
+        let d = PyDict::new(py);
+        for (k, v) in cols {
+            d.set_item(k, v)?;
+        }
+        Ok(d)
+    }
+
+    /// snapshot() -> dict
+    ///
+    /// The state of every grain, copied into new NumPy arrays, in input order (grain i is the
+    /// i-th grain of the scenario's species list): "positions" and "velocities" float64
+    /// (N, D), "radii" and "masses" float64 (N,), "species" uint32 (N,) indices into
+    /// "species_names" (list of str), and "time" (float). Raises SimulationError for the
+    /// intruder engine (no grains; use observe()).
+    fn snapshot<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let s = self.snapshot_or_error()?;
+        let d = PyDict::new(py);
+        let dim = s.dimension.max(1);
+        let n = s.radii.len();
+        d.set_item("time", s.time)?;
+        d.set_item("positions", matrix(py, s.positions, n, dim)?)?;
+        d.set_item("velocities", matrix(py, s.velocities, n, dim)?)?;
+        d.set_item("radii", PyArray1::from_vec(py, s.radii))?;
+        d.set_item("masses", PyArray1::from_vec(py, s.masses))?;
+        d.set_item("species", PyArray1::from_vec(py, s.species))?;
+        d.set_item("species_names", s.species_names)?;
+        Ok(d)
+    }
+
+    /// Positions, float64 (N, D), input order; a new copy at every access (use
+    /// snapshot() to get several arrays of one instant).
+    #[getter]
+    fn positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        self.one_array(py, crate::state::Quantity::Positions)
+    }
+
+    /// Velocities, float64 (N, D), input order; a new copy at every access.
+    #[getter]
+    fn velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        self.one_array(py, crate::state::Quantity::Velocities)
+    }
+
+    /// Radii, float64 (N,), input order; a new copy at every access.
+    #[getter]
+    fn radii<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        Ok(PyArray1::from_vec(py, self.snapshot_or_error()?.radii))
+    }
+
+    /// Masses, float64 (N,), input order; a new copy at every access.
+    #[getter]
+    fn masses<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        Ok(PyArray1::from_vec(py, self.snapshot_or_error()?.masses))
+    }
+
+    /// Species indices, uint32 (N,), into species_names; a new copy at every access.
+    #[getter]
+    fn species<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<u32>>> {
+        Ok(PyArray1::from_vec(py, self.snapshot_or_error()?.species))
+    }
+
+    /// Species names, in the scenario's order.
+    #[getter]
+    fn species_names(&self) -> Vec<String> {
+        self.scenario
+            .resolved
+            .species
+            .iter()
+            .map(|s| s.name.clone())
+            .collect()
+    }
+
+    /// impact_histogram() -> dict | None
+    ///
+    /// Histogram of the normalised impact parameter b/sigma of all pair collisions so far
+    /// (edmd, dsmc): "edges" float64 (B+1,), "counts" uint64 (B,), "underflow", "overflow";
+    /// None for the intruder engine.
+    fn impact_histogram<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let sim = self.sim()?;
+        let Some(h) = guard("impact_histogram", || Ok(sim.impact_histogram()))? else {
+            return Ok(None);
+        };
+        let bins = h.counts.len();
+        let edges: Vec<f64> = (0..=bins)
+            .map(|i| h.min + (h.max - h.min) * i as f64 / bins as f64)
+            .collect();
+        let d = PyDict::new(py);
+        d.set_item("edges", PyArray1::from_vec(py, edges))?;
+        d.set_item("counts", PyArray1::from_vec(py, h.counts))?;
+        d.set_item("underflow", h.underflow)?;
+        d.set_item("overflow", h.overflow)?;
+        Ok(Some(d))
+    }
+
+    /// Current simulation time (the scenario's time unit).
+    #[getter]
+    fn time(&self) -> PyResult<f64> {
+        Ok(self.sim()?.time())
+    }
+
+    /// Events processed since t = 0 (collisions and bookkeeping events).
+    #[getter]
+    fn events(&self) -> PyResult<u64> {
+        Ok(self.sim()?.events())
+    }
+
+    /// Collisions since t = 0 (pair collisions; intruder-bath collisions for the intruder).
+    #[getter]
+    fn collisions(&self) -> PyResult<u64> {
+        Ok(self.sim()?.collisions())
+    }
+
+    /// Number of grains N (1 for an intruder).
+    #[getter]
+    fn particle_count(&self) -> PyResult<usize> {
+        Ok(self.sim()?.particle_count())
+    }
+
+    /// Spatial dimension D of the state (1 or 2 for the intruder models).
+    #[getter]
+    fn dimension(&self) -> PyResult<usize> {
+        Ok(self.sim()?.dimension())
+    }
+
+    /// The engine: "edmd", "dsmc" or "intruder".
+    #[getter]
+    fn engine(&self) -> PyResult<String> {
+        Ok(self.sim()?.engine_name().to_string())
+    }
+
+    /// Kinetic energy at t = 0.
+    #[getter]
+    fn initial_kinetic_energy(&self) -> PyResult<f64> {
+        Ok(self.sim()?.initial_kinetic_energy())
+    }
+
+    /// Fraction of the scenario's run done, in [0, 1], from the stop rule nearest its end.
+    #[getter]
+    fn fraction_done(&self) -> PyResult<f64> {
+        Ok(self.sim()?.fraction_done())
+    }
+
+    /// Computing seconds spent on this simulation since it was built.
+    #[getter]
+    fn wall_seconds(&self) -> PyResult<f64> {
+        Ok(self.sim()?.wall_seconds())
+    }
+
+    /// The scenario (a copy; changing it does not change this simulation).
+    #[getter]
+    fn scenario(&self) -> PyScenario {
+        self.scenario.clone()
+    }
+
+    fn __repr__(&self) -> String {
+        match &self.simulation {
+            Some(s) => format!(
+                "<granular.Simulation engine={:?} N={} D={} t={} events={} collisions={}>",
+                s.engine_name(),
+                s.particle_count(),
+                s.dimension(),
+                s.time(),
+                s.events(),
+                s.collisions()
+            ),
+            None => format!(
+                "<granular.Simulation run to its end into {:?}>",
+                self.recorded
+                    .as_deref()
+                    .unwrap_or(std::path::Path::new("?"))
+            ),
+        }
+    }
+}

@@ -1,0 +1,268 @@
+//! The library's exact theory on NumPy arrays. Each function here takes flat float64 arrays
+//! of one length (the Python layer, `granular.theory`, broadcasts and reshapes) and applies
+//! the library's scalar formula element by element; no formula is written here.
+
+use crate::errors::value_error;
+use granular::intruder::{BathDistribution, Gaussian, PowerLaw};
+use granular::theory::{equilibrium as eq, haff};
+use numpy::{PyArray1, PyReadonlyArray1};
+use pyo3::prelude::*;
+
+type Out<'py> = PyResult<Bound<'py, PyArray1<f64>>>;
+
+/// `f` applied element by element to `K` arrays of one length.
+fn map<'py, const K: usize>(
+    py: Python<'py>,
+    arrays: [PyReadonlyArray1<'py, f64>; K],
+    f: impl Fn([f64; K]) -> f64,
+) -> Out<'py> {
+    let slices: Vec<&[f64]> = arrays
+        .iter()
+        .map(|a| a.as_slice())
+        .collect::<Result<_, _>>()
+        .map_err(|_| {
+            value_error("the arrays must be contiguous (granular.theory makes them so)")
+        })?;
+    let n = slices.first().map_or(0, |s| s.len());
+    if slices.iter().any(|s| s.len() != n) {
+        return Err(value_error(
+            "the arrays must have one length (granular.theory broadcasts them)",
+        ));
+    }
+    let out: Vec<f64> = (0..n)
+        .map(|i| f(std::array::from_fn(|k| slices[k][i])))
+        .collect();
+    Ok(PyArray1::from_vec(py, out))
+}
+
+fn dimension_2_or_3(dimension: usize) -> PyResult<()> {
+    if dimension == 2 || dimension == 3 {
+        Ok(())
+    } else {
+        Err(value_error(format!(
+            "dimension is {dimension}; use 2 (disks) or 3 (spheres)"
+        )))
+    }
+}
+
+type A<'py> = PyReadonlyArray1<'py, f64>;
+
+#[pyfunction]
+fn speed_density<'py>(
+    py: Python<'py>,
+    dimension: usize,
+    v: A<'py>,
+    m: A<'py>,
+    t: A<'py>,
+) -> Out<'py> {
+    dimension_2_or_3(dimension)?;
+    map(py, [v, m, t], |[v, m, t]| {
+        eq::speed_density(dimension, v, m, t)
+    })
+}
+
+#[pyfunction]
+fn speed_cdf<'py>(py: Python<'py>, dimension: usize, v: A<'py>, m: A<'py>, t: A<'py>) -> Out<'py> {
+    dimension_2_or_3(dimension)?;
+    map(py, [v, m, t], |[v, m, t]| eq::speed_cdf(dimension, v, m, t))
+}
+
+#[pyfunction]
+fn mean_speed<'py>(py: Python<'py>, dimension: usize, m: A<'py>, t: A<'py>) -> Out<'py> {
+    dimension_2_or_3(dimension)?;
+    map(py, [m, t], |[m, t]| eq::mean_speed(dimension, m, t))
+}
+
+#[pyfunction]
+fn compressibility<'py>(py: Python<'py>, dimension: usize, eta: A<'py>) -> Out<'py> {
+    dimension_2_or_3(dimension)?;
+    map(py, [eta], |[e]| eq::compressibility(dimension, e))
+}
+
+#[pyfunction]
+fn collision_frequency_from_pressure<'py>(
+    py: Python<'py>,
+    dimension: usize,
+    z: A<'py>,
+    diameter: A<'py>,
+    m: A<'py>,
+    t: A<'py>,
+) -> Out<'py> {
+    dimension_2_or_3(dimension)?;
+    map(py, [z, diameter, m, t], |[z, d, m, t]| {
+        eq::collision_frequency_from_pressure(dimension, z, d, m, t)
+    })
+}
+
+#[pyfunction]
+fn contact_value<'py>(py: Python<'py>, dimension: usize, phi: A<'py>) -> Out<'py> {
+    dimension_2_or_3(dimension)?;
+    map(py, [phi], |[p]| haff::contact_value(dimension, p))
+}
+
+#[pyfunction]
+fn packing_fraction<'py>(py: Python<'py>, dimension: usize, n: A<'py>, r: A<'py>) -> Out<'py> {
+    dimension_2_or_3(dimension)?;
+    map(py, [n, r], |[n, r]| haff::packing_fraction(dimension, n, r))
+}
+
+#[pyfunction]
+fn mean_free_path<'py>(
+    py: Python<'py>,
+    dimension: usize,
+    n: A<'py>,
+    r: A<'py>,
+    chi: A<'py>,
+) -> Out<'py> {
+    dimension_2_or_3(dimension)?;
+    map(py, [n, r, chi], |[n, r, c]| {
+        haff::mean_free_path(dimension, n, r, c)
+    })
+}
+
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+fn collision_frequency<'py>(
+    py: Python<'py>,
+    dimension: usize,
+    n: A<'py>,
+    r: A<'py>,
+    t: A<'py>,
+    m: A<'py>,
+    chi: A<'py>,
+) -> Out<'py> {
+    dimension_2_or_3(dimension)?;
+    map(py, [n, r, t, m, chi], |[n, r, t, m, c]| {
+        haff::collision_frequency(dimension, n, r, t, m, c)
+    })
+}
+
+#[pyfunction]
+fn sonine_a2<'py>(py: Python<'py>, dimension: usize, e: A<'py>) -> Out<'py> {
+    dimension_2_or_3(dimension)?;
+    map(py, [e], |[e]| haff::sonine_a2(dimension, e))
+}
+
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+fn cooling_rate<'py>(
+    py: Python<'py>,
+    dimension: usize,
+    n: A<'py>,
+    r: A<'py>,
+    t: A<'py>,
+    m: A<'py>,
+    e: A<'py>,
+    chi: A<'py>,
+    sonine: bool,
+) -> Out<'py> {
+    dimension_2_or_3(dimension)?;
+    map(py, [n, r, t, m, e, chi], |[n, r, t, m, e, c]| {
+        haff::cooling_rate(dimension, n, r, t, m, e, c, sonine)
+    })
+}
+
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+fn haff_time<'py>(
+    py: Python<'py>,
+    dimension: usize,
+    n: A<'py>,
+    r: A<'py>,
+    t: A<'py>,
+    m: A<'py>,
+    e: A<'py>,
+    chi: A<'py>,
+    sonine: bool,
+) -> Out<'py> {
+    dimension_2_or_3(dimension)?;
+    map(py, [n, r, t, m, e, chi], |[n, r, t, m, e, c]| {
+        haff::haff_time(dimension, n, r, t, m, e, c, sonine)
+    })
+}
+
+#[pyfunction]
+fn haff_energy<'py>(py: Python<'py>, k0: A<'py>, t: A<'py>, t0: A<'py>) -> Out<'py> {
+    map(py, [k0, t, t0], |[k, t, t0]| haff::haff_energy(k, t, t0))
+}
+
+#[pyfunction]
+fn martin_piasecki_ratio<'py>(py: Python<'py>, e: A<'py>, m: A<'py>, mb: A<'py>) -> Out<'py> {
+    map(py, [e, m, mb], |[e, m, mb]| {
+        granular::intruder::theory::martin_piasecki_ratio(e, m, mb)
+    })
+}
+
+/// Which quantity of a bath distribution.
+fn bath_quantity(dist: &dyn BathDistribution, what: &str, v: f64) -> f64 {
+    match what {
+        "density" => dist.density(v),
+        "cdf" => dist.cdf(v),
+        "plus" => dist.flux_plus(v),
+        "minus" => dist.flux_minus(v),
+        _ => dist.flux(v),
+    }
+}
+
+/// Density, cdf or side fluxes (per unit bath density) of a Gaussian (Eq. 14) or power-law
+/// (Eq. 19) bath of temperature `t_b` and particle mass `m`.
+#[pyfunction]
+fn bath<'py>(py: Python<'py>, kind: &str, what: &str, v: A<'py>, t_b: f64, m: f64) -> Out<'py> {
+    let dist: Box<dyn BathDistribution> = match kind {
+        "gaussian" => Box::new(Gaussian::with_temperature(t_b, m).map_err(value_error_of)?),
+        "power_law" => Box::new(PowerLaw::with_temperature(t_b, m).map_err(value_error_of)?),
+        other => {
+            return Err(value_error(format!(
+                "bath is {other:?}; use \"gaussian\" or \"power_law\""
+            )));
+        }
+    };
+    if !matches!(what, "density" | "cdf" | "plus" | "minus" | "both") {
+        return Err(value_error(format!(
+            "side is {what:?}; use \"both\", \"plus\" or \"minus\""
+        )));
+    }
+    map(py, [v], |[v]| bath_quantity(dist.as_ref(), what, v))
+}
+
+fn value_error_of(e: impl std::fmt::Display) -> PyErr {
+    value_error(e.to_string())
+}
+
+/// The needle's total collision rate, Eq. 21-22.
+#[pyfunction]
+fn needle_flux<'py>(
+    py: Python<'py>,
+    rho: A<'py>,
+    a: A<'py>,
+    length: A<'py>,
+    vn: A<'py>,
+    omega: A<'py>,
+) -> Out<'py> {
+    map(py, [rho, a, length, vn, omega], |[r, a, l, v, w]| {
+        granular::intruder::needle::total_flux(r, a, l, v, w)
+    })
+}
+
+/// Adds the `theory` submodule.
+pub fn register(parent: &Bound<'_, PyModule>) -> PyResult<()> {
+    let m = PyModule::new(parent.py(), "theory")?;
+    m.add_function(wrap_pyfunction!(speed_density, &m)?)?;
+    m.add_function(wrap_pyfunction!(speed_cdf, &m)?)?;
+    m.add_function(wrap_pyfunction!(mean_speed, &m)?)?;
+    m.add_function(wrap_pyfunction!(compressibility, &m)?)?;
+    m.add_function(wrap_pyfunction!(collision_frequency_from_pressure, &m)?)?;
+    m.add_function(wrap_pyfunction!(contact_value, &m)?)?;
+    m.add_function(wrap_pyfunction!(packing_fraction, &m)?)?;
+    m.add_function(wrap_pyfunction!(mean_free_path, &m)?)?;
+    m.add_function(wrap_pyfunction!(collision_frequency, &m)?)?;
+    m.add_function(wrap_pyfunction!(sonine_a2, &m)?)?;
+    m.add_function(wrap_pyfunction!(cooling_rate, &m)?)?;
+    m.add_function(wrap_pyfunction!(haff_time, &m)?)?;
+    m.add_function(wrap_pyfunction!(haff_energy, &m)?)?;
+    m.add_function(wrap_pyfunction!(martin_piasecki_ratio, &m)?)?;
+    m.add_function(wrap_pyfunction!(bath, &m)?)?;
+    m.add_function(wrap_pyfunction!(needle_flux, &m)?)?;
+    parent.add_submodule(&m)?;
+    Ok(())
+}

@@ -1,0 +1,110 @@
+"""load_run / load_sweep / run_sweep: run and sweep directories read in pure Python."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import granular
+from conftest import DSMC_2D, EDMD_2D, INTRUDER_1D, cli
+
+
+@pytest.fixture(scope="module")
+def edmd_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    out = tmp_path_factory.mktemp("edmd") / "run"
+    granular.Simulation(granular.Scenario.from_toml(EDMD_2D)).run(out=out)
+    return out
+
+
+def test_load_run_tables_and_summary(edmd_run: Path) -> None:
+    run = granular.load_run(edmd_run)
+    assert run.summary is not None and run.summary["engine"] == "edmd"
+    ts = run.timeseries
+    assert isinstance(ts, pd.DataFrame)
+    assert list(ts.columns)[:3] == ["time", "kinetic_energy", "temperature"]
+    assert ts["time"].iloc[0] == 0.0
+    assert ts["kinetic_energy"].iloc[-1] == run.summary["final"]["kinetic_energy"]
+    assert ts["time"].dtype == np.float64
+    assert "speed" in run.histograms and "impact_parameter" in run.histograms
+    assert run.histograms["speed"]["species"].iloc[0] in {"small", "big"}
+    assert run.scenario() == granular.Scenario.from_toml(run.scenario_toml or "")
+
+
+def test_load_run_without_pandas(edmd_run: Path) -> None:
+    run = granular.load_run(edmd_run, frame=False)
+    ts = run.timeseries
+    assert isinstance(ts, np.ndarray) and ts.dtype.names is not None
+    assert ts.dtype["time"] == np.float64
+    assert ts["time"][0] == 0.0
+    assert run.histograms["speed"]["species"].dtype.kind == "U"
+    table = granular.read_table(edmd_run / "timeseries.csv", frame=False)
+    np.testing.assert_array_equal(table["kinetic_energy"], ts["kinetic_energy"])
+
+
+def test_snapshots(edmd_run: Path) -> None:
+    run = granular.load_run(edmd_run)
+    assert len(run.snapshot_paths) >= 2
+    first = run.snapshot(0)
+    assert first.time == 0.0
+    assert first.positions.shape == (400, 2) and first.positions.dtype == np.float64
+    assert first.species.dtype == np.uint32 and first.species_names == ["small", "big"]
+    sim = granular.Simulation(granular.Scenario.from_toml(EDMD_2D))
+    np.testing.assert_array_equal(first.positions, sim.positions)
+    np.testing.assert_array_equal(first.velocities, sim.velocities)
+    times = [s.time for s in run.snapshots()]
+    assert times == sorted(times) and run.snapshot().time == times[-1]
+
+
+def test_intruder_run(tmp_path: Path) -> None:
+    granular.Simulation(granular.Scenario.from_toml(INTRUDER_1D)).run(out=tmp_path / "i")
+    run = granular.load_run(tmp_path / "i")
+    assert run.summary is not None and run.summary["intruder"]["model"] == "1d"
+    assert "intruder" in run.histograms and "intruder_histograms" in run.arrays
+    assert "velocity_edges" in run.arrays["intruder_histograms"]
+    with pytest.raises(IndexError, match="no snapshots"):
+        run.snapshot()
+
+
+def test_opt_in_arrays(tmp_path: Path) -> None:
+    sc = granular.Scenario.from_toml(DSMC_2D)
+    sc.update({"output.structure_factor": True, "output.impact_histograms": True, "stop.collisions_per_particle": 2})
+    granular.Simulation(sc).run(out=tmp_path / "d")
+    run = granular.load_run(tmp_path / "d")
+    s = run.arrays["structure_factor"]
+    assert s["s"].shape == (s["times"].shape[0], s["k"].shape[0])
+    assert "impact_histograms" in run.arrays
+
+
+def test_load_errors(tmp_path: Path) -> None:
+    with pytest.raises(FileNotFoundError):
+        granular.load_run(tmp_path / "nothing")
+    with pytest.raises(FileNotFoundError, match="load_sweep"):
+        granular.load_run(tmp_path)
+    with pytest.raises(FileNotFoundError, match="sweep.csv"):
+        granular.load_sweep(tmp_path)
+
+
+def test_run_sweep_equals_cli_sweep(tmp_path: Path) -> None:
+    text = EDMD_2D.replace("collisions_per_particle = 20.0", "collisions_per_particle = 2.0") + (
+        '\n[sweep]\nkey = "collisions.restitution"\nvalues = [0.7, 0.9]\nseeds = 2\nobservable = "temperature"\n'
+    )
+    path = tmp_path / "sweep.toml"
+    path.write_text(text)
+    sweep = granular.run_sweep(granular.Scenario.load(path), tmp_path / "py", threads=2)
+    cli("sweep", str(path), "--out", str(tmp_path / "cli"), "--threads", "1")
+    assert (tmp_path / "py" / "sweep.csv").read_bytes() == (tmp_path / "cli" / "sweep.csv").read_bytes()
+    assert sweep.key == "collisions.restitution"
+    assert list(sweep.table["parameter"]) == [0.7, 0.9]
+    assert list(sweep.table["members"]) == [2.0, 2.0]
+    assert len(sweep.members) == 2 and len(sweep.members[0]) == 2
+    member = sweep.member(1, 0)
+    assert member.summary is not None
+    assert sweep.summaries()[1][0] == member.summary
+    # Lower restitution, colder gas.
+    t = sweep.table["temperature_mean"]
+    assert t.iloc[0] < t.iloc[1]
+    with pytest.raises(granular.SimulationError, match="no \\[sweep\\] table"):
+        granular.run_sweep(granular.Scenario.from_toml(EDMD_2D), tmp_path / "none")

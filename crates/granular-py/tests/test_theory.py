@@ -1,0 +1,94 @@
+"""granular.theory: the library's exact formulas on NumPy arrays, against hand values and each other."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from granular import theory
+
+
+def test_scalars_give_floats_and_arrays_keep_their_shape() -> None:
+    assert isinstance(theory.speed_density(1.0), float)
+    v = np.linspace(0, 3, 12).reshape(3, 4)
+    assert theory.speed_density(v).shape == (3, 4)
+    # Broadcasting: temperatures along a new axis.
+    out = theory.speed_density(v[None], temperature=np.array([1.0, 2.0])[:, None, None])
+    assert out.shape == (2, 3, 4)
+
+
+def test_maxwell_boltzmann_by_hand() -> None:
+    m, t, v = 2.0, 1.5, np.array([0.3, 0.7, 2.0])
+    np.testing.assert_allclose(
+        theory.speed_density(v, m, t), m * v / t * np.exp(-m * v**2 / (2 * t)), rtol=1e-14
+    )
+    # 3D: 4 pi v^2 (m / 2 pi T)^{3/2} exp(-m v^2 / 2T).
+    np.testing.assert_allclose(
+        theory.speed_density(v, m, t, dimension=3),
+        4 * np.pi * v**2 * (m / (2 * np.pi * t)) ** 1.5 * np.exp(-m * v**2 / (2 * t)),
+        rtol=1e-13,
+    )
+    assert theory.speed_cdf(np.inf) == 1.0
+    # puruspe's incomplete gamma function: about 1e-11 relative.
+    assert theory.speed_cdf(1.0) == pytest.approx(1 - math.exp(-0.5), rel=1e-10)
+    assert theory.mean_speed(2.0, 1.5) == pytest.approx(math.sqrt(math.pi * 1.5 / 4.0), rel=1e-14)
+    # Normalised (trapezoid on a fine grid).
+    grid = np.linspace(0, 12, 200001)
+    assert np.trapezoid(theory.speed_density(grid, 1.0, 1.0, dimension=3), grid) == pytest.approx(1.0, abs=1e-9)
+
+
+def test_equations_of_state_and_contact_values() -> None:
+    eta = 1e-6
+    assert (theory.hard_disk_compressibility(eta) - 1) / eta == pytest.approx(2.0, rel=1e-4)
+    assert (theory.hard_sphere_compressibility(eta) - 1) / eta == pytest.approx(4.0, rel=1e-4)
+    assert theory.hard_sphere_compressibility(0.5) == pytest.approx((1 + 0.5 + 0.25 - 0.125) / 0.125)
+    np.testing.assert_allclose(theory.contact_value([0.0, 0.5]), [1.0, 3.125], rtol=1e-15)
+    assert theory.contact_value(0.5, dimension=3) == pytest.approx(6.0, rel=1e-15)
+    with pytest.raises(ValueError, match="use 2"):
+        theory.contact_value(0.1, dimension=4)
+    z = theory.compressibility(0.3)
+    nu = theory.collision_frequency_from_pressure(z, 0.02)
+    assert nu == pytest.approx(4 * (z - 1) / math.sqrt(math.pi) / 0.02)
+
+
+def test_haff_law_with_sonine_t0() -> None:
+    # 2D, n = 2, R = 0.25, T = m = 1, e = 0.5: zeta0 = 1.329340388179137 (library test).
+    zeta = theory.cooling_rate(2.0, 0.25, 1.0, 0.5, sonine=False)
+    assert zeta == pytest.approx(1.329340388179137, rel=1e-14)
+    a2 = theory.sonine_a2(0.5)
+    assert a2 == pytest.approx(4.0 / 48.25, rel=1e-14)
+    t0 = theory.haff_time(2.0, 0.25, 1.0, 0.5)
+    assert t0 == pytest.approx(2.0 / (zeta * (1 + 3 * a2 / 16)), rel=1e-14)
+    t = np.array([0.0, t0, 3 * t0])
+    np.testing.assert_allclose(theory.haff_energy(t, 8.0, t0), [8.0, 2.0, 0.5], rtol=1e-15)
+    np.testing.assert_allclose(theory.haff_temperature(t, 1.0, t0), [1.0, 0.25, 1 / 16], rtol=1e-15)
+    # Vectorised over restitution.
+    e = np.array([0.5, 0.9])
+    np.testing.assert_allclose(theory.haff_time(2.0, 0.25, 1.0, e), [theory.haff_time(2.0, 0.25, 1.0, x) for x in e])
+    chi = theory.contact_value(theory.packing_fraction(2.0, 0.25))
+    assert theory.collision_frequency(2.0, 0.25, chi=chi) == pytest.approx(chi * 2 * math.sqrt(math.pi))
+    assert theory.mean_free_path(1.0, 0.5) == pytest.approx(0.3535533905932737, rel=1e-14)
+
+
+def test_martin_piasecki_and_intruder_fluxes() -> None:
+    np.testing.assert_allclose(theory.martin_piasecki_ratio([0.0, 0.5, 1.0]), [1 / 3, 0.6, 1.0], rtol=1e-15)
+    assert theory.martin_piasecki_ratio(0.3, 2.0, 4.0) == pytest.approx(theory.martin_piasecki_ratio(0.3, 0.5, 1.0))
+    # Gaussian bath, a = m / 2T = 1: rate of an intruder at rest = rho <|v|> = rho / sqrt(pi a).
+    assert theory.bath_flux(0.0, temperature=0.5, density=2.0) == pytest.approx(2.0 / math.sqrt(math.pi), rel=1e-14)
+    v1 = np.linspace(-3, 3, 7)
+    both = theory.bath_flux(v1)
+    np.testing.assert_allclose(both, theory.bath_flux(v1, side="plus") + theory.bath_flux(v1, side="minus"))
+    # phi_+(v1) - phi_-(v1) = v1 (the mean bath velocity is zero).
+    np.testing.assert_allclose(
+        theory.bath_flux(v1, side="plus") - theory.bath_flux(v1, side="minus"), v1, atol=1e-14
+    )
+    assert theory.bath_density(0.0, temperature=0.5) == pytest.approx(1 / math.sqrt(math.pi), rel=1e-14)
+    assert theory.bath_density(0.0, bath="power_law") > 0
+    with pytest.raises(ValueError, match="gaussian"):
+        theory.bath_density(0.0, bath="uniform")  # type: ignore[arg-type]
+    # Needle at rest: Phi = rho L <|v|> (both faces).
+    assert theory.needle_flux(0.0, 0.0, length=2.0, density=3.0, temperature=0.5) == pytest.approx(
+        3.0 * 2.0 * theory.bath_flux(0.0, temperature=0.5), rel=1e-12
+    )
