@@ -258,6 +258,26 @@ impl Simulation {
         self.engine.snapshot()
     }
 
+    /// Positions of every grain, wrapped into the box, row-major by grain (input order):
+    /// `n × D` values, without building a whole snapshot (`None` for the intruder engines).
+    pub fn positions(&self) -> Option<Vec<f64>> {
+        self.state_array(false)
+    }
+
+    /// Velocities of every grain, row-major by grain (input order), as
+    /// [`Simulation::positions`].
+    pub fn velocities(&self) -> Option<Vec<f64>> {
+        self.state_array(true)
+    }
+
+    fn state_array(&self, velocities: bool) -> Option<Vec<f64>> {
+        if self.engine_name() == "intruder" {
+            return None;
+        }
+        let mut out = vec![0.0; self.particle_count() * self.dimension()];
+        self.engine.state_into(velocities, &mut out).then_some(out)
+    }
+
     /// Histogram of `b / σ` of all pair collisions so far (many-grain engines).
     pub fn impact_histogram(&self) -> Option<Histogram> {
         self.engine.impact_histogram()

@@ -182,3 +182,23 @@ fn the_summary_names_the_resolved_radius_and_packing_fraction() {
     assert!((150.0 * std::f64::consts::PI * r * r - 0.1).abs() < 1e-12);
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// The single-array accessors give the snapshot's arrays, in input order, in both engines.
+#[test]
+fn positions_and_velocities_equal_the_snapshot() {
+    for engine in ["edmd", "dsmc"] {
+        let mut sim = Simulation::new(gas(engine)).expect("build");
+        sim.advance(0.37).expect("advance");
+        let snap = sim.snapshot().expect("grains");
+        assert_eq!(
+            sim.positions().expect("positions"),
+            snap.positions,
+            "{engine}"
+        );
+        assert_eq!(
+            sim.velocities().expect("velocities"),
+            snap.velocities,
+            "{engine}"
+        );
+    }
+}

@@ -789,6 +789,16 @@ impl<const D: usize> Engine for DsmcEngine<D> {
         Some(DsmcEngine::impact_histogram(self))
     }
 
+    /// The stored order is the cells' (sorted every step); scattered by grain id.
+    fn state_into(&self, velocities: bool, out: &mut [f64]) -> bool {
+        let stored = if velocities { &self.vel } else { &self.pos };
+        for (x, &id) in stored.iter().zip(&self.ids) {
+            let i = id as usize * D;
+            out[i..i + D].copy_from_slice(&x.0);
+        }
+        true
+    }
+
     fn snapshot(&self) -> Option<Snapshot> {
         let (p, v) = self.state_by_id();
         let n = p.len();

@@ -76,6 +76,9 @@ impl Engine for AnyEngine {
     fn snapshot(&self) -> Option<Snapshot> {
         each_engine!(self, e => e.snapshot())
     }
+    fn state_into(&self, velocities: bool, out: &mut [f64]) -> bool {
+        each_engine!(self, e => e.state_into(velocities, out))
+    }
     fn impact_histogram(&self) -> Option<crate::stats::Histogram> {
         each_engine!(self, e => Engine::impact_histogram(e))
     }
