@@ -126,6 +126,9 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         std::fs::write(dir.path().join(".lock"), "garbage").unwrap();
         let e = Lock::acquire(dir.path()).unwrap_err().to_string();
-        assert!(e.contains("garbage") && e.contains("remove the lock"), "{e}");
+        assert!(
+            e.contains("garbage") && e.contains("remove the lock"),
+            "{e}"
+        );
     }
 }

@@ -282,9 +282,11 @@ impl Run {
         };
         match DirectoryState::of(dir) {
             DirectoryState::Missing => {
-                return Err(nothing("no such directory: give the run directory \
+                return Err(nothing(
+                    "no such directory: give the run directory \
                     (the --out of `granular run`)"
-                    .into()));
+                        .into(),
+                ));
             }
             DirectoryState::Run { finished: true } => {
                 return Err(nothing(format!(
