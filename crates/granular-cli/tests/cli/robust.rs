@@ -360,3 +360,84 @@ fn thread_counts_and_bench_sizes_are_checked() {
         .unwrap();
     assert!(stderr(&out).contains("(0, 0.52]"), "{}", stderr(&out));
 }
+
+/// A full disk, where this test may mount a small tmpfs (as root): the checkpoint write
+/// fails, the previous checkpoint stays intact, no temporary file is left, and the message
+/// says to free space and resume. Elsewhere the failed write is simulated
+/// (`damaged_checkpoints_edited_scenarios_and_failed_writes_are_named`).
+#[test]
+fn a_full_disk_keeps_the_previous_checkpoint() {
+    let source = tmp("full-disk-source");
+    let child = granular()
+        .args(["run", "--quiet", "--out"])
+        .arg(&source)
+        .arg(scenarios().join("maxwell-boltzmann.toml"))
+        .args(LONG)
+        .args(["--set", "output.snapshot_every=1000000"])
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let checkpoint = source.join("checkpoint.msgpack");
+    let start = std::time::Instant::now();
+    while !checkpoint.is_file() && start.elapsed().as_secs() < 60 {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    std::thread::sleep(std::time::Duration::from_millis(200));
+    let _ = Command::new("kill")
+        .arg("-INT")
+        .arg(child.id().to_string())
+        .status();
+    let out = child.wait_with_output().unwrap();
+    assert_eq!(out.status.code(), Some(130), "{}", stderr(&out));
+    let good = std::fs::read(&checkpoint).unwrap();
+    let files: Vec<_> = std::fs::read_dir(&source)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.is_file())
+        .collect();
+    let used: u64 = files
+        .iter()
+        .map(|p| std::fs::metadata(p).unwrap().len().div_ceil(4096) * 4096)
+        .sum();
+    // Room for the run's files and half a checkpoint more.
+    let size = used + 4096 * 8 + good.len() as u64 / 2;
+    let disk = tmp("full-disk");
+    std::fs::create_dir_all(&disk).unwrap();
+    let mounted = Command::new("mount")
+        .args(["-t", "tmpfs", "-o", &format!("size={size}"), "tmpfs"])
+        .arg(&disk)
+        .stderr(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success());
+    if !mounted {
+        eprintln!("no tmpfs can be mounted here: the simulated write failure covers this");
+        return;
+    }
+    let dir = disk.join("run");
+    std::fs::create_dir_all(dir.join("snapshots")).unwrap();
+    for f in &files {
+        std::fs::copy(f, dir.join(f.file_name().unwrap())).unwrap();
+    }
+    for e in std::fs::read_dir(source.join("snapshots")).unwrap() {
+        let p = e.unwrap().path();
+        std::fs::copy(&p, dir.join("snapshots").join(p.file_name().unwrap())).unwrap();
+    }
+    let out = resume(&dir);
+    let err = stderr(&out);
+    let kept = std::fs::read(dir.join("checkpoint.msgpack")).ok();
+    let tmp_left = dir.join("checkpoint.msgpack.tmp").exists();
+    let _ = Command::new("umount").arg(&disk).status();
+    assert!(
+        out.status.code() == Some(2)
+            && err.contains("No space left on device")
+            && err.contains("previous checkpoint is intact")
+            && err.contains("Free space")
+            && err.contains(&format!("granular resume {}", dir.display())),
+        "{err}"
+    );
+    assert!(
+        kept.as_deref() == Some(&good[..]),
+        "the previous checkpoint changed"
+    );
+    assert!(!tmp_left, "checkpoint.msgpack.tmp left behind");
+}

@@ -13,7 +13,7 @@
 //! | `intruder_histograms.csv`, `.npz` | intruder engine: velocity histograms on the time grid with reference densities |
 //! | `summary.json` | engine, version, seed, timings, final observables, goodness of fit |
 //! | `checkpoint.msgpack` | full state at the last checkpoint, with its CRC-32 ([`checkpoint`]; removed when the run ends) |
-//! | `.lock` | the process id of the run writing the directory ([`lock`]; removed when it ends) |
+//! | `.lock` | the process id of the run writing the directory (removed when it ends; see `docs/output.md`) |
 //! | `log.txt` | what happened, with wall-clock times |
 
 mod build;
