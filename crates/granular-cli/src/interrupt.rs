@@ -8,10 +8,11 @@ use signal_hook::consts::{SIGINT, SIGTERM};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
-/// The signal received, if any.
-#[derive(Clone)]
+/// The signal received, if any; the handlers are removed on drop (the Python package runs
+/// the command line inside the interpreter, whose own handlers then work as before).
 pub struct Interrupt {
     signal: Arc<AtomicUsize>,
+    handlers: Vec<signal_hook::SigId>,
 }
 
 impl Interrupt {
@@ -20,17 +21,24 @@ impl Interrupt {
     pub fn install() -> Interrupt {
         let signal = Arc::new(AtomicUsize::new(0));
         let armed = Arc::new(AtomicBool::new(false));
+        let mut handlers = Vec::new();
         for sig in [SIGINT, SIGTERM] {
             // The shutdown first: on the first signal `armed` is still false.
-            let _ = signal_hook::flag::register_conditional_shutdown(
-                sig,
-                128 + sig,
-                Arc::clone(&armed),
+            handlers.extend(
+                [
+                    signal_hook::flag::register_conditional_shutdown(
+                        sig,
+                        128 + sig,
+                        Arc::clone(&armed),
+                    ),
+                    signal_hook::flag::register_usize(sig, Arc::clone(&signal), sig as usize),
+                    signal_hook::flag::register(sig, Arc::clone(&armed)),
+                ]
+                .into_iter()
+                .flatten(),
             );
-            let _ = signal_hook::flag::register_usize(sig, Arc::clone(&signal), sig as usize);
-            let _ = signal_hook::flag::register(sig, Arc::clone(&armed));
         }
-        Interrupt { signal }
+        Interrupt { signal, handlers }
     }
 
     /// The signal's number, once one arrived.
@@ -53,5 +61,13 @@ impl Interrupt {
     pub fn check(&self) -> impl FnMut() -> bool + Send + 'static {
         let signal = Arc::clone(&self.signal);
         move || signal.load(Ordering::SeqCst) != 0
+    }
+}
+
+impl Drop for Interrupt {
+    fn drop(&mut self) {
+        for id in self.handlers.drain(..) {
+            signal_hook::low_level::unregister(id);
+        }
     }
 }
