@@ -24,8 +24,8 @@ pub enum BenchCommand {
         /// Only this dimension (2 or 3).
         #[arg(long)]
         dimension: Option<usize>,
-        /// Only this number of particles.
-        #[arg(long)]
+        /// Only this number of particles (at least 16; `1e6` is read as 1000000).
+        #[arg(long, value_parser = parse_count)]
         n: Option<usize>,
         /// Only this number of threads.
         #[arg(long)]
@@ -40,8 +40,8 @@ pub enum BenchCommand {
         /// Only this dimension (2 or 3).
         #[arg(long)]
         dimension: Option<usize>,
-        /// Only this number of grains.
-        #[arg(long)]
+        /// Only this number of grains (at least 16; `1e6` is read as 1000000).
+        #[arg(long, value_parser = parse_count)]
         n: Option<usize>,
         /// Only this packing fraction.
         #[arg(long)]
@@ -82,6 +82,100 @@ const CASES: &[(usize, usize, f64, f64)] = &[
     (3, 100_000, 0.45, 2.6e5),
     (3, 1_000_000, 0.45, 1.8e5),
 ];
+
+/// `--n`: a whole number, also written as `1e6`.
+fn parse_count(s: &str) -> Result<usize, String> {
+    if let Ok(n) = s.trim().parse::<usize>() {
+        return Ok(n);
+    }
+    match s.trim().parse::<f64>() {
+        Ok(x) if x >= 0.0 && x.fract() == 0.0 && x < usize::MAX as f64 => Ok(x as usize),
+        _ => Err(format!(
+            "a number of grains is a whole number, e.g. 10000 or 1e6 (got `{s}`)"
+        )),
+    }
+}
+
+/// Fewest grains of a bench case: fewer give too few collisions to measure (one grain
+/// in a periodic box never collides).
+const MIN_GRAINS: usize = 16;
+
+/// Peak bytes per grain of the event-driven bench (set-up included; about 300 measured
+/// for 10^5 grains in 3D), for the memory check before allocating.
+const EDMD_BYTES_PER_GRAIN: f64 = 400.0;
+
+/// Peak bytes per particle of the DSMC bench (positions, velocities, cells, sort buffers).
+const DSMC_BYTES_PER_PARTICLE: f64 = 300.0;
+
+/// The memory the system can give without swapping (`MemAvailable`), where it says.
+fn available_memory() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024.0)
+}
+
+/// Refuses `--n n` when `n` grains at `bytes_per` bytes each would not fit in memory.
+fn check_memory(n: usize, bytes_per: f64) -> Result<(), String> {
+    let need = n as f64 * bytes_per;
+    if let Some(have) = available_memory()
+        && need > 0.8 * have
+    {
+        return Err(format!(
+            "--n {n}: the case would need about {:.3} GB of memory and {:.3} GB are available; \
+             give a smaller --n (at most about {:.0})",
+            need / 1e9,
+            have / 1e9,
+            (0.8 * have / bytes_per).floor()
+        ));
+    }
+    Ok(())
+}
+
+/// The flags of `bench edmd` checked before anything is allocated: the accepted ranges are
+/// named in the errors.
+fn check_edmd_flags(
+    dimension: Option<usize>,
+    n: Option<usize>,
+    packing_fraction: Option<f64>,
+    collisions_per_particle: f64,
+) -> Result<(), String> {
+    if let Some(d) = dimension
+        && d != 2
+        && d != 3
+    {
+        return Err(format!("--dimension {d}: use 2 or 3"));
+    }
+    if let Some(n) = n {
+        if n < MIN_GRAINS {
+            return Err(format!(
+                "--n {n}: give at least {MIN_GRAINS} grains (fewer collide too rarely to measure)"
+            ));
+        }
+        check_memory(n, EDMD_BYTES_PER_GRAIN)?;
+    }
+    if let Some(phi) = packing_fraction {
+        // Below the densest lattice the set-up places grains on (square: pi/4; simple
+        // cubic: pi/6); denser states would need a compression that may never end.
+        let max = match dimension {
+            Some(3) => 0.52,
+            _ => 0.78,
+        };
+        if !(phi > 0.0 && phi <= max) {
+            return Err(format!(
+                "--packing-fraction {phi}: give a packing fraction in (0, {max}] for {}D \
+                 (0.52 in 3D, 0.78 in 2D)",
+                dimension.unwrap_or(2)
+            ));
+        }
+    }
+    if !(collisions_per_particle.is_finite() && collisions_per_particle > 0.0) {
+        return Err(format!(
+            "--collisions-per-particle {collisions_per_particle}: give a positive number, e.g. 50"
+        ));
+    }
+    Ok(())
+}
 
 /// CPU time of the calling thread, in seconds: benchmarks report rates per CPU second, so
 /// that other processes on a shared machine do not count against the engine.
@@ -124,6 +218,27 @@ pub fn run(cmd: BenchCommand) -> Result<(), String> {
             threads,
             json,
         } => {
+            if let Some(d) = dimension
+                && d != 2
+                && d != 3
+            {
+                return Err(format!("--dimension {d}: use 2 or 3"));
+            }
+            if let Some(n) = n {
+                if n < MIN_GRAINS {
+                    return Err(format!("--n {n}: give at least {MIN_GRAINS} particles"));
+                }
+                check_memory(n, DSMC_BYTES_PER_PARTICLE)?;
+            }
+            let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
+            if let Some(t) = threads
+                && (t == 0 || t > 4 * cores)
+            {
+                return Err(format!(
+                    "--threads {t}: give 1 to {} worker threads (this machine has {cores} cores)",
+                    4 * cores
+                ));
+            }
             let dims: Vec<usize> = dimension.map_or(vec![2, 3], |d| vec![d]);
             let ns: Vec<usize> = n.map_or(vec![100_000, 1_000_000, 10_000_000], |n| vec![n]);
             let ts: Vec<usize> = threads.map_or(vec![1, 2], |t| vec![t]);
@@ -162,6 +277,7 @@ pub fn run(cmd: BenchCommand) -> Result<(), String> {
             gravity,
             json,
         } => {
+            check_edmd_flags(dimension, n, packing_fraction, collisions_per_particle)?;
             if !(0.0..=1.0).contains(&restitution) {
                 return Err(format!(
                     "--restitution {restitution}: the restitution must lie in [0, 1] (1: elastic)"

@@ -7,13 +7,20 @@ use std::path::{Path, PathBuf};
 use granular::scenario::ScenarioError;
 use miette::{Diagnostic, LabeledSpan, NamedSource, SourceCode};
 
-/// Why a command failed (exit status 2).
+/// Why a command failed (exit status 2, or 128 + the signal for an interrupted run).
 #[derive(Debug)]
 pub enum CliError {
     /// A scenario file that does not validate.
     Scenario(Box<BadScenario>),
     /// Any other failure.
     Message(String),
+    /// A run stopped by a signal after writing its checkpoint.
+    Interrupted {
+        /// The exit status: 128 + the signal's number (130 SIGINT, 143 SIGTERM).
+        status: u8,
+        /// What happened and the command that resumes.
+        message: String,
+    },
 }
 
 /// A scenario file that does not validate, with its text.
@@ -47,11 +54,21 @@ impl CliError {
     }
 }
 
+impl CliError {
+    /// The process's exit status for this error.
+    pub fn exit_status(&self) -> u8 {
+        match self {
+            Self::Interrupted { status, .. } => *status,
+            _ => 2,
+        }
+    }
+}
+
 impl std::fmt::Display for CliError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             Self::Scenario(s) => write!(f, "{}: {}", s.path.display(), s.error),
-            Self::Message(m) => f.write_str(m),
+            Self::Message(m) | Self::Interrupted { message: m, .. } => f.write_str(m),
         }
     }
 }
@@ -114,6 +131,11 @@ pub fn install_handler() {
 
 /// Writes `error` to standard error.
 pub fn report(error: CliError) {
+    if let CliError::Interrupted { message, .. } = &error {
+        // Not a failure: the run stopped on request and says how to continue.
+        eprintln!("{message}");
+        return;
+    }
     eprintln!("{:?}", miette::Report::new(error));
 }
 

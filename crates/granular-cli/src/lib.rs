@@ -7,11 +7,13 @@
 
 mod bench;
 mod error;
+mod interrupt;
 mod intruder_summary;
 
 use clap::{Parser, Subcommand};
 use error::CliError;
-use granular::run::{ProgressReport, Run, RunError};
+use granular::output::format_number;
+use granular::run::{DirectoryState, ProgressReport, Run, RunError};
 use granular::scenario::Scenario;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
@@ -34,8 +36,8 @@ enum Command {
         /// Run directory (default: `runs/<scenario name>`).
         #[arg(long)]
         out: Option<PathBuf>,
-        /// Seed of all random streams (overrides the scenario's `seed`).
-        #[arg(long)]
+        /// Seed of all random streams, 0 to 18446744073709551615 (overrides the scenario's `seed`).
+        #[arg(long, allow_hyphen_values = true, value_parser = parse_seed)]
         seed: Option<u64>,
         /// Override a scenario key, e.g. --set collisions.restitution=0.9 (repeatable).
         #[arg(long = "set", value_name = "KEY=VALUE")]
@@ -43,6 +45,9 @@ enum Command {
         /// No progress bar.
         #[arg(long, short)]
         quiet: bool,
+        /// Replace an earlier run in the --out directory (finished or interrupted).
+        #[arg(long)]
+        replace: bool,
     },
     /// Validate a scenario and print it fully resolved.
     Check {
@@ -59,9 +64,9 @@ enum Command {
         /// Sweep directory (default: `runs/<scenario name>`); finished members are kept.
         #[arg(long)]
         out: Option<PathBuf>,
-        /// Worker threads (default: all cores).
-        #[arg(long, default_value_t = 0)]
-        threads: usize,
+        /// Worker threads, 1 to the number of cores (default: all cores).
+        #[arg(long)]
+        threads: Option<usize>,
         /// Override a scenario key for every member (repeatable).
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
@@ -113,17 +118,18 @@ struct ReproduceArgs {
     /// Ten times fewer collisions than the paper (for tests and previews).
     #[arg(long)]
     quick: bool,
-    /// Worker threads (default: all cores); results do not depend on it.
-    #[arg(long, default_value_t = 0)]
-    threads: usize,
-    /// Seed of all random streams.
-    #[arg(long, default_value_t = 1)]
+    /// Worker threads, 1 to the number of cores (default: all cores); results do not depend on it.
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Seed of all random streams, 0 to 18446744073709551615.
+    #[arg(long, default_value_t = 1, allow_hyphen_values = true, value_parser = parse_seed)]
     seed: u64,
 }
 
 /// Runs the command line with `args` (the program name first, as `std::env::args`) and
 /// returns the process exit status: 0 on success, 2 on an error (reported through
-/// `miette` on stderr) or a usage error (clap's message). The `granular` binary and the
+/// `miette` on stderr) or a usage error (clap's message), 130 or 143 for a run stopped by
+/// SIGINT or SIGTERM after its final checkpoint. The `granular` binary and the
 /// Python package's `python -m granular` both call this.
 pub fn main_with_args<I, T>(args: I) -> i32
 where
@@ -142,9 +148,34 @@ where
     match dispatch(cli) {
         Ok(()) => 0,
         Err(e) => {
+            let status = e.exit_status();
             error::report(e);
-            2
+            i32::from(status)
         }
+    }
+}
+
+/// `--seed`: a whole number in the range of `u64` (clap's own parser would read `-1` as a
+/// flag and give no range).
+fn parse_seed(s: &str) -> Result<u64, String> {
+    s.trim()
+        .parse::<u64>()
+        .map_err(|_| format!("a seed is a whole number in 0..={} (got `{s}`)", u64::MAX))
+}
+
+/// `--threads`: at least 1, at most the number of cores (more is capped, with a note).
+fn worker_threads(threads: Option<usize>) -> Result<usize, CliError> {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    match threads {
+        None => Ok(cores),
+        Some(0) => Err(CliError::Message(format!(
+            "--threads 0: give at least 1 worker thread, or leave the flag out to use all {cores} cores"
+        ))),
+        Some(t) if t > cores => {
+            eprintln!("note: --threads {t} capped at {cores}, the number of cores of this machine");
+            Ok(cores)
+        }
+        Some(t) => Ok(t),
     }
 }
 
@@ -161,7 +192,8 @@ fn load(path: &Path, seed: Option<u64>, set: &[String]) -> Result<Scenario, CliE
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let mut overrides = set.to_vec();
     if let Some(s) = seed {
-        overrides.push(format!("seed={s}"));
+        // A string: TOML integers stop at i64::MAX, seeds at u64::MAX.
+        overrides.push(format!("seed=\"{s}\""));
     }
     let mut sc = Scenario::from_toml(&text, &overrides)
         .map_err(|e| CliError::scenario(path, &text, &overrides, e))?;
@@ -202,15 +234,26 @@ fn dispatch(cli: Cli) -> Result<(), CliError> {
             seed,
             set,
             quiet,
+            replace,
         } => {
             let sc = load(&scenario, seed, &set)?;
-            let dir = out.unwrap_or_else(|| {
-                PathBuf::from("runs").join(
-                    scenario
-                        .file_stem()
-                        .map_or("run".into(), |s| s.to_string_lossy().to_string()),
-                )
-            });
+            let dir = out.unwrap_or_else(|| default_dir(&scenario));
+            if let DirectoryState::Run { finished } = DirectoryState::of(&dir)
+                && !replace
+            {
+                let what = if finished {
+                    "a finished run (summary.json)".to_string()
+                } else {
+                    format!(
+                        "an earlier run (to continue it: `granular resume {}`)",
+                        dir.display()
+                    )
+                };
+                return Err(CliError::Message(format!(
+                    "{} holds {what}; pass --replace to overwrite it, or choose another --out",
+                    dir.display()
+                )));
+            }
             let run = Run::create(&dir, sc).map_err(|e| e.to_string())?;
             finish(run, &dir, quiet)
         }
@@ -249,7 +292,7 @@ fn dispatch(cli: Cli) -> Result<(), CliError> {
             let options = granular_report::reproduce::Options {
                 out: args.out,
                 quick: args.quick,
-                threads: args.threads,
+                threads: worker_threads(args.threads)?,
                 seed: args.seed,
             };
             let quick = if args.quick { " (--quick)" } else { "" };
@@ -275,6 +318,7 @@ fn dispatch(cli: Cli) -> Result<(), CliError> {
             threads,
             set,
         } => {
+            let threads = worker_threads(threads)?;
             let text = std::fs::read_to_string(&scenario)
                 .map_err(|e| format!("{}: {e}", scenario.display()))?;
             let dir = out.unwrap_or_else(|| default_dir(&scenario));
@@ -312,7 +356,9 @@ fn dispatch(cli: Cli) -> Result<(), CliError> {
     }
 }
 
-fn finish(run: Run, dir: &Path, quiet: bool) -> Result<(), CliError> {
+fn finish(mut run: Run, dir: &Path, quiet: bool) -> Result<(), CliError> {
+    let interrupt = interrupt::Interrupt::install();
+    run.interrupt_when(interrupt.check());
     let elastic = run.scenario().collisions.law().is_elastic();
     for w in run.warnings() {
         eprintln!("warning: {w}");
@@ -333,8 +379,9 @@ fn finish(run: Run, dir: &Path, quiet: bool) -> Result<(), CliError> {
         if let Some(bar) = &bar {
             bar.set_position((p.fraction * 1000.0) as u64);
             bar.set_message(format!(
-                "{:.4}, {:.2e} events/s",
-                p.time, p.events_per_second
+                "{}, {} events/s",
+                format_number(p.time),
+                format_number(p.events_per_second)
             ));
         }
     };
@@ -345,16 +392,16 @@ fn finish(run: Run, dir: &Path, quiet: bool) -> Result<(), CliError> {
     match result {
         Ok(summary) => {
             eprintln!(
-                "{}: {} grains, t = {:.6}, {} collisions in {:.2} s ({:.3e} collisions/s), stopped by {}",
+                "{}: {} grains, t = {}, {} collisions in {:.2} s ({} collisions/s), stopped by {}",
                 dir.display(),
                 summary.n,
                 summary
                     .final_observables
                     .get("time")
-                    .map_or(String::from("?"), |v| v.to_string()),
+                    .map_or(String::from("?"), |&v| format_number(v)),
                 summary.collisions,
                 summary.wall_seconds,
-                summary.collisions_per_second,
+                format_number(summary.collisions_per_second),
                 summary.stop_reason
             );
             intruder_summary::print(&summary);
@@ -381,6 +428,10 @@ fn finish(run: Run, dir: &Path, quiet: bool) -> Result<(), CliError> {
             "{e}\n(state saved in {}; fix the scenario and rerun)",
             dir.display()
         ))),
+        Err(e @ RunError::Interrupted { .. }) => Err(CliError::Interrupted {
+            status: interrupt.exit_status(),
+            message: e.to_string(),
+        }),
         Err(e) => Err(CliError::Message(e.to_string())),
     }
 }

@@ -3,6 +3,9 @@
 use std::path::PathBuf;
 use std::process::Command;
 
+#[path = "cli/robust.rs"]
+mod robust;
+
 fn granular() -> Command {
     Command::new(env!("CARGO_BIN_EXE_granular"))
 }
@@ -514,7 +517,7 @@ fn intruder_sweep_over_restitution() {
         + "\n[sweep]\nkey = \"intruder.restitution\"\nvalues = [0.2, 0.8]\nseeds = 2\nobservable = \"temperature_ratio\"\n";
     std::fs::write(dir.join("sweep.toml"), text).unwrap();
     let out = granular()
-        .args(["sweep", "--threads", "2", "--out"])
+        .args(["sweep", "--threads", "100000", "--out"])
         .arg(dir.join("out"))
         .arg(dir.join("sweep.toml"))
         .args(["--set", "stop.collisions=50000"])
@@ -522,6 +525,12 @@ fn intruder_sweep_over_restitution() {
         .unwrap();
     assert!(
         out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // More threads than cores are capped, with a note.
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("--threads 100000 capped at"),
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );

@@ -12,11 +12,14 @@
 //! | `impact_histograms.npz`, `structure_factor.npz`, `density_maps.npz` | opt-in observables at output times ([`outputs::SpatialObservables`]) |
 //! | `intruder_histograms.csv`, `.npz` | intruder engine: velocity histograms on the time grid with reference densities |
 //! | `summary.json` | engine, version, seed, timings, final observables, goodness of fit |
-//! | `checkpoint.msgpack` | full state at the last checkpoint (removed when the run ends) |
+//! | `checkpoint.msgpack` | full state at the last checkpoint, with its CRC-32 ([`checkpoint`]; removed when the run ends) |
+//! | `.lock` | the process id of the run writing the directory (removed when it ends; see `docs/output.md`) |
 //! | `log.txt` | what happened, with wall-clock times |
 
 mod build;
+pub mod checkpoint;
 pub mod intruder;
+mod lock;
 pub mod outputs;
 pub mod summary;
 pub mod sweep;
@@ -27,6 +30,7 @@ pub use outputs::{Output, StandardOutputs};
 pub use summary::{Resolved, Summary};
 
 use crate::engine::EngineError;
+use crate::output::format_number;
 use crate::scenario::Scenario;
 use crate::simulation::{RunHooks, Simulation, SimulationState, StopReason};
 use serde::{Deserialize, Serialize};
@@ -40,8 +44,9 @@ use std::time::Instant;
 /// queue's bucket lists end at an index instead of a sentinel; 5: the event queue is a
 /// tournament tree or a calendar, by the number of grains; 6: the cell grid keeps a few
 /// large grains out of its lists; 7: the run's outputs as typed states, the time series'
-/// rate window out of the event-driven engine).
-pub const CHECKPOINT_FORMAT: u32 = 7;
+/// rate window out of the event-driven engine; 8: a header with the payload's length and
+/// CRC-32 before the MessagePack payload, [`checkpoint`]).
+pub const CHECKPOINT_FORMAT: u32 = 8;
 
 /// Why a run failed.
 #[derive(Debug, thiserror::Error)]
@@ -70,6 +75,43 @@ pub enum RunError {
         path: PathBuf,
         /// What is wrong.
         message: String,
+    },
+    /// A checkpoint could not be written (a full disk).
+    #[error("could not write the checkpoint {path}: {message}")]
+    CheckpointWrite {
+        /// The file.
+        path: PathBuf,
+        /// What went wrong and what to do.
+        message: String,
+    },
+    /// Another process is running in the run directory.
+    #[error("run directory {dir} is in use: {message}")]
+    Locked {
+        /// The run directory.
+        dir: PathBuf,
+        /// Who holds it and what to do.
+        message: String,
+    },
+    /// The directory cannot be used for this (not a run directory, a finished run, an
+    /// edited scenario).
+    #[error("{dir}: {message}")]
+    Directory {
+        /// The directory.
+        dir: PathBuf,
+        /// What is wrong and what to do.
+        message: String,
+    },
+    /// The run was interrupted on request (Ctrl-C, SIGTERM); a checkpoint was written.
+    #[error(
+        "interrupted at t = {time}; state saved in {}. Continue with `granular resume {}`",
+        checkpoint::path(dir).display(),
+        dir.display()
+    )]
+    Interrupted {
+        /// The run directory.
+        dir: PathBuf,
+        /// Simulation time of the checkpoint, formatted.
+        time: String,
     },
 }
 
@@ -108,6 +150,8 @@ struct Recorder {
     outputs: StandardOutputs,
     attached: Vec<Box<dyn Output + Send>>,
     log: std::fs::File,
+    /// The directory's lock, held while the run lives.
+    _lock: lock::Lock,
     /// Whether the outputs have been set up and have seen the start.
     started: bool,
     warnings: Vec<String>,
@@ -117,15 +161,59 @@ struct Recorder {
 pub struct Run {
     simulation: Simulation,
     recorder: Recorder,
+    interrupt: Option<Box<dyn FnMut() -> bool + Send>>,
+}
+
+/// What a directory holds, for deciding whether a run may be written into it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DirectoryState {
+    /// It does not exist.
+    Missing,
+    /// An empty directory.
+    Empty,
+    /// A run directory: `scenario.toml` with `log.txt`, `summary.json` or a checkpoint.
+    Run {
+        /// `summary.json` is present and no checkpoint: the run finished.
+        finished: bool,
+    },
+    /// Something else: a file, or a directory with other files.
+    Other,
+}
+
+impl DirectoryState {
+    /// What `dir` holds.
+    pub fn of(dir: &Path) -> DirectoryState {
+        if !dir.exists() {
+            return DirectoryState::Missing;
+        }
+        let Ok(mut entries) = std::fs::read_dir(dir) else {
+            return DirectoryState::Other;
+        };
+        if entries.next().is_none() {
+            return DirectoryState::Empty;
+        }
+        let has = |f: &str| dir.join(f).is_file();
+        if has("scenario.toml")
+            && (has("log.txt") || has("summary.json") || has("checkpoint.msgpack"))
+        {
+            DirectoryState::Run {
+                finished: has("summary.json") && !has("checkpoint.msgpack"),
+            }
+        } else {
+            DirectoryState::Other
+        }
+    }
 }
 
 impl Run {
-    /// Starts a new run of `scenario` in `dir` (created; existing run files are replaced).
+    /// Starts a new run of `scenario` in `dir`: created if missing; an empty directory or
+    /// an earlier run directory (whose files are replaced) is used; a directory with other
+    /// files is refused, and so is one in which another process runs.
     pub fn create(dir: &Path, scenario: Scenario) -> Result<Run, RunError> {
         let start = Instant::now();
-        let log = Recorder::prepare(dir, &scenario)?;
+        let (log, lock) = Recorder::prepare(dir, &scenario)?;
         let simulation = Simulation::new(scenario)?;
-        let mut run = Run::with_log(dir, simulation, log);
+        let mut run = Run::with_log(dir, simulation, log, lock);
         run.recorder.log(
             start.elapsed().as_secs_f64(),
             &format!(
@@ -143,11 +231,16 @@ impl Run {
     /// Records `simulation` (built in memory, perhaps advanced) into `dir`; the outputs
     /// start at its current time.
     pub fn from_simulation(dir: &Path, simulation: Simulation) -> Result<Run, RunError> {
-        let log = Recorder::prepare(dir, simulation.scenario())?;
-        Ok(Run::with_log(dir, simulation, log))
+        let (log, lock) = Recorder::prepare(dir, simulation.scenario())?;
+        Ok(Run::with_log(dir, simulation, log, lock))
     }
 
-    fn with_log(dir: &Path, simulation: Simulation, log: std::fs::File) -> Run {
+    fn with_log(
+        dir: &Path,
+        simulation: Simulation,
+        log: std::fs::File,
+        (lock, note): (lock::Lock, Option<String>),
+    ) -> Run {
         let mut warnings = Vec::new();
         if let AnyEngine::Dsmc2(e) = simulation.engine() {
             warnings.extend(e.validity_warnings().iter().map(|w| w.message.clone()));
@@ -160,49 +253,77 @@ impl Run {
             outputs: StandardOutputs::for_simulation(dir, &simulation),
             attached: Vec::new(),
             log,
+            _lock: lock,
             started: false,
             warnings,
         };
+        if let Some(note) = note {
+            recorder.log(0.0, &note);
+        }
         for w in recorder.warnings.clone() {
             recorder.log(0.0, &format!("warning: {w}"));
         }
         Run {
             simulation,
             recorder,
+            interrupt: None,
         }
     }
 
-    /// Reopens an interrupted run from its checkpoint.
+    /// Reopens an interrupted run from its checkpoint. Refused when the directory is
+    /// missing, holds a finished run, has no checkpoint, is in use by another process, when
+    /// the checkpoint is damaged (its CRC-32, length and format are checked) or when
+    /// `scenario.toml` was edited after the run started.
     pub fn resume(dir: &Path) -> Result<Run, RunError> {
-        let path = dir.join("checkpoint.msgpack");
+        let path = checkpoint::path(dir);
+        let nothing = |message: String| RunError::Directory {
+            dir: dir.to_path_buf(),
+            message,
+        };
+        match DirectoryState::of(dir) {
+            DirectoryState::Missing => {
+                return Err(nothing(
+                    "no such directory: give the run directory \
+                    (the --out of `granular run`)"
+                        .into(),
+                ));
+            }
+            DirectoryState::Run { finished: true } => {
+                return Err(nothing(format!(
+                    "the run is finished (summary.json is present and no checkpoint): nothing \
+                     to resume. Its results are in {}; to run it again: `granular run {} --out {} --replace`",
+                    dir.join("summary.json").display(),
+                    dir.join("scenario.toml").display(),
+                    dir.display()
+                )));
+            }
+            _ if !path.is_file() => {
+                return Err(nothing(format!(
+                    "no checkpoint ({} is missing): the run stopped before its first \
+                     checkpoint, or this is not a run directory. Start it again: `granular run {} --out {} --replace`",
+                    path.display(),
+                    dir.join("scenario.toml").display(),
+                    dir.display()
+                )));
+            }
+            _ => {}
+        }
+        let lock = lock::Lock::acquire(dir)?;
         let bytes = std::fs::read(&path).map_err(io_err(&path))?;
-        // The format number first, so that a checkpoint of another version is named as
-        // such rather than failing somewhere inside the engine's state.
-        #[derive(Deserialize)]
-        struct Header {
-            format: u32,
-        }
-        if let Ok(Header { format }) = rmp_serde::from_slice::<Header>(&bytes)
-            && format != CHECKPOINT_FORMAT
-        {
-            return Err(RunError::Checkpoint {
-                path,
-                message: format!(
-                    "checkpoint format {format} was written by another version of granular; \
-                     this one reads format {CHECKPOINT_FORMAT}. Resume with the version that \
-                     wrote it, or rerun the scenario (DIR/scenario.toml)"
-                ),
-            });
-        }
-        let cp: Checkpoint = rmp_serde::from_slice(&bytes).map_err(|e| RunError::Checkpoint {
+        let payload = checkpoint::decode(&path, &bytes)?;
+        let cp: Checkpoint = rmp_serde::from_slice(payload).map_err(|e| RunError::Checkpoint {
             path: path.clone(),
-            message: e.to_string(),
+            message: format!(
+                "{e}: its checksum is right but its state does not read; it was written by \
+                 another build of granular. Rerun the scenario with --replace"
+            ),
         })?;
         let scenario =
             Scenario::from_toml(&cp.scenario, &[]).map_err(|e| RunError::Checkpoint {
                 path: path.clone(),
                 message: e.to_string(),
             })?;
+        check_scenario_file(dir, &cp.scenario, &scenario)?;
         let mut outputs = cp.outputs;
         outputs.relocate(dir);
         // Drop rows written after the checkpoint, so the series continues seamlessly.
@@ -219,21 +340,33 @@ impl Run {
             outputs,
             attached: Vec::new(),
             log,
+            _lock: lock.0,
             started: true,
             warnings: Vec::new(),
         };
+        if let Some(note) = lock.1 {
+            recorder.log(simulation.wall_seconds(), &note);
+        }
         recorder.log(
             simulation.wall_seconds(),
             &format!(
                 "resumed at t = {} after {} outputs",
-                simulation.time(),
+                format_number(simulation.time()),
                 simulation.outputs_done()
             ),
         );
         Ok(Run {
             simulation,
             recorder,
+            interrupt: None,
         })
+    }
+
+    /// Makes the run stop between two chunks of events when `requested` returns true
+    /// (a signal handler's flag): it writes a checkpoint and returns
+    /// [`RunError::Interrupted`]; `granular resume` continues it bit for bit.
+    pub fn interrupt_when(&mut self, requested: impl FnMut() -> bool + Send + 'static) {
+        self.interrupt = Some(Box::new(requested));
     }
 
     /// The scenario.
@@ -278,6 +411,7 @@ impl Run {
             recorder: &mut self.recorder,
             on_progress,
             interrupt_after_outputs,
+            interrupt: self.interrupt.take(),
             checkpoint_seconds,
             last_checkpoint: Instant::now(),
         };
@@ -287,16 +421,33 @@ impl Run {
 }
 
 impl Recorder {
-    /// Prepares `dir` for a new run: removes the files of an earlier one that a new run
-    /// would not overwrite, writes `scenario.toml`, and opens `log.txt`.
-    fn prepare(dir: &Path, scenario: &Scenario) -> Result<std::fs::File, RunError> {
+    /// Prepares `dir` for a new run: refuses a directory that is neither empty nor a run
+    /// directory, takes its lock, removes the files of an earlier run that a new run would
+    /// not overwrite, writes `scenario.toml`, and opens `log.txt`.
+    #[allow(clippy::type_complexity)]
+    fn prepare(
+        dir: &Path,
+        scenario: &Scenario,
+    ) -> Result<(std::fs::File, (lock::Lock, Option<String>)), RunError> {
+        if DirectoryState::of(dir) == DirectoryState::Other {
+            return Err(RunError::Directory {
+                dir: dir.to_path_buf(),
+                message: "is neither empty nor a run directory; granular writes runs only \
+                          into a new or empty directory or over an earlier run. Choose \
+                          another --out (e.g. a new subdirectory)"
+                    .into(),
+            });
+        }
+        std::fs::create_dir_all(dir).map_err(io_err(dir))?;
+        let lock = lock::Lock::acquire(dir)?;
         let _ = std::fs::remove_dir_all(dir.join("snapshots"));
         let _ = std::fs::remove_file(dir.join("checkpoint.msgpack"));
-        std::fs::create_dir_all(dir).map_err(io_err(dir))?;
+        let _ = std::fs::remove_file(dir.join("summary.json"));
         let path = dir.join("scenario.toml");
         std::fs::write(&path, scenario.to_toml()).map_err(io_err(&path))?;
         let log_path = dir.join("log.txt");
-        std::fs::File::create(&log_path).map_err(io_err(&log_path))
+        let log = std::fs::File::create(&log_path).map_err(io_err(&log_path))?;
+        Ok((log, lock))
     }
 
     fn log(&mut self, wall_seconds: f64, msg: &str) {
@@ -326,8 +477,7 @@ impl Recorder {
     }
 
     fn checkpoint(&mut self, simulation: &Simulation) -> Result<(), RunError> {
-        let path = self.dir.join("checkpoint.msgpack");
-        let tmp = self.dir.join("checkpoint.msgpack.tmp");
+        let path = checkpoint::path(&self.dir);
         let cp = Checkpoint {
             format: CHECKPOINT_FORMAT,
             scenario: simulation.scenario().to_toml(),
@@ -338,11 +488,13 @@ impl Recorder {
             path: path.clone(),
             message: e.to_string(),
         })?;
-        std::fs::write(&tmp, bytes).map_err(io_err(&tmp))?;
-        std::fs::rename(&tmp, &path).map_err(io_err(&path))?;
+        if let Err(e) = checkpoint::write_atomic(&path, &checkpoint::encode(&bytes)) {
+            self.log(simulation.wall_seconds(), &e.to_string());
+            return Err(e);
+        }
         self.log(
             simulation.wall_seconds(),
-            &format!("checkpoint at t = {}", simulation.time()),
+            &format!("checkpoint at t = {}", format_number(simulation.time())),
         );
         Ok(())
     }
@@ -427,6 +579,7 @@ struct DirectoryHooks<'a> {
     recorder: &'a mut Recorder,
     on_progress: &'a mut dyn FnMut(&ProgressReport),
     interrupt_after_outputs: Option<u64>,
+    interrupt: Option<Box<dyn FnMut() -> bool + Send>>,
     checkpoint_seconds: f64,
     last_checkpoint: Instant,
 }
@@ -441,6 +594,18 @@ impl RunHooks for DirectoryHooks<'_> {
             events: simulation.events(),
             events_per_second: simulation.events_per_second(),
         });
+        if self.interrupt.as_mut().is_some_and(|requested| requested()) {
+            let time = format_number(simulation.time());
+            self.recorder.log(
+                simulation.wall_seconds(),
+                &format!("interrupted at t = {time}"),
+            );
+            self.recorder.checkpoint(simulation)?;
+            return Err(RunError::Interrupted {
+                dir: self.recorder.dir.clone(),
+                time,
+            });
+        }
         // Between chunks, not only at outputs: a dense bed under gravity can spend hours
         // of events on one output interval. The state between two chunks is as complete
         // as at an output (resume continues the interval).
@@ -476,4 +641,39 @@ impl RunHooks for DirectoryHooks<'_> {
         );
         let _ = self.recorder.checkpoint(simulation);
     }
+}
+
+/// Refuses a resume when `DIR/scenario.toml` says something else than the scenario the
+/// run started with (`stored`, from the checkpoint). Layout and comments may differ: the
+/// file is compared after reading it.
+fn check_scenario_file(dir: &Path, stored: &str, scenario: &Scenario) -> Result<(), RunError> {
+    let path = dir.join("scenario.toml");
+    let Ok(text) = std::fs::read_to_string(&path) else {
+        // Missing: the checkpoint has the scenario; write it back.
+        return std::fs::write(&path, stored).map_err(io_err(&path));
+    };
+    if text == stored {
+        return Ok(());
+    }
+    let same = Scenario::from_resolved_toml(&text).is_ok_and(|s| s.to_toml() == scenario.to_toml());
+    if same {
+        return Ok(());
+    }
+    let first = text
+        .lines()
+        .zip(stored.lines().chain(std::iter::repeat("")))
+        .position(|(a, b)| a != b)
+        .unwrap_or(stored.lines().count());
+    Err(RunError::Directory {
+        dir: dir.to_path_buf(),
+        message: format!(
+            "{} was edited after the run started (line {} differs from the scenario stored \
+             in the checkpoint): a resumed run continues the scenario it started with. Undo \
+             the edit to resume, or start the edited scenario as a new run: \
+             `granular run {} --out NEW_DIR`",
+            path.display(),
+            first + 1,
+            path.display()
+        ),
+    })
 }

@@ -135,3 +135,48 @@ impl<'de> Deserialize<'de> for VelocitySpec {
         RawVelocity::deserialize(d)?.into_spec()
     }
 }
+
+/// The whole range of `seed`: TOML integers are signed 64-bit, so seeds above `i64::MAX`
+/// are written as a string of digits (`seed = "18446744073709551615"`), and read either way.
+pub(super) mod seed {
+    use super::*;
+
+    const HELP: &str = "a seed is a whole number in 0..=18446744073709551615";
+
+    struct SeedVisitor;
+
+    impl Visitor<'_> for SeedVisitor {
+        type Value = u64;
+
+        fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+            f.write_str(HELP)
+        }
+
+        fn visit_u64<E: de::Error>(self, v: u64) -> Result<u64, E> {
+            Ok(v)
+        }
+
+        fn visit_i64<E: de::Error>(self, v: i64) -> Result<u64, E> {
+            u64::try_from(v).map_err(|_| E::custom(format!("is {v}; {HELP}")))
+        }
+
+        fn visit_str<E: de::Error>(self, v: &str) -> Result<u64, E> {
+            v.trim()
+                .parse()
+                .map_err(|_| E::custom(format!("is \"{v}\"; {HELP}")))
+        }
+    }
+
+    /// Reads a seed from an integer or a string of digits.
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<u64, D::Error> {
+        d.deserialize_any(SeedVisitor)
+    }
+
+    /// Writes a seed as an integer, or as a string above `i64::MAX`.
+    pub fn serialize<S: serde::Serializer>(v: &u64, s: S) -> Result<S::Ok, S::Error> {
+        match i64::try_from(*v) {
+            Ok(i) => s.serialize_i64(i),
+            Err(_) => s.serialize_str(&v.to_string()),
+        }
+    }
+}

@@ -69,7 +69,11 @@ pub struct Scenario {
     #[serde(default = "two")]
     pub dimension: usize,
     /// Seed of all random streams; `granular run --seed` overrides it.
-    #[serde(default = "one")]
+    #[serde(
+        default = "one",
+        deserialize_with = "de::seed::deserialize",
+        serialize_with = "de::seed::serialize"
+    )]
     pub seed: u64,
     /// Optional one-line description.
     #[serde(default, skip_serializing_if = "String::is_empty")]
@@ -119,6 +123,7 @@ pub struct Scenario {
 struct Resolved<'a> {
     engine: EngineKind,
     dimension: usize,
+    #[serde(serialize_with = "de::seed::serialize")]
     seed: u64,
     #[serde(skip_serializing_if = "str::is_empty")]
     description: &'a str,

@@ -1,0 +1,443 @@
+//! Robustness of the command line: signals, checkpoints that cannot lie, the run
+//! directory's lock and safety, and flags out of range.
+
+use super::{granular, scenarios, tmp};
+use std::path::Path;
+use std::process::{Command, Output, Stdio};
+
+/// A run of a few seconds (4000 disks, 400 collisions per grain) with a checkpoint after
+/// every chunk of events.
+const LONG: [&str; 6] = [
+    "--set",
+    "species[0].count=4000",
+    "--set",
+    "stop.collisions_per_particle=400",
+    "--set",
+    "output.checkpoint_seconds=0",
+];
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+fn run_long(dir: &Path) -> Command {
+    let mut c = granular();
+    c.args(["run", "--quiet", "--out"])
+        .arg(dir)
+        .arg(scenarios().join("maxwell-boltzmann.toml"))
+        .args(LONG);
+    c
+}
+
+fn resume(dir: &Path) -> Output {
+    granular()
+        .args(["resume", "--quiet"])
+        .arg(dir)
+        .output()
+        .unwrap()
+}
+
+/// Starts the long run in `dir`, sends `signal` (`INT`, `TERM`) after its first
+/// checkpoint, and returns how it ended.
+fn interrupted(dir: &Path, signal: &str) -> Output {
+    let child = run_long(dir)
+        .stderr(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let checkpoint = dir.join("checkpoint.msgpack");
+    let start = std::time::Instant::now();
+    while !checkpoint.is_file() && start.elapsed().as_secs() < 60 {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    std::thread::sleep(std::time::Duration::from_millis(200));
+    let killed = Command::new("kill")
+        .arg(format!("-{signal}"))
+        .arg(child.id().to_string())
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    child.wait_with_output().unwrap()
+}
+
+/// The numbers of `summary.json` that do not depend on timing.
+fn numbers(dir: &Path) -> serde_json::Value {
+    let mut s = super::summary_of(dir);
+    let o = s.as_object_mut().unwrap();
+    for k in [
+        "wall_seconds",
+        "events_per_second",
+        "collisions_per_second",
+        "warnings",
+    ] {
+        o.remove(k);
+    }
+    s
+}
+
+#[test]
+fn sigint_and_sigterm_checkpoint_and_resume_bit_for_bit() {
+    let reference = tmp("signal-reference");
+    let out = run_long(&reference).output().unwrap();
+    assert!(out.status.success(), "{}", stderr(&out));
+    let series = std::fs::read(reference.join("timeseries.csv")).unwrap();
+    for (signal, status) in [("INT", 130), ("TERM", 143)] {
+        let dir = tmp(&format!("signal-{signal}"));
+        let out = interrupted(&dir, signal);
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(status), "{signal}: {err}");
+        assert!(
+            err.contains("interrupted at t = ")
+                && err.contains(&format!("granular resume {}", dir.display())),
+            "{err}"
+        );
+        assert!(dir.join("checkpoint.msgpack").is_file());
+        assert!(!dir.join(".lock").exists() && !dir.join("summary.json").exists());
+        let log = std::fs::read_to_string(dir.join("log.txt")).unwrap();
+        assert!(log.contains("interrupted at t = "), "{log}");
+        let out = resume(&dir);
+        assert!(out.status.success(), "{}", stderr(&out));
+        assert_eq!(numbers(&dir), numbers(&reference), "{signal}");
+        assert!(
+            std::fs::read(dir.join("timeseries.csv")).unwrap() == series,
+            "{signal}: timeseries.csv differs"
+        );
+    }
+}
+
+#[test]
+fn damaged_checkpoints_edited_scenarios_and_failed_writes_are_named() {
+    let dir = tmp("damaged");
+    let out = interrupted(&dir, "INT");
+    assert_eq!(out.status.code(), Some(130), "{}", stderr(&out));
+    let path = dir.join("checkpoint.msgpack");
+    let good = std::fs::read(&path).unwrap();
+    let mut flipped = good.clone();
+    flipped[good.len() / 2] ^= 0x10;
+    let cases: [(Vec<u8>, &str); 4] = [
+        (flipped, "is corrupt"),
+        (good[..good.len() / 3].to_vec(), "is truncated"),
+        (
+            b"not a checkpoint\n".to_vec(),
+            "is not a granular checkpoint",
+        ),
+        (
+            [&good[..8], &[7, 0, 0, 0], &good[12..]].concat(),
+            "format 7",
+        ),
+    ];
+    for (bytes, what) in cases {
+        std::fs::write(&path, bytes).unwrap();
+        let err = stderr(&resume(&dir));
+        assert!(
+            err.contains(what) && err.contains("checkpoint.msgpack"),
+            "{what}: {err}"
+        );
+    }
+    std::fs::write(&path, &good).unwrap();
+    // An edited scenario.toml is refused, naming the file and the way out.
+    let scenario = dir.join("scenario.toml");
+    let text = std::fs::read_to_string(&scenario).unwrap();
+    std::fs::write(&scenario, text.replace("seed = 1", "seed = 2")).unwrap();
+    let out = resume(&dir);
+    let err = stderr(&out);
+    assert!(
+        !out.status.success()
+            && err.contains("scenario.toml was edited")
+            && err.contains("NEW_DIR"),
+        "{err}"
+    );
+    std::fs::write(&scenario, &text).unwrap();
+    // A failed checkpoint write (the temporary file's place is taken): the previous
+    // checkpoint stays, no temporary file is left, and the message says how to go on.
+    let tmp_path = dir.join("checkpoint.msgpack.tmp");
+    std::fs::create_dir(&tmp_path).unwrap();
+    std::fs::write(tmp_path.join("occupied"), b"x").unwrap();
+    let out = resume(&dir);
+    let err = stderr(&out);
+    assert!(
+        !out.status.success()
+            && err.contains("could not write the checkpoint")
+            && err.contains("previous checkpoint is intact")
+            && err.contains(&format!("granular resume {}", dir.display())),
+        "{err}"
+    );
+    assert!(path.is_file() && !dir.join(".lock").exists());
+    std::fs::remove_dir_all(&tmp_path).unwrap();
+    let out = resume(&dir);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(!path.exists() && !tmp_path.exists());
+}
+
+#[test]
+fn resume_of_a_finished_or_missing_run_says_so() {
+    let dir = tmp("finished");
+    let out = granular()
+        .args(["run", "--quiet", "--out"])
+        .arg(&dir)
+        .arg(scenarios().join("maxwell-boltzmann.toml"))
+        .args([
+            "--set",
+            "species[0].count=200",
+            "--set",
+            "stop.collisions_per_particle=5",
+        ])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", stderr(&out));
+    let err = stderr(&resume(&dir));
+    assert!(
+        err.contains("the run is finished") && err.contains("--replace"),
+        "{err}"
+    );
+    let err = stderr(&resume(&tmp("never-made")));
+    assert!(err.contains("no such directory"), "{err}");
+}
+
+#[test]
+fn the_run_directory_is_locked_and_never_foreign() {
+    let scenario = scenarios().join("maxwell-boltzmann.toml");
+    let quick = [
+        "--set",
+        "species[0].count=200",
+        "--set",
+        "stop.collisions_per_particle=5",
+    ];
+    let run = |dir: &Path, extra: &[&str]| {
+        granular()
+            .args(["run", "--quiet", "--out"])
+            .arg(dir)
+            .arg(&scenario)
+            .args(quick)
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    // A directory with other files, and the root, are refused before anything is written.
+    let foreign = tmp("foreign");
+    std::fs::create_dir_all(&foreign).unwrap();
+    std::fs::write(foreign.join("notes.txt"), "mine").unwrap();
+    for dir in [foreign.as_path(), Path::new("/")] {
+        let out = run(dir, &[]);
+        let err = stderr(&out);
+        assert!(
+            out.status.code() == Some(2) && err.contains("neither empty nor a run directory"),
+            "{err}"
+        );
+    }
+    assert_eq!(std::fs::read_dir(&foreign).unwrap().count(), 1);
+    // An earlier run is replaced only with --replace.
+    let dir = tmp("replace");
+    assert!(run(&dir, &[]).status.success());
+    let err = stderr(&run(&dir, &[]));
+    assert!(
+        err.contains("holds a finished run") && err.contains("--replace"),
+        "{err}"
+    );
+    assert!(run(&dir, &["--replace"]).status.success());
+    // A live lock (this test's own process) refuses run and resume; the message names it.
+    std::fs::write(dir.join(".lock"), format!("{}\n", std::process::id())).unwrap();
+    let out = run(&dir, &["--replace"]);
+    let err = stderr(&out);
+    assert!(
+        !out.status.success()
+            && err.contains("is in use")
+            && err.contains(&std::process::id().to_string()),
+        "{err}"
+    );
+    std::fs::write(dir.join("checkpoint.msgpack"), b"x").unwrap();
+    let err = stderr(&resume(&dir));
+    assert!(err.contains("is in use"), "{err}");
+    std::fs::remove_file(dir.join("checkpoint.msgpack")).unwrap();
+    // A stale lock (a process that is gone) is taken over and logged.
+    if Path::new("/proc/self").exists() {
+        std::fs::write(dir.join(".lock"), "4294967\n").unwrap();
+        let out = run(&dir, &["--replace"]);
+        assert!(out.status.success(), "{}", stderr(&out));
+        let log = std::fs::read_to_string(dir.join("log.txt")).unwrap();
+        assert!(
+            log.contains("stale lock") && log.contains("4294967"),
+            "{log}"
+        );
+        assert!(!dir.join(".lock").exists());
+    }
+}
+
+#[test]
+fn seeds_cover_the_whole_u64_and_nothing_else() {
+    let dir = tmp("seed-max");
+    let out = granular()
+        .args(["run", "--quiet", "--seed", "18446744073709551615", "--out"])
+        .arg(&dir)
+        .arg(scenarios().join("maxwell-boltzmann.toml"))
+        .args([
+            "--set",
+            "species[0].count=200",
+            "--set",
+            "stop.collisions_per_particle=5",
+        ])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert_eq!(super::summary_of(&dir)["seed"], u64::MAX);
+    let check = granular()
+        .arg("check")
+        .arg(dir.join("scenario.toml"))
+        .output()
+        .unwrap();
+    assert!(check.status.success(), "{}", stderr(&check));
+    for bad in ["-1", "18446744073709551616", "1.5"] {
+        let out = granular()
+            .args(["run", "--seed", bad])
+            .arg(scenarios().join("maxwell-boltzmann.toml"))
+            .output()
+            .unwrap();
+        let err = stderr(&out);
+        assert!(
+            out.status.code() == Some(2)
+                && err.contains("--seed")
+                && err.contains("0..=18446744073709551615"),
+            "{bad}: {err}"
+        );
+    }
+}
+
+#[test]
+fn thread_counts_and_bench_sizes_are_checked() {
+    let sweep = granular()
+        .args(["sweep", "--threads", "0"])
+        .arg(scenarios().join("problem3-cooling.toml"))
+        .output()
+        .unwrap();
+    let err = stderr(&sweep);
+    assert!(
+        err.contains("--threads 0") && err.contains("at least 1"),
+        "{err}"
+    );
+    let reproduce = granular()
+        .args(["reproduce", "fig3", "--threads", "0", "--out"])
+        .arg(tmp("reproduce-threads"))
+        .output()
+        .unwrap();
+    assert!(
+        stderr(&reproduce).contains("--threads 0"),
+        "{}",
+        stderr(&reproduce)
+    );
+    let cases: [(&[&str], &str); 9] = [
+        (&["--n", "0"], "at least 16"),
+        (&["--n", "1"], "at least 16"),
+        (&["--n", "1e12"], "GB of memory"),
+        (&["--n", "1000000000000"], "GB of memory"),
+        (&["--n", "many"], "whole number"),
+        (&["--packing-fraction", "0"], "(0, 0.78]"),
+        (&["--packing-fraction", "0.95"], "(0, 0.78]"),
+        (&["--packing-fraction", "1.5"], "(0, 0.78]"),
+        (&["--packing-fraction", "NaN"], "(0, 0.78]"),
+    ];
+    for (args, what) in cases {
+        let out = granular()
+            .args(["bench", "edmd"])
+            .args(args)
+            .output()
+            .unwrap();
+        let err = stderr(&out);
+        assert!(
+            out.status.code() == Some(2) && err.contains(args[0]) && err.contains(what),
+            "{args:?}: {err}"
+        );
+    }
+    let out = granular()
+        .args([
+            "bench",
+            "edmd",
+            "--dimension",
+            "3",
+            "--packing-fraction",
+            "0.6",
+        ])
+        .output()
+        .unwrap();
+    assert!(stderr(&out).contains("(0, 0.52]"), "{}", stderr(&out));
+}
+
+/// A full disk, where this test may mount a small tmpfs (as root): the checkpoint write
+/// fails, the previous checkpoint stays intact, no temporary file is left, and the message
+/// says to free space and resume. Elsewhere the failed write is simulated
+/// (`damaged_checkpoints_edited_scenarios_and_failed_writes_are_named`).
+#[test]
+fn a_full_disk_keeps_the_previous_checkpoint() {
+    let source = tmp("full-disk-source");
+    let child = granular()
+        .args(["run", "--quiet", "--out"])
+        .arg(&source)
+        .arg(scenarios().join("maxwell-boltzmann.toml"))
+        .args(LONG)
+        .args(["--set", "output.snapshot_every=1000000"])
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let checkpoint = source.join("checkpoint.msgpack");
+    let start = std::time::Instant::now();
+    while !checkpoint.is_file() && start.elapsed().as_secs() < 60 {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    std::thread::sleep(std::time::Duration::from_millis(200));
+    let _ = Command::new("kill")
+        .arg("-INT")
+        .arg(child.id().to_string())
+        .status();
+    let out = child.wait_with_output().unwrap();
+    assert_eq!(out.status.code(), Some(130), "{}", stderr(&out));
+    let good = std::fs::read(&checkpoint).unwrap();
+    let files: Vec<_> = std::fs::read_dir(&source)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.is_file())
+        .collect();
+    let used: u64 = files
+        .iter()
+        .map(|p| std::fs::metadata(p).unwrap().len().div_ceil(4096) * 4096)
+        .sum();
+    // Room for the run's files and half a checkpoint more.
+    let size = used + 4096 * 8 + good.len() as u64 / 2;
+    let disk = tmp("full-disk");
+    std::fs::create_dir_all(&disk).unwrap();
+    let mounted = Command::new("mount")
+        .args(["-t", "tmpfs", "-o", &format!("size={size}"), "tmpfs"])
+        .arg(&disk)
+        .stderr(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success());
+    if !mounted {
+        eprintln!("no tmpfs can be mounted here: the simulated write failure covers this");
+        return;
+    }
+    let dir = disk.join("run");
+    std::fs::create_dir_all(dir.join("snapshots")).unwrap();
+    for f in &files {
+        std::fs::copy(f, dir.join(f.file_name().unwrap())).unwrap();
+    }
+    for e in std::fs::read_dir(source.join("snapshots")).unwrap() {
+        let p = e.unwrap().path();
+        std::fs::copy(&p, dir.join("snapshots").join(p.file_name().unwrap())).unwrap();
+    }
+    let out = resume(&dir);
+    let err = stderr(&out);
+    let kept = std::fs::read(dir.join("checkpoint.msgpack")).ok();
+    let tmp_left = dir.join("checkpoint.msgpack.tmp").exists();
+    let _ = Command::new("umount").arg(&disk).status();
+    assert!(
+        out.status.code() == Some(2)
+            && err.contains("No space left on device")
+            && err.contains("previous checkpoint is intact")
+            && err.contains("Free space")
+            && err.contains(&format!("granular resume {}", dir.display())),
+        "{err}"
+    );
+    assert!(
+        kept.as_deref() == Some(&good[..]),
+        "the previous checkpoint changed"
+    );
+    assert!(!tmp_left, "checkpoint.msgpack.tmp left behind");
+}
