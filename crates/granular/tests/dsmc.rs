@@ -585,3 +585,58 @@ fn advance_budget_and_snapshot() {
         assert!(names.iter().any(|k| k == key), "missing {key}");
     }
 }
+
+/// A cooling gas is not in a steady state: its pooled snapshots' temperatures differ by
+/// far more than the steady tolerance, so the run reports no Maxwell-Boltzmann fit (it
+/// was chi-square 151 659, p = 0, at a mean temperature no snapshot had) but the speeds
+/// scaled by each snapshot's thermal speed, whose fourth cumulant is the mean of the
+/// engine's `a2` column over the pooled snapshots. Each snapshot's scaled speeds have
+/// `<c²> = D/2` up to the drift (zero momentum), so the pooled `a2` is that mean to
+/// rounding; the tolerance 1e-6 leaves room for the drift's square, ~1/N² per snapshot.
+#[test]
+fn cooling_gas_reports_scaled_speeds_not_a_maxwell_boltzmann_fit() {
+    let text = crate::common::scenario_text("dsmc-cooling.toml");
+    let scenario = granular::scenario::Scenario::from_toml(&text, &[]).expect("bundled");
+    let (equilibration, spacing) = (
+        scenario.output.equilibration_collisions_per_particle,
+        scenario.output.histogram_sample_spacing,
+    );
+    let (summary, dir) = crate::common::run("scaled-speeds", scenario);
+    assert!(summary.maxwell_boltzmann_fit.is_empty());
+    let scaled = &summary.scaled_speeds["grain"];
+    assert!(scaled.temperature_max > 10.0 * scaled.temperature_min);
+    assert!(
+        summary
+            .warnings
+            .iter()
+            .any(|w| w.contains("not in a steady state"))
+    );
+    // The rows the speed statistics pooled, chosen as they choose them.
+    let csv = std::fs::read_to_string(dir.join("timeseries.csv")).expect("timeseries");
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).expect(name);
+    let (cpp_col, a2_col) = (col("collisions_per_particle"), col("a2"));
+    let (mut last, mut a2) = (f64::NEG_INFINITY, Vec::new());
+    for line in lines {
+        let row: Vec<f64> = line
+            .split(',')
+            .map(|x| x.parse().unwrap_or(f64::NAN))
+            .collect();
+        let cpp = row[cpp_col];
+        if cpp >= equilibration && cpp - last >= spacing {
+            a2.push(row[a2_col]);
+            last = cpp;
+        }
+    }
+    assert_eq!(a2.len() as u64, scaled.snapshots);
+    let mean = a2.iter().sum::<f64>() / a2.len() as f64;
+    assert!(
+        (scaled.a2 - mean).abs() < 1e-6,
+        "pooled a2 {} against the engine's {mean}",
+        scaled.a2
+    );
+    let histogram = std::fs::read_to_string(dir.join("scaled_speed_histograms.csv"));
+    assert!(histogram.expect("scaled histogram").lines().count() > 10);
+    std::fs::remove_dir_all(&dir).ok();
+}
