@@ -640,3 +640,43 @@ fn cooling_gas_reports_scaled_speeds_not_a_maxwell_boltzmann_fit() {
     assert!(histogram.expect("scaled histogram").lines().count() > 10);
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Without an explicit `time_step` the step is 0.1 of the current mean free time, so a
+/// cooling gas makes about 0.1 collisions per grain per step however cold it gets (with
+/// the initial step kept, cooling by a factor 10^6 as here, Haff's law, took 1000 times more
+/// steps per collision at the end). Output times are landed on exactly; an explicit step stays fixed.
+#[test]
+fn automatic_time_step_follows_the_mean_free_time() {
+    let n = 4000;
+    let r = radius_for_knudsen::<2>(n, 2.0);
+    let cooling = |time_step: Option<f64>| DsmcConfig {
+        time_step,
+        cell_size: Some(0.25),
+        law: CollisionLaw::uniform(0.8),
+        ..DsmcConfig::default()
+    };
+    let mut e = DsmcEngine::<2>::new(cooling(None), periodic(), n, r, 1.0, 1.0, 11).unwrap();
+    let (tau0, t0) = (e.time_step(), e.temperature());
+    let cpp = |e: &DsmcEngine<2>| 2.0 * e.collisions() as f64 / n as f64;
+    while cpp(&e) < 80.0 {
+        let until = e.time() + 20.0 * e.time_step();
+        assert_eq!(e.advance(until, u64::MAX).unwrap(), Progress::Reached);
+        assert_eq!(e.time(), until);
+    }
+    // Haff: T falls by (1 + t/t0)^2; the step grows as 1 / sqrt(T).
+    let cooled = t0 / e.temperature();
+    assert!(cooled > 1e5, "cooled by {cooled}");
+    let ratio = e.time_step() / tau0;
+    assert!(
+        (ratio / cooled.sqrt() - 1.0).abs() < 0.05,
+        "step x{ratio}, T / {cooled}"
+    );
+    // About 0.1 collisions per grain per step (0.09 with a2 and the landing steps).
+    let per_step = cpp(&e) / e.steps() as f64;
+    assert!((0.07..0.11).contains(&per_step), "{per_step} per step");
+    let mut fixed =
+        DsmcEngine::<2>::new(cooling(Some(tau0)), periodic(), n, r, 1.0, 1.0, 11).unwrap();
+    fixed.advance(50.0 * tau0, u64::MAX).unwrap();
+    assert_eq!(fixed.time_step(), tau0);
+    assert_eq!(fixed.steps(), 50);
+}

@@ -85,7 +85,8 @@ impl ScaledSpeeds {
     /// Whether every snapshot's temperature of species `s` is within [`STEADY_TOLERANCE`]
     /// of `mean` (the pooled temperature).
     pub fn steady(&self, s: usize, mean: f64) -> bool {
-        mean.is_nan() || mean <= 0.0
+        mean.is_nan()
+            || mean <= 0.0
             || (self.t_max[s] <= mean * (1.0 + STEADY_TOLERANCE)
                 && self.t_min[s] >= mean * (1.0 - STEADY_TOLERANCE))
     }
