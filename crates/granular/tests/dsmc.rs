@@ -585,3 +585,98 @@ fn advance_budget_and_snapshot() {
         assert!(names.iter().any(|k| k == key), "missing {key}");
     }
 }
+
+/// A cooling gas is not in a steady state: its pooled snapshots' temperatures differ by
+/// far more than the steady tolerance, so the run reports no Maxwell-Boltzmann fit (it
+/// was chi-square 151 659, p = 0, at a mean temperature no snapshot had) but the speeds
+/// scaled by each snapshot's thermal speed, whose fourth cumulant is the mean of the
+/// engine's `a2` column over the pooled snapshots. Each snapshot's scaled speeds have
+/// `<c²> = D/2` up to the drift (zero momentum), so the pooled `a2` is that mean to
+/// rounding; the tolerance 1e-6 leaves room for the drift's square, ~1/N² per snapshot.
+#[test]
+fn cooling_gas_reports_scaled_speeds_not_a_maxwell_boltzmann_fit() {
+    let text = crate::common::scenario_text("dsmc-cooling.toml");
+    let scenario = granular::scenario::Scenario::from_toml(&text, &[]).expect("bundled");
+    let (equilibration, spacing) = (
+        scenario.output.equilibration_collisions_per_particle,
+        scenario.output.histogram_sample_spacing,
+    );
+    let (summary, dir) = crate::common::run("scaled-speeds", scenario);
+    assert!(summary.maxwell_boltzmann_fit.is_empty());
+    let scaled = &summary.scaled_speeds["grain"];
+    assert!(scaled.temperature_max > 10.0 * scaled.temperature_min);
+    assert!(
+        summary
+            .warnings
+            .iter()
+            .any(|w| w.contains("not in a steady state"))
+    );
+    // The rows the speed statistics pooled, chosen as they choose them.
+    let csv = std::fs::read_to_string(dir.join("timeseries.csv")).expect("timeseries");
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).expect(name);
+    let (cpp_col, a2_col) = (col("collisions_per_particle"), col("a2"));
+    let (mut last, mut a2) = (f64::NEG_INFINITY, Vec::new());
+    for line in lines {
+        let row: Vec<f64> = line
+            .split(',')
+            .map(|x| x.parse().unwrap_or(f64::NAN))
+            .collect();
+        let cpp = row[cpp_col];
+        if cpp >= equilibration && cpp - last >= spacing {
+            a2.push(row[a2_col]);
+            last = cpp;
+        }
+    }
+    assert_eq!(a2.len() as u64, scaled.snapshots);
+    let mean = a2.iter().sum::<f64>() / a2.len() as f64;
+    assert!(
+        (scaled.a2 - mean).abs() < 1e-6,
+        "pooled a2 {} against the engine's {mean}",
+        scaled.a2
+    );
+    let histogram = std::fs::read_to_string(dir.join("scaled_speed_histograms.csv"));
+    assert!(histogram.expect("scaled histogram").lines().count() > 10);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Without an explicit `time_step` the step is 0.1 of the current mean free time, so a
+/// cooling gas makes about 0.1 collisions per grain per step however cold it gets (with
+/// the initial step kept, cooling by a factor 10^6 as here, Haff's law, took 1000 times more
+/// steps per collision at the end). Output times are landed on exactly; an explicit step stays fixed.
+#[test]
+fn automatic_time_step_follows_the_mean_free_time() {
+    let n = 4000;
+    let r = radius_for_knudsen::<2>(n, 2.0);
+    let cooling = |time_step: Option<f64>| DsmcConfig {
+        time_step,
+        cell_size: Some(0.25),
+        law: CollisionLaw::uniform(0.8),
+        ..DsmcConfig::default()
+    };
+    let mut e = DsmcEngine::<2>::new(cooling(None), periodic(), n, r, 1.0, 1.0, 11).unwrap();
+    let (tau0, t0) = (e.time_step(), e.temperature());
+    let cpp = |e: &DsmcEngine<2>| 2.0 * e.collisions() as f64 / n as f64;
+    while cpp(&e) < 80.0 {
+        let until = e.time() + 20.0 * e.time_step();
+        assert_eq!(e.advance(until, u64::MAX).unwrap(), Progress::Reached);
+        assert_eq!(e.time(), until);
+    }
+    // Haff: T falls by (1 + t/t0)^2; the step grows as 1 / sqrt(T).
+    let cooled = t0 / e.temperature();
+    assert!(cooled > 1e5, "cooled by {cooled}");
+    let ratio = e.time_step() / tau0;
+    assert!(
+        (ratio / cooled.sqrt() - 1.0).abs() < 0.05,
+        "step x{ratio}, T / {cooled}"
+    );
+    // About 0.1 collisions per grain per step (0.09 with a2 and the landing steps).
+    let per_step = cpp(&e) / e.steps() as f64;
+    assert!((0.07..0.11).contains(&per_step), "{per_step} per step");
+    let mut fixed =
+        DsmcEngine::<2>::new(cooling(Some(tau0)), periodic(), n, r, 1.0, 1.0, 11).unwrap();
+    fixed.advance(50.0 * tau0, u64::MAX).unwrap();
+    assert_eq!(fixed.time_step(), tau0);
+    assert_eq!(fixed.steps(), 50);
+}

@@ -153,6 +153,39 @@ collisions_per_particle = 1.0
     }
 }
 
+#[test]
+fn species_are_placed_largest_first_whatever_their_order() {
+    // A 3D bidisperse gas at packing fraction 0.27 (100 grains of radius ratio 3.2 at 0.20,
+    // 4000 small ones at 0.07). Placing the small species first (the order of the file)
+    // left no room for the first large grain after 10^5 attempts; largest first, both
+    // orders place every grain, and at the same positions (each species draws from the
+    // stream in the same order, whatever the order of the file).
+    let species = |name: &str, count: usize, phi: f64| {
+        format!("[[species]]\nname = \"{name}\"\ncount = {count}\npacking_fraction = {phi}\n")
+    };
+    let head = "engine = \"edmd\"\ndimension = 3\nseed = 3\n[box]\nlengths = [1.0, 1.0, 1.0]\n\
+                boundary = \"periodic\"\n[stop]\ncollisions_per_particle = 1.0\n";
+    let (small, large) = (species("small", 4000, 0.07), species("large", 100, 0.20));
+    let small_first = Scenario::from_toml(&format!("{head}{small}{large}"), &[]).expect("valid");
+    let large_first = Scenario::from_toml(&format!("{head}{large}{small}"), &[]).expect("valid");
+    let (bx, a) = granular::run::initial_particles::<3>(&small_first).expect("small listed first");
+    let (_, b) = granular::run::initial_particles::<3>(&large_first).expect("large listed first");
+    let phi = granular::edmd::init::packing_fraction::<3>(&a.radii, bx.volume());
+    assert!((phi - 0.27).abs() < 1e-9, "packing fraction {phi}");
+    // The grains keep the order of the file: species as listed, grains in order.
+    assert_eq!(a.species[0], 0);
+    assert_eq!(a.species[4000], 1);
+    assert!(a.radii[4000] > 3.0 * a.radii[0]);
+    assert_eq!(a.positions[..4000], b.positions[100..]);
+    assert_eq!(a.positions[4000..], b.positions[..100]);
+    for i in 0..a.len() {
+        for j in 0..i {
+            let d = bx.separation(&a.positions[i], &a.positions[j]).norm();
+            assert!(d >= a.radii[i] + a.radii[j], "{i} and {j} overlap");
+        }
+    }
+}
+
 fn final_state(dir: &std::path::Path) -> (String, String) {
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();

@@ -31,6 +31,10 @@ const SUM_CHUNK: usize = 4096;
 
 /// Direct Simulation Monte Carlo of `N` equal hard grains (disks for `D = 2`, spheres
 /// for `D = 3`), after Müller & Herrmann (the DSMC seed). See the module docs.
+/// The automatic time step as a fraction of the mean free time `1 / omega` (DSMC-3): 0.1,
+/// recomputed before every step from the current temperature.
+pub const STEP_FRACTION: f64 = 0.1;
+
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct DsmcEngine<const D: usize> {
     config: DsmcConfig,
@@ -241,7 +245,11 @@ impl<const D: usize> DsmcEngine<D> {
             Some(t) => return bad(format!("time_step {t} must be > 0")),
             None => {
                 let omega = haff::collision_frequency(D, density, radius, t0, mass, chi_global);
-                if omega > 0.0 { 0.1 / omega } else { 1.0 }
+                if omega > 0.0 {
+                    STEP_FRACTION / omega
+                } else {
+                    1.0
+                }
             }
         };
         let grid = CellGrid::new(&sim_box, cell_size);
@@ -531,6 +539,27 @@ impl<const D: usize> DsmcEngine<D> {
         })
     }
 
+    /// Sets the time step to [`STEP_FRACTION`] of the current mean free time `1 / omega(T)`
+    /// (DSMC-3, `omega` the Enskog-Boltzmann collision frequency at the current granular
+    /// temperature `T`). `T` is a chunked sum in a fixed order, so the step is the same for
+    /// any number of threads. A gas at rest keeps the step it had. A fixed step (0.1 of
+    /// the *initial* mean free time) made a cooling gas take ever more steps per collision:
+    /// 180 908 steps for 250 collisions per grain of `dsmc-cooling`.
+    pub fn follow_mean_free_time(&mut self) {
+        let omega = haff::collision_frequency(
+            D,
+            self.number_density(),
+            self.radius,
+            self.temperature(),
+            self.mass,
+            self.chi_global,
+        );
+        let tau = STEP_FRACTION / omega;
+        if omega > 0.0 && tau.is_finite() {
+            self.tau = tau;
+        }
+    }
+
     /// One time step of length `dt`: free flight with gravity and walls, counting sort by
     /// cell, collisions cell by cell.
     pub fn step(&mut self, dt: f64) {
@@ -717,10 +746,15 @@ impl<const D: usize> Engine for DsmcEngine<D> {
     }
 
     /// Steps of `tau` (the last one shortened to land exactly on `until`); stops after the
-    /// first step at which the events of this call reach `max_events`.
+    /// first step at which the events of this call reach `max_events`. Without an explicit
+    /// `time_step`, `tau` is recomputed before every step as [`STEP_FRACTION`] of the
+    /// current mean free time (see [`DsmcEngine::follow_mean_free_time`]).
     fn advance(&mut self, until: f64, max_events: u64) -> Result<Progress, EngineError> {
         let e0 = self.events();
         while self.time < until {
+            if self.config.time_step.is_none() {
+                self.follow_mean_free_time();
+            }
             let left = until - self.time;
             let dt = if left <= self.tau * (1.0 + 1e-9) {
                 left

@@ -550,6 +550,7 @@ impl Recorder {
             final_observables: BTreeMap::new(),
             maxwell_boltzmann_fit: BTreeMap::new(),
             species: BTreeMap::new(),
+            scaled_speeds: BTreeMap::new(),
             crater: None,
             intruder: None,
             resolved: Recorder::resolved(simulation),

@@ -161,6 +161,22 @@ pub struct Resolved {
     pub contact_value: Option<f64>,
 }
 
+/// Speeds of a gas that was not in a steady state, scaled by each snapshot's thermal speed
+/// (`c = v / v_T(t)`, `scaled_speed_histograms.csv`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ScaledSpeedSummary {
+    /// Scaled speeds pooled.
+    pub samples: u64,
+    /// Snapshots pooled.
+    pub snapshots: u64,
+    /// Fourth cumulant `a2 = D/(D+2) <c⁴>/<c²>² - 1` of the pooled scaled speeds (DSMC-4).
+    pub a2: f64,
+    /// Lowest temperature of a pooled snapshot (energy units).
+    pub temperature_min: f64,
+    /// Highest temperature of a pooled snapshot (energy units).
+    pub temperature_max: f64,
+}
+
 /// What a finished run reports (`summary.json`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Summary {
@@ -195,6 +211,10 @@ pub struct Summary {
     pub maxwell_boltzmann_fit: BTreeMap<String, MaxwellBoltzmannFit>,
     /// Per-species averages over the pooled equilibrium samples.
     pub species: BTreeMap<String, SpeciesStatistics>,
+    /// Species whose pooled snapshots' temperatures spread beyond the steady tolerance
+    /// (a cooling gas): their scaled speed statistics, in place of a Maxwell-Boltzmann fit.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub scaled_speeds: BTreeMap<String, ScaledSpeedSummary>,
     /// Crater measure, when the scenario has a `[crater]` table.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub crater: Option<CraterSummary>,

@@ -18,6 +18,7 @@
 mod crater;
 mod impact;
 mod intruder;
+mod scaled_speeds;
 mod snapshots;
 mod spatial;
 mod speeds;

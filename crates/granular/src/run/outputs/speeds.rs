@@ -3,6 +3,7 @@
 //! Maxwell-Boltzmann goodness of fit (HD-12) and the per-species averages of the summary.
 
 use super::Output;
+use super::scaled_speeds::{STEADY_TOLERANCE, ScaledSpeeds};
 use crate::engine::Snapshot;
 use crate::observation::Observation;
 use crate::run::summary::{MaxwellBoltzmannFit, SpeciesStatistics};
@@ -38,6 +39,10 @@ pub struct SpeedStatistics {
     samples: u64,
     /// Collisions per grain at the last pooled snapshot.
     last_sample_cpp: f64,
+    /// The same snapshots' speeds scaled by their own thermal speed, and the spread of
+    /// their temperatures (empty in a checkpoint of an earlier version).
+    #[serde(default)]
+    scaled: ScaledSpeeds,
 }
 
 /// `|v_i|²` of grain `i`.
@@ -64,6 +69,7 @@ impl SpeedStatistics {
             energy_stats: Vec::new(),
             samples: 0,
             last_sample_cpp: f64::NEG_INFINITY,
+            scaled: ScaledSpeeds::default(),
         }
     }
 
@@ -93,7 +99,14 @@ impl SpeedStatistics {
         for s in 0..self.species.len() {
             let eq = &self.equilibrium[s];
             let count = eq.total();
-            let temperature = self.temperature(s);
+            let steady = self.steady(s);
+            // Not steady: no Maxwell-Boltzmann curve at a mean temperature that no
+            // snapshot had.
+            let temperature = if steady {
+                self.temperature(s)
+            } else {
+                f64::NAN
+            };
             let init_density = self.initial[s].density();
             let eq_density = eq.density();
             let w = eq.bin_width();
@@ -116,7 +129,7 @@ impl SpeedStatistics {
                     theory
                 ));
             }
-            fits.push((count > 0 && temperature > 0.0).then(|| {
+            fits.push((steady && count > 0 && temperature > 0.0).then(|| {
                 let fit = chi_square_test(eq, cdf);
                 MaxwellBoltzmannFit {
                     temperature,
@@ -140,7 +153,12 @@ impl SpeedStatistics {
         );
         for s in 0..self.species.len() {
             let vh = &self.velocity[s];
-            let sd = (self.temperature(s) / self.masses[s]).sqrt();
+            let t = if self.steady(s) {
+                self.temperature(s)
+            } else {
+                f64::NAN
+            };
+            let sd = (t / self.masses[s]).sqrt();
             let cdf = |v: f64| 0.5 * libm::erfc(-v / (sd * std::f64::consts::SQRT_2));
             let dens = vh.density();
             let w = vh.bin_width();
@@ -164,6 +182,12 @@ impl SpeedStatistics {
             }
         }
         std::fs::write(&path, out).map_err(io_err(&path))
+    }
+
+    /// Whether the pooled snapshots of species `s` had temperatures within
+    /// [`STEADY_TOLERANCE`] of their mean (always, for a checkpoint of an earlier version).
+    fn steady(&self, s: usize) -> bool {
+        !self.scaled.is_set() || self.scaled.steady(s, self.temperature(s))
     }
 
     fn species_statistics(&self, d: usize, s: usize) -> Option<SpeciesStatistics> {
@@ -229,6 +253,11 @@ impl Output for SpeedStatistics {
         self.species = snap.species_names.clone();
         self.masses = masses;
         self.initial = initial;
+        self.scaled = ScaledSpeeds::new(
+            ns,
+            output.histogram_max_speed * (d as f64 / 2.0).sqrt(),
+            output.histogram_bins,
+        );
         self.equilibrium = histograms;
         self.energy_sum = vec![0.0; ns];
         self.speed_stats = vec![RunningStats::new(); ns];
@@ -268,6 +297,12 @@ impl Output for SpeedStatistics {
             self.speed_stats[s].push(v2.sqrt());
             self.energy_stats[s].push(0.5 * snap.masses[i] * v2);
         }
+        if self.scaled.is_set() {
+            let v2: Vec<f64> = (0..snap.masses.len())
+                .map(|i| speed_squared(&snap, i))
+                .collect();
+            self.scaled.push(d, &v2, &snap.species, &self.masses);
+        }
         self.samples += 1;
         self.last_sample_cpp = cpp;
         Ok(())
@@ -280,7 +315,26 @@ impl Output for SpeedStatistics {
         let d = simulation.scenario().dimension;
         let fits = self.write_speed_histograms(d)?;
         self.write_velocity_histograms()?;
+        let mut any_scaled = false;
         for (s, fit) in fits.into_iter().enumerate() {
+            if self.samples > 0 && !self.steady(s) {
+                let scaled = self.scaled.summary(d, s, self.samples);
+                summary.warnings.push(format!(
+                    "species `{}`: the pooled snapshots' temperatures range from {:.4e} to {:.4e}, \
+                     beyond {}% of their mean: the gas is not in a steady state, so no \
+                     Maxwell-Boltzmann fit; the speeds scaled by each snapshot's thermal speed \
+                     are in scaled_speed_histograms.csv (a2 = {:.4})",
+                    self.species[s],
+                    scaled.temperature_min,
+                    scaled.temperature_max,
+                    STEADY_TOLERANCE * 100.0,
+                    scaled.a2
+                ));
+                summary
+                    .scaled_speeds
+                    .insert(self.species[s].clone(), scaled);
+                any_scaled = true;
+            }
             if let Some(fit) = fit {
                 summary
                     .maxwell_boltzmann_fit
@@ -289,6 +343,9 @@ impl Output for SpeedStatistics {
             if let Some(stats) = self.species_statistics(d, s) {
                 summary.species.insert(self.species[s].clone(), stats);
             }
+        }
+        if any_scaled {
+            self.scaled.write(&self.dir, d, &self.species)?;
         }
         Ok(())
     }

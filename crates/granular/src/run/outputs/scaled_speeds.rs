@@ -1,0 +1,134 @@
+//! Speeds of a gas that is not in a steady state: each pooled snapshot's speeds scaled by
+//! that snapshot's thermal speed per species, `c = v / v_T(t)` with `v_T = sqrt(2 T_s(t) / m_s)`
+//! (DSMC-4: the scaled distribution of the homogeneous cooling state), and the spread of
+//! the snapshots' temperatures that decides whether pooling raw speeds means anything.
+
+use crate::run::summary::ScaledSpeedSummary;
+use crate::run::{RunError, io_err};
+use crate::stats::Histogram;
+use crate::theory::equilibrium;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// Largest relative deviation of a pooled snapshot's temperature (per species) from the
+/// pooled mean for which the raw speeds are pooled into one "equilibrium" histogram with a
+/// Maxwell-Boltzmann fit. Beyond it the gas is not in a steady state (a cooling gas) and
+/// only the scaled speeds are reported.
+pub const STEADY_TOLERANCE: f64 = 0.1;
+
+/// Scaled speeds pooled per species, and the range of the snapshots' temperatures.
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+pub struct ScaledSpeeds {
+    /// Histogram of `c` per species.
+    histograms: Vec<Histogram>,
+    /// `Σ c²` per species.
+    c2: Vec<f64>,
+    /// `Σ c⁴` per species.
+    c4: Vec<f64>,
+    /// Lowest snapshot temperature per species.
+    t_min: Vec<f64>,
+    /// Highest snapshot temperature per species.
+    t_max: Vec<f64>,
+}
+
+impl ScaledSpeeds {
+    /// Empty statistics for `species` species; `c` histogrammed on `[0, max)` in `bins` bins.
+    pub fn new(species: usize, max: f64, bins: usize) -> ScaledSpeeds {
+        ScaledSpeeds {
+            histograms: vec![Histogram::new(0.0, max, bins); species],
+            c2: vec![0.0; species],
+            c4: vec![0.0; species],
+            t_min: vec![f64::INFINITY; species],
+            t_max: vec![f64::NEG_INFINITY; species],
+        }
+    }
+
+    /// Whether statistics were set up (a checkpoint of an earlier version has none).
+    pub fn is_set(&self) -> bool {
+        !self.histograms.is_empty()
+    }
+
+    /// Pools one snapshot: `v2[i]` the squared speed, `species[i]` the species and
+    /// `masses[s]` the mass per species, in `d` dimensions. Species at rest are skipped.
+    pub fn push(&mut self, d: usize, v2: &[f64], species: &[u32], masses: &[f64]) {
+        let ns = self.histograms.len();
+        let mut sum = vec![0.0; ns];
+        let mut count = vec![0usize; ns];
+        for (&x, &s) in v2.iter().zip(species) {
+            sum[s as usize] += x;
+            count[s as usize] += 1;
+        }
+        // Temperature T_s = m <v²> / D; thermal speed v_T² = 2 T_s / m = 2 <v²> / D.
+        let mut inv_vt2 = vec![0.0; ns];
+        for s in 0..ns {
+            if count[s] == 0 || sum[s] <= 0.0 {
+                continue;
+            }
+            let mean = sum[s] / count[s] as f64;
+            let t = masses[s] * mean / d as f64;
+            self.t_min[s] = self.t_min[s].min(t);
+            self.t_max[s] = self.t_max[s].max(t);
+            inv_vt2[s] = d as f64 / (2.0 * mean);
+        }
+        for (&x, &s) in v2.iter().zip(species) {
+            let s = s as usize;
+            if inv_vt2[s] == 0.0 {
+                continue;
+            }
+            let c2 = x * inv_vt2[s];
+            self.histograms[s].push(c2.sqrt());
+            self.c2[s] += c2;
+            self.c4[s] += c2 * c2;
+        }
+    }
+
+    /// Whether every snapshot's temperature of species `s` is within [`STEADY_TOLERANCE`]
+    /// of `mean` (the pooled temperature).
+    pub fn steady(&self, s: usize, mean: f64) -> bool {
+        mean.is_nan()
+            || mean <= 0.0
+            || (self.t_max[s] <= mean * (1.0 + STEADY_TOLERANCE)
+                && self.t_min[s] >= mean * (1.0 - STEADY_TOLERANCE))
+    }
+
+    /// Summary of species `s`: the pooled fourth cumulant
+    /// `a2 = D/(D+2) <c⁴>/<c²>² - 1` (DSMC-4) and the temperature range.
+    pub fn summary(&self, d: usize, s: usize, snapshots: u64) -> ScaledSpeedSummary {
+        let n = self.histograms[s].total();
+        let (m2, m4) = (self.c2[s] / n as f64, self.c4[s] / n as f64);
+        let d = d as f64;
+        ScaledSpeedSummary {
+            samples: n,
+            snapshots,
+            a2: d / (d + 2.0) * m4 / (m2 * m2) - 1.0,
+            temperature_min: self.t_min[s],
+            temperature_max: self.t_max[s],
+        }
+    }
+
+    /// Writes `scaled_speed_histograms.csv`: the pooled density of `c` per species against
+    /// the Maxwell-Boltzmann density of `c`, `2 c e^{-c²}` in 2D (HD-12 with `m = 2`, `T = 1`).
+    pub fn write(&self, dir: &Path, d: usize, names: &[String]) -> Result<(), RunError> {
+        let path = dir.join("scaled_speed_histograms.csv");
+        let mut out =
+            String::from("species,c_low,c_high,density,count,maxwell_boltzmann_density\n");
+        for (s, h) in self.histograms.iter().enumerate() {
+            let density = h.density();
+            let w = h.bin_width();
+            let cdf = |c: f64| equilibrium::speed_cdf(d, c, 2.0, 1.0);
+            for (b, &count) in h.counts.iter().enumerate() {
+                let lo = h.min + b as f64 * w;
+                out.push_str(&format!(
+                    "{},{:e},{:e},{:e},{},{:e}\n",
+                    names[s],
+                    lo,
+                    lo + w,
+                    if h.total() > 0 { density[b] } else { f64::NAN },
+                    count,
+                    (cdf(lo + w) - cdf(lo)) / w
+                ));
+            }
+        }
+        std::fs::write(&path, out).map_err(io_err(&path))
+    }
+}
