@@ -35,7 +35,7 @@ def scenario(n: int, phi: float, placement: str = "random") -> granular.Scenario
                 }
             ],
             "initial": {"placement": placement},
-            "stop": {"time": 1e9},
+            "stop": {"time": 1e9, "wall_seconds": 86400.0},
         }
     )
 
