@@ -514,8 +514,8 @@ impl Recorder {
             radius.insert(sp.name.clone(), r);
             grains += sp.count as f64
                 * match d {
-                    2 => crate::edmd::init::ball_volume::<2>(r),
-                    _ => crate::edmd::init::ball_volume::<3>(r),
+                    2 => crate::setup::ball_volume::<2>(r),
+                    _ => crate::setup::ball_volume::<3>(r),
                 };
         }
         let contact_value = match simulation.engine() {
