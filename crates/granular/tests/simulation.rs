@@ -202,3 +202,18 @@ fn positions_and_velocities_equal_the_snapshot() {
         );
     }
 }
+
+/// DSMC sets its impact-parameter bins in its own table (`[edmd]` does not apply to it).
+#[test]
+fn dsmc_impact_bins_come_from_its_table() {
+    let mut scenario = gas("dsmc");
+    scenario.dsmc.impact_bins = Some(7);
+    let mut sim = Simulation::new(scenario).expect("build");
+    sim.advance(0.1).expect("advance");
+    assert_eq!(sim.impact_histogram().expect("histogram").counts.len(), 7);
+    let default = Simulation::new(gas("dsmc")).expect("build");
+    assert_eq!(
+        default.impact_histogram().expect("histogram").counts.len(),
+        20
+    );
+}

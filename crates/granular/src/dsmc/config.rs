@@ -75,9 +75,8 @@ pub struct DsmcConfig {
     /// Consistent-Boltzmann advection (Alexander, Garcia & Alder 1995): after a
     /// collision each partner is displaced by `2R` along its momentum change.
     pub consistent_boltzmann: bool,
-    /// Number of bins of the impact-parameter histogram (`b / 2R` in `[0, 1)`). A scenario
-    /// sets it with the key `edmd.impact_bins`, which serves both engines (the run builder
-    /// passes it here).
+    /// Number of bins of the impact-parameter histogram (`b / 2R` in `[0, 1)`); the
+    /// scenario key `dsmc.impact_bins`.
     pub impact_bins: usize,
 }
 

@@ -306,8 +306,12 @@ fn build_dsmc<const D: usize>(scenario: &Scenario) -> Result<DsmcEngine<D>, Buil
         free_volume: spec.free_volume,
         density_scope: spec.density_scope,
         consistent_boltzmann: spec.consistent_boltzmann,
-        // The scenario key `edmd.impact_bins` sets the histogram of both engines.
-        impact_bins: scenario.edmd.impact_bins,
+        // `dsmc.impact_bins`; its default is the event-driven engine's (`[edmd]` does not
+        // apply to a DSMC scenario).
+        impact_bins: scenario
+            .dsmc
+            .impact_bins
+            .unwrap_or(scenario.edmd.impact_bins),
     };
     let seed = crate::random::derive_key(scenario.seed, &[crate::random::DYNAMICS]);
     DsmcEngine::from_particles(config, bx, set, seed).map_err(|e| BuildError::Dsmc(e.to_string()))

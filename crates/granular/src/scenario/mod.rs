@@ -177,6 +177,10 @@ pub struct DsmcSpec {
     /// Consistent-Boltzmann advection: partners displaced by 2R along their momentum change.
     #[serde(default)]
     pub consistent_boltzmann: bool,
+    /// Bins of the impact-parameter histogram `|b| / 2R`; default 20, as
+    /// `edmd.impact_bins` of the event-driven engine.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub impact_bins: Option<usize>,
 }
 
 /// `[crater]`: the crater size is the number of grains of `species` whose final position

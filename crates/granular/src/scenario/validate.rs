@@ -327,6 +327,14 @@ pub(super) fn output(sc: &Scenario) -> Result<(), ScenarioError> {
 /// `[dsmc]`: positive, finite step and cell (their size against the gas is checked by
 /// `preflight`).
 pub(super) fn dsmc(sc: &Scenario) -> Result<(), ScenarioError> {
+    if let Some(bins) = sc.dsmc.impact_bins
+        && (bins == 0 || bins > MAX_BINS)
+    {
+        return Err(ScenarioError::new(
+            "dsmc.impact_bins",
+            format!("is {bins}; use between 1 and {MAX_BINS} bins (default 20)"),
+        ));
+    }
     if sc.engine != EngineKind::Dsmc {
         return Ok(());
     }
