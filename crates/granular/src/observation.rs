@@ -100,19 +100,26 @@ pub struct Rates {
     pub wall_pressure: f64,
 }
 
+impl Rates {
+    /// The rates of a window in which none is defined (empty, or no earlier observation).
+    fn undefined(interval: f64) -> Rates {
+        Rates {
+            interval,
+            collision_frequency: f64::NAN,
+            mean_free_time: f64::NAN,
+            pressure: f64::NAN,
+            wall_pressure: f64::NAN,
+        }
+    }
+}
+
 impl Observation {
     /// Rates over the window from `earlier` to `self` (NaN where the window is empty or
     /// the engine does not measure the quantity).
     pub fn rates_since(&self, earlier: &Observation) -> Rates {
         let dt = self.time - earlier.time;
         if dt <= 0.0 || !dt.is_finite() {
-            return Rates {
-                interval: dt,
-                collision_frequency: f64::NAN,
-                mean_free_time: f64::NAN,
-                pressure: f64::NAN,
-                wall_pressure: f64::NAN,
-            };
+            return Rates::undefined(dt);
         }
         let n = self.particles as f64;
         let d = self.dimension as f64;
@@ -164,13 +171,7 @@ impl Observation {
             self.collisions_per_particle,
         ));
         if self.virial.is_some() {
-            let nan = Rates {
-                interval: f64::NAN,
-                collision_frequency: f64::NAN,
-                mean_free_time: f64::NAN,
-                pressure: f64::NAN,
-                wall_pressure: f64::NAN,
-            };
+            let nan = Rates::undefined(f64::NAN);
             let r = rates.unwrap_or(&nan);
             out.push(("collision_frequency".into(), r.collision_frequency));
             out.push(("mean_free_time".into(), r.mean_free_time));
