@@ -128,8 +128,8 @@ observe() for the intruder's velocity and statistics",
         what: crate::state::Quantity,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let sim = self.sim()?;
-        if let Some((values, n, d)) = py.detach(|| crate::state::by_id(sim, what)) {
-            return matrix(py, values, n, d);
+        if let Some(array) = crate::state::by_id(py, sim, what)? {
+            return Ok(array);
         }
         let s = self.snapshot_or_error()?;
         let n = s.radii.len();

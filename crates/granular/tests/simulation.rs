@@ -200,6 +200,16 @@ fn positions_and_velocities_equal_the_snapshot() {
             snap.velocities,
             "{engine}"
         );
+        // Into a buffer the caller owns: the same values; a buffer of the wrong length is
+        // refused and left as it was.
+        let mut out = vec![f64::NAN; snap.positions.len()];
+        assert!(sim.positions_into(&mut out), "{engine}");
+        assert_eq!(out, snap.positions, "{engine}");
+        assert!(sim.velocities_into(&mut out), "{engine}");
+        assert_eq!(out, snap.velocities, "{engine}");
+        let mut short = vec![-1.0; snap.positions.len() - 1];
+        assert!(!sim.positions_into(&mut short), "{engine}");
+        assert!(short.iter().all(|&x| x == -1.0), "{engine}");
     }
 }
 
