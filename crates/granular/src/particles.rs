@@ -32,3 +32,80 @@ impl<const D: usize> ParticleSet<D> {
         self.positions.is_empty()
     }
 }
+
+/// Writes `value(s)`, the `D` values of the grain in storage slot `s`, into row `ids[s]`
+/// of `out` (row-major, `D` values per row): from an engine's storage order (sorted in
+/// space) back to input order.
+///
+/// `ids` must be a permutation of `0..ids.len()` (every engine keeps one) and `out` exactly
+/// `ids.len() × D` long; rows that no slot names are left as they were.
+///
+/// Written by hand because it is the whole cost of handing 10^6 positions to NumPy: the
+/// storage is read in order, and the writes land at random rows, a cache miss each. Large
+/// systems are split into row ranges, one per worker of rayon's pool (at most four): each
+/// worker scans every slot and writes only its own rows, so the writes are disjoint without
+/// `unsafe`, at the price of reading the slot order once per worker (sequential, cheap
+/// beside the random writes).
+pub(crate) fn scatter_by_id<const D: usize>(
+    ids: &[u32],
+    out: &mut [f64],
+    value: impl Fn(usize) -> [f64; D] + Sync,
+) {
+    use rayon::prelude::*;
+    /// Below this many grains one thread is faster than waking the pool.
+    const PARALLEL_FROM: usize = 100_000;
+    debug_assert_eq!(out.len(), ids.len() * D);
+    let n = ids.len();
+    let workers = if n < PARALLEL_FROM {
+        1
+    } else {
+        rayon::current_num_threads().clamp(1, 4)
+    };
+    let rows = n.div_ceil(workers).max(1);
+    out.par_chunks_mut(rows * D)
+        .enumerate()
+        .for_each(|(k, chunk)| {
+            let first = k * rows;
+            let range = first..first + chunk.len() / D;
+            for (s, &id) in ids.iter().enumerate() {
+                let id = id as usize;
+                if range.contains(&id) {
+                    let at = (id - first) * D;
+                    chunk[at..at + D].copy_from_slice(&value(s));
+                }
+            }
+        });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::scatter_by_id;
+
+    /// The split into row ranges (large systems) and the single pass (small ones) both
+    /// put every slot's values in the row its id names, for a scrambled permutation.
+    #[test]
+    fn scatter_puts_every_slot_in_its_row() {
+        for n in [0, 1, 7, 1000, 250_001] {
+            // A scrambled permutation: i -> (a i + b) mod n with a coprime to n.
+            let a = (1..)
+                .map(|k| 7919 * k + 1)
+                .find(|&a| gcd(a, n.max(1)) == 1)
+                .unwrap_or(1);
+            let ids: Vec<u32> = (0..n).map(|i| ((a * i + 13) % n.max(1)) as u32).collect();
+            let mut out = vec![f64::NAN; 2 * n];
+            scatter_by_id::<2>(&ids, &mut out, |s| [s as f64, -(s as f64)]);
+            for (s, &id) in ids.iter().enumerate() {
+                let row = 2 * id as usize;
+                assert_eq!(
+                    out[row..row + 2],
+                    [s as f64, -(s as f64)],
+                    "n = {n}, slot {s}"
+                );
+            }
+        }
+    }
+
+    fn gcd(a: usize, b: usize) -> usize {
+        if b == 0 { a } else { gcd(b, a % b) }
+    }
+}

@@ -826,10 +826,7 @@ impl<const D: usize> Engine for DsmcEngine<D> {
     /// The stored order is the cells' (sorted every step); scattered by grain id.
     fn state_into(&self, velocities: bool, out: &mut [f64]) -> bool {
         let stored = if velocities { &self.vel } else { &self.pos };
-        for (x, &id) in stored.iter().zip(&self.ids) {
-            let i = id as usize * D;
-            out[i..i + D].copy_from_slice(&x.0);
-        }
+        crate::particles::scatter_by_id::<D>(&self.ids, out, |s| stored[s].0);
         true
     }
 

@@ -1556,20 +1556,18 @@ impl<const D: usize> Engine for Edmd<D> {
     }
 
     /// Reads the records in slot order (sequentially, as they lie in memory) and scatters
-    /// them by grain id: 10^6 grains in a few milliseconds, where reading by id would wait
-    /// on a cache miss per grain.
+    /// them by grain id ([`crate::particles::scatter_by_id`]), where reading by id would
+    /// wait on a cache miss per grain.
     fn state_into(&self, velocities: bool, out: &mut [f64]) -> bool {
-        for (s, &id) in self.id.iter().enumerate() {
-            let v = if velocities {
-                self.velocity_slot(s)
+        crate::particles::scatter_by_id::<D>(&self.id, out, |s| {
+            if velocities {
+                self.velocity_slot(s).0
             } else {
                 let mut x = self.position_raw(s);
                 self.bx.wrap(&mut x);
-                x
-            };
-            let i = id as usize * D;
-            out[i..i + D].copy_from_slice(&v.0);
-        }
+                x.0
+            }
+        });
         true
     }
 
