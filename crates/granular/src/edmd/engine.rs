@@ -1556,7 +1556,7 @@ impl<const D: usize> Engine for Edmd<D> {
     }
 
     /// Reads the records in slot order (sequentially, as they lie in memory) and scatters
-    /// them by grain id ([`crate::particles::scatter_by_id`]), where reading by id would
+    /// them by grain id (`particles::scatter_by_id`), where reading by id would
     /// wait on a cache miss per grain.
     fn state_into(&self, velocities: bool, out: &mut [f64]) -> bool {
         crate::particles::scatter_by_id::<D>(&self.id, out, |s| {
