@@ -55,12 +55,12 @@ with tempfile.TemporaryDirectory() as out:
     table: pd.DataFrame = sweep.table
     # One row per value; add the theory to the DataFrame.
     radius = granular.Simulation(scenario).radii[0]
-    t0 = theory.haff_time(N, radius, 1.0, table["parameter"].to_numpy(), chi=theory.contact_value(PHI))
+    t0 = theory.haff_time(N, radius, 1.0, table["collisions.restitution"].to_numpy(), chi=theory.contact_value(PHI))
     table["haff_temperature"] = theory.haff_temperature(TIME, 1.0, t0)
-print(table[["parameter", "members", "temperature_mean", "temperature_stderr", "haff_temperature"]].to_string())
+print(table[["collisions.restitution", "members", "temperature_mean", "temperature_stderr", "haff_temperature"]].to_string())
 
 fig, ax = plt.subplots(figsize=(6, 4))
-ax.errorbar(table["parameter"], table["temperature_mean"], yerr=table["temperature_stderr"], fmt="o", capsize=3,
+ax.errorbar(table["collisions.restitution"], table["temperature_mean"], yerr=table["temperature_stderr"], fmt="o", capsize=3,
             label=f"EDMD sweep, N = {N}, {int(table['members'][0])} seeds per point")
 fine = np.linspace(min(values), max(values), 100)
 ax.plot(fine, theory.haff_temperature(TIME, 1.0, theory.haff_time(N, radius, 1.0, fine, chi=theory.contact_value(PHI))),

@@ -9,6 +9,7 @@ mod bench;
 mod error;
 mod interrupt;
 mod intruder_summary;
+mod sweep;
 
 use clap::{Parser, Subcommand};
 use error::CliError;
@@ -70,6 +71,20 @@ enum Command {
         /// Override a scenario key for every member (repeatable).
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
+        /// Run only share I of N of the members (1 <= I <= N; default: GRANULAR_SHARD or
+        /// a Slurm job array's SLURM_ARRAY_TASK_ID/COUNT, else all); then `granular merge DIR`.
+        #[arg(long, value_name = "I/N", value_parser = parse_shard)]
+        shard: Option<granular::run::sweep::Shard>,
+    },
+    /// Build sweep.csv and sweep.json of a sweep directory from its finished members
+    /// (after the shards of `granular sweep --shard I/N`).
+    Merge {
+        /// Sweep directory (the --out of `granular sweep`).
+        dir: PathBuf,
+        /// Write the table from the members that have finished, listing the others in
+        /// sweep.json (default: refuse, listing them).
+        #[arg(long)]
+        allow_missing: bool,
     },
     /// Draw the figures of a finished run or sweep (from its files, without rerunning).
     Plot {
@@ -317,43 +332,34 @@ fn dispatch(cli: Cli) -> Result<(), CliError> {
             out,
             threads,
             set,
+            shard,
         } => {
             let threads = worker_threads(threads)?;
             let text = std::fs::read_to_string(&scenario)
                 .map_err(|e| format!("{}: {e}", scenario.display()))?;
             let dir = out.unwrap_or_else(|| default_dir(&scenario));
             let mut set = set;
-            if let Some(o) = bath_file_override(&scenario, &load(&scenario, None, &set)?) {
+            let base = load(&scenario, None, &set)?;
+            if let Some(o) = bath_file_override(&scenario, &base) {
                 set.push(o);
             }
-            let start = std::time::Instant::now();
-            let rows = granular::run::sweep::run_sweep(&dir, &text, &set, threads, &|name, s| {
-                eprintln!(
-                    "{name}: {} collisions in {:.2} s, stopped by {}",
-                    s.collisions, s.wall_seconds, s.stop_reason
-                );
+            sweep::sweep(&sweep::SweepArgs {
+                scenario: &scenario,
+                text: &text,
+                dir: &dir,
+                set: &set,
+                threads,
+                shard,
+                observable: base.sweep.map(|s| s.observable).unwrap_or_default(),
             })
-            .map_err(|e| format!("{}: {e}", scenario.display()))?;
-            let observable = load(&scenario, None, &set)?
-                .sweep
-                .map(|s| s.observable)
-                .unwrap_or_default();
-            println!("value,{observable}_mean,{observable}_stderr");
-            for r in &rows {
-                if let Some((_, m, e, _)) = r.observables.iter().find(|o| o.0 == observable) {
-                    println!("{},{m},{e}", r.value);
-                }
-            }
-            eprintln!(
-                "{}: {} points in {:.1} s; table in {}",
-                dir.display(),
-                rows.len(),
-                start.elapsed().as_secs_f64(),
-                dir.join("sweep.csv").display()
-            );
-            Ok(())
         }
+        Command::Merge { dir, allow_missing } => sweep::merge(&dir, allow_missing),
     }
+}
+
+/// `--shard I/N`.
+fn parse_shard(text: &str) -> Result<granular::run::sweep::Shard, String> {
+    text.parse()
 }
 
 fn finish(mut run: Run, dir: &Path, quiet: bool) -> Result<(), CliError> {

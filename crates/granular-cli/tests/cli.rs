@@ -5,6 +5,8 @@ use std::process::Command;
 
 #[path = "cli/robust.rs"]
 mod robust;
+#[path = "cli/shards.rs"]
+mod shards;
 
 fn granular() -> Command {
     Command::new(env!("CARGO_BIN_EXE_granular"))
@@ -536,7 +538,7 @@ fn intruder_sweep_over_restitution() {
     );
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(
-        stdout.starts_with("value,temperature_ratio_mean"),
+        stdout.starts_with("intruder.restitution,temperature_ratio_mean"),
         "{stdout}"
     );
     let rows: Vec<f64> = stdout

@@ -26,6 +26,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<scenario::PyScenario>()?;
     m.add_class::<simulation::PySimulation>()?;
     m.add_function(wrap_pyfunction!(sweep::run_sweep, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep::merge_sweep, m)?)?;
     m.add_function(wrap_pyfunction!(cli::cli_main, m)?)?;
     theory::register(m)?;
     Ok(())

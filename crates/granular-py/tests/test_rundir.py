@@ -96,8 +96,8 @@ def test_run_sweep_equals_cli_sweep(tmp_path: Path) -> None:
     sweep = granular.run_sweep(granular.Scenario.load(path), tmp_path / "py", threads=2)
     cli("sweep", str(path), "--out", str(tmp_path / "cli"), "--threads", "1")
     assert (tmp_path / "py" / "sweep.csv").read_bytes() == (tmp_path / "cli" / "sweep.csv").read_bytes()
-    assert sweep.key == "collisions.restitution"
-    assert list(sweep.table["parameter"]) == [0.7, 0.9]
+    assert sweep.key == "collisions.restitution" and sweep.keys == ["collisions.restitution"]
+    assert list(sweep.table["collisions.restitution"]) == [0.7, 0.9]
     assert list(sweep.table["members"]) == [2.0, 2.0]
     assert len(sweep.members) == 2 and len(sweep.members[0]) == 2
     member = sweep.member(1, 0)
@@ -108,3 +108,68 @@ def test_run_sweep_equals_cli_sweep(tmp_path: Path) -> None:
     assert t.iloc[0] < t.iloc[1]
     with pytest.raises(granular.SimulationError, match="no \\[sweep\\] table"):
         granular.run_sweep(granular.Scenario.from_toml(EDMD_2D), tmp_path / "none")
+
+
+GRID = """
+[sweep]
+seeds = 2
+observable = "temperature"
+[[sweep.vary]]
+key = "collisions.restitution"
+values = [0.6, 0.95]
+[[sweep.vary]]
+key = "species[1].mass"
+values = [2.0, 4.0, 8.0]
+"""
+
+
+def _grid(tmp_path: Path) -> granular.Scenario:
+    text = EDMD_2D.replace("collisions_per_particle = 20.0", "collisions_per_particle = 1.0") + GRID
+    return granular.Scenario.from_toml(text)
+
+
+def test_multi_key_sweep_csv_reads_as_it_is(tmp_path: Path) -> None:
+    sweep = granular.run_sweep(_grid(tmp_path), tmp_path / "grid", threads=2)
+    assert sweep.keys == ["collisions.restitution", "species[1].mass"]
+    assert sweep.meta["mode"] == "grid" and sweep.meta["seeds"] == 2 and sweep.missing == []
+    assert sweep.meta["granular_version"] == granular.__version__
+    assert [k["dimension"] for k in sweep.meta["keys"]] == ["1", "mass"]
+    assert len(sweep.members) == 6 and sweep.member(5, 1).summary is not None
+    path = tmp_path / "grid" / "sweep.csv"
+    # pandas, as it is: one header row, a column per key.
+    df = pd.read_csv(path)
+    assert list(df.columns[:4]) == ["point", "collisions.restitution", "species[1].mass", "members"]
+    assert list(df["collisions.restitution"]) == [0.6, 0.6, 0.6, 0.95, 0.95, 0.95]
+    assert list(df["species[1].mass"]) == [2.0, 4.0, 8.0, 2.0, 4.0, 8.0]
+    assert (df["members"] == 2).all()
+    pd.testing.assert_frame_equal(df, sweep.table, check_dtype=False)
+    # NumPy, as it is (genfromtxt drops '.', '[' and ']' from names unless deletechars="").
+    a = np.genfromtxt(path, names=True, delimiter=",")
+    assert a.shape == (6,) and list(a["collisionsrestitution"]) == list(df["collisions.restitution"])
+    b = np.genfromtxt(path, names=True, delimiter=",", deletechars="")
+    assert b.dtype.names is not None and b.dtype.names[:3] == ("point", "collisions.restitution", "species[1].mass")
+    np.testing.assert_array_equal(b["temperature_mean"], df["temperature_mean"].to_numpy())
+    # Lower restitution, colder gas, at every mass ratio.
+    t = df["temperature_mean"].to_numpy()
+    assert (t[:3] < t[3:]).all()
+
+
+def test_shards_merge_to_the_whole_sweep(tmp_path: Path) -> None:
+    sc = _grid(tmp_path)
+    granular.run_sweep(sc, tmp_path / "all", threads=1)
+    for i in (1, 2, 3):
+        granular.run_shard(sc, tmp_path / "three", f"{i}/3", threads=1)
+    assert not (tmp_path / "three" / "sweep.csv").exists()
+    merged = granular.merge_sweep(tmp_path / "three")
+    for f in ("sweep.csv", "sweep.json"):
+        assert (tmp_path / "all" / f).read_bytes() == (tmp_path / "three" / f).read_bytes()
+    assert merged.missing == []
+    # A lone shard: the merge names the missing members, or lists them with allow_missing.
+    granular.run_shard(sc, tmp_path / "one", "2/4", threads=1)
+    with pytest.raises(granular.SimulationError, match="point_000/seed_000 \\(not started\\)"):
+        granular.merge_sweep(tmp_path / "one")
+    part = granular.merge_sweep(tmp_path / "one", allow_missing=True)
+    assert len(part.missing) == 9 and list(part.table["members"]) == [1, 0, 1, 0, 1, 0]
+    for bad in ("0/3", "4/3", "a/b"):
+        with pytest.raises(ValueError, match="shard"):
+            granular.run_shard(sc, tmp_path / "bad", bad)

@@ -6,10 +6,10 @@ use crate::plot::{
 };
 use crate::table::{Table, column, read_csv};
 use granular::boundary::AxisKind;
+use granular::run::sweep::SweepTable;
 use granular::scenario::Scenario;
 use granular::theory::equilibrium;
 use granular::theory::haff;
-use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 fn save_both(
@@ -222,65 +222,91 @@ fn plot_run(dir: &Path, animate: bool) -> Result<Vec<PathBuf>, String> {
 }
 
 fn plot_sweep(dir: &Path) -> Result<Vec<PathBuf>, String> {
-    let table = read_csv(&dir.join("sweep.csv"))?;
-    let key = std::fs::read_to_string(dir.join("sweep.csv"))
-        .ok()
-        .and_then(|t| {
-            t.lines()
-                .next()
-                .map(|l| l.trim_start_matches("# sweep of ").to_string())
-        })
-        .unwrap_or_else(|| "parameter".into());
+    let table = SweepTable::read(dir).map_err(|e| e.to_string())?;
+    let key = table
+        .keys
+        .first()
+        .cloned()
+        .unwrap_or_else(|| "point".into());
     let out = dir.join("figures");
     std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
     let mut made = Vec::new();
-    let x = column(&table, "parameter").unwrap_or_default();
+    // The first key on the x axis (the point number for a key whose values are text);
+    // one curve per combination of the other keys.
+    let x: Vec<f64> = table
+        .rows
+        .iter()
+        .map(|r| match r.numbers.first() {
+            Some(x) if x.is_finite() => *x,
+            _ => r.point as f64,
+        })
+        .collect();
+    let mut groups: Vec<(String, Vec<usize>)> = Vec::new();
+    for (i, r) in table.rows.iter().enumerate() {
+        let label: Vec<String> = table
+            .keys
+            .iter()
+            .zip(&r.values)
+            .skip(1)
+            .map(|(k, v)| format!("{k} = {v}"))
+            .collect();
+        let label = label.join(", ");
+        match groups.iter_mut().find(|g| g.0 == label) {
+            Some(g) => g.1.push(i),
+            None => groups.push((label, vec![i])),
+        }
+    }
     // One figure per observable with error bars over seeds.
-    for name in table.0.iter().filter_map(|c| c.strip_suffix("_mean")) {
-        let (Some(y), Some(e)) = (
-            column(&table, &format!("{name}_mean")),
-            column(&table, &format!("{name}_stderr")),
-        ) else {
+    for name in &table.observables {
+        let Some((y, e)) = table.observable(name) else {
             continue;
         };
         if y.iter().all(|v| !v.is_finite()) {
             continue;
         }
         let stem = out.join(format!("sweep_{}", name.replace(['.', '/'], "_")));
-        let e: Vec<f64> = e
-            .iter()
-            .map(|v| if v.is_finite() { *v } else { 0.0 })
-            .collect();
-        let p = LinePlot::new(format!("{name} against {key}"))
+        let mut p = LinePlot::new(format!("{name} against {key}"))
             .x_label(key.clone())
-            .y_label(format!("{name} (mean ± standard error)"))
-            .series(Series::line_markers(name.to_string(), x.clone(), y).with_errors(e));
+            .y_label(format!("{name} (mean ± standard error)"));
+        for (label, rows) in &groups {
+            let pick = |v: &[f64]| rows.iter().map(|&i| v[i]).collect::<Vec<f64>>();
+            let err: Vec<f64> = pick(&e)
+                .into_iter()
+                .map(|v| if v.is_finite() { v } else { 0.0 })
+                .collect();
+            let label = if label.is_empty() {
+                name.clone()
+            } else {
+                label.clone()
+            };
+            p = p.series(Series::line_markers(label, pick(&x), pick(&y)).with_errors(err));
+        }
         save_both(&stem, p.save_png_and_svg(&stem), &mut made)?;
     }
     // Time series of every point (mean over seeds), per species energy when present.
-    let mut points: BTreeMap<String, Vec<PathBuf>> = BTreeMap::new();
-    for p in std::fs::read_dir(dir).map_err(|e| e.to_string())?.flatten() {
-        let name = p.file_name().to_string_lossy().to_string();
-        if name.starts_with("point_") {
-            let mut seeds: Vec<PathBuf> = std::fs::read_dir(p.path())
-                .map_err(|e| e.to_string())?
-                .flatten()
-                .map(|s| s.path())
-                .collect();
-            seeds.sort();
-            points.insert(name, seeds);
-        }
-    }
-    let values: Vec<String> = table
-        .1
+    let points: Vec<(String, Vec<PathBuf>)> = table
+        .meta
+        .points
         .iter()
-        .map(|r| r.first().cloned().unwrap_or_default())
+        .zip(&table.rows)
+        .map(|(p, r)| {
+            let label: Vec<String> = table
+                .keys
+                .iter()
+                .zip(&r.values)
+                .map(|(k, v)| format!("{k} = {v}"))
+                .collect();
+            (
+                label.join(", "),
+                p.members.iter().map(|m| dir.join(m)).collect(),
+            )
+        })
         .collect();
     let mut energy = LinePlot::new(format!("Kinetic energy per grain, by {key}"))
         .x_label("time t")
         .y_label("kinetic energy per grain");
     let mut any = false;
-    for (i, (_, seeds)) in points.iter().enumerate() {
+    for (label, seeds) in &points {
         let tables: Vec<Table> = seeds
             .iter()
             .filter_map(|s| read_csv(&s.join("timeseries.csv")).ok())
@@ -289,7 +315,6 @@ fn plot_sweep(dir: &Path) -> Result<Vec<PathBuf>, String> {
             continue;
         };
         let time = column(first, "time").unwrap_or_default();
-        let label = values.get(i).cloned().unwrap_or_default();
         let species_cols: Vec<String> = first
             .0
             .iter()
@@ -316,7 +341,7 @@ fn plot_sweep(dir: &Path) -> Result<Vec<PathBuf>, String> {
                 mean.iter_mut().for_each(|m| *m /= used);
                 let species = c.strip_prefix("kinetic_energy_per_grain.").unwrap_or("all");
                 energy = energy.series(Series::line(
-                    format!("{key} = {label}: {species}"),
+                    format!("{label}: {species}"),
                     time.clone(),
                     mean,
                 ));

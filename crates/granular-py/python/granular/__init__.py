@@ -18,7 +18,7 @@ Names:
 * :class:`Scenario` — a validated scenario (TOML file, text or dict, with ``--set`` overrides);
 * :class:`Simulation` — a simulation in memory: ``advance``, ``run``, ``observe``, NumPy state;
 * :func:`load_run`, :func:`load_sweep` — read run and sweep directories;
-* :func:`run_sweep` — a scenario's ``[sweep]`` on all cores;
+* :func:`run_sweep` — a scenario's ``[sweep]`` on all cores; :func:`run_shard`, :func:`merge_sweep`;
 * :mod:`granular.theory` — the exact theory on NumPy arrays;
 * :class:`ScenarioError`, :class:`SimulationError` — the exceptions, with the command line's messages;
 * :func:`main` — the command line (``python -m granular ...`` is ``granular ...``).
@@ -47,6 +47,8 @@ __all__ = [
     "load_sweep",
     "read_table",
     "run_sweep",
+    "merge_sweep",
+    "run_shard",
     "theory",
     "main",
     "__version__",
@@ -59,13 +61,36 @@ def run_sweep(
     threads: int = 0,
     frame: Optional[bool] = None,
 ) -> SweepData:
-    """Runs a scenario's ``[sweep]`` (every value of its key, several seeds each) on ``threads`` worker
-    threads (0: all cores) into the directory ``out``, exactly as ``granular sweep``, and returns it read
-    by :func:`load_sweep`. Members already finished in ``out`` are kept. The interpreter lock is released
-    while the members run. Raises ScenarioError or SimulationError."""
+    """Runs a scenario's ``[sweep]`` (every point of its key or keys, several seeds each) on ``threads``
+    worker threads (0: all cores) into the directory ``out``, exactly as ``granular sweep``, and returns it
+    read by :func:`load_sweep`. Members already finished in ``out`` are kept. The interpreter lock is
+    released while the members run. Raises ScenarioError or SimulationError."""
     if not isinstance(scenario, Scenario):
         scenario = Scenario.load(scenario)
     _core.run_sweep(scenario, Path(out), threads)
+    return load_sweep(out, frame)
+
+
+def run_shard(
+    scenario: Union[Scenario, str, Path],
+    out: Union[str, Path],
+    shard: str,
+    threads: int = 0,
+) -> None:
+    """Runs share ``shard = "I/N"`` of the members of a scenario's ``[sweep]`` into ``out``, as
+    ``granular sweep --shard I/N`` does (member ``m``, numbered point by point, seed by seed, belongs to
+    shard ``m mod N + 1``); :func:`merge_sweep` builds the table once every shard has finished. Raises
+    ValueError for a bad ``shard``, ScenarioError or SimulationError."""
+    if not isinstance(scenario, Scenario):
+        scenario = Scenario.load(scenario)
+    _core.run_sweep(scenario, Path(out), threads, shard)
+
+
+def merge_sweep(out: Union[str, Path], allow_missing: bool = False, frame: Optional[bool] = None) -> SweepData:
+    """Builds ``sweep.csv`` and ``sweep.json`` of the sweep directory ``out`` from its finished members, as
+    ``granular merge`` does, and returns it read by :func:`load_sweep`. Members that have not finished raise
+    SimulationError naming them, unless ``allow_missing`` (then they are listed in ``SweepData.missing``)."""
+    _core.merge_sweep(Path(out), allow_missing)
     return load_sweep(out, frame)
 
 

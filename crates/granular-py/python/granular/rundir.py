@@ -197,35 +197,63 @@ class SweepData:
 
     #: The directory.
     path: Path
-    #: The swept key (from ``sweep.csv``'s first line), e.g. ``collisions.restitution``.
+    #: The first swept key (the only one of a one-key sweep), e.g. ``collisions.restitution``.
     key: str
-    #: ``sweep.csv``: ``value`` (TOML text), ``parameter`` (its number), ``members``, and
+    #: Every swept key, in column order.
+    keys: list[str]
+    #: ``sweep.csv``: ``point``, one column per swept key (named by the key), ``members``, and
     #: ``<observable>_mean`` / ``<observable>_stderr`` for every scalar observable.
     table: Table
-    #: Member directories ``[point][seed]``.
+    #: Member directories ``[point][seed]`` (``point_PPP/seed_SSS``; those in :attr:`missing` have not
+    #: finished).
     members: list[list[Path]]
+    #: ``sweep.json``: scenario, seed, mode, keys with their values and dimensions, member seeds,
+    #: observables, points, missing members, granular version (docs/output.md).
+    meta: dict[str, Any] = field(default_factory=dict)
+    #: Members without a finished run when the table was merged (``point_001/seed_002 (not started)``).
+    missing: list[str] = field(default_factory=list)
 
     def member(self, point: int, seed: int = 0, frame: Optional[bool] = None) -> RunData:
         """The run directory of member ``(point, seed)``, read with :func:`load_run`."""
         return load_run(self.members[point][seed], frame)
 
     def summaries(self) -> list[list[dict[str, Any]]]:
-        """``summary.json`` of every member, ``[point][seed]``."""
-        return [[json.loads((m / "summary.json").read_text()) for m in row] for row in self.members]
+        """``summary.json`` of every finished member, ``[point][seed]``."""
+        return [
+            [json.loads((m / "summary.json").read_text()) for m in row if (m / "summary.json").exists()]
+            for row in self.members
+        ]
 
 
 def load_sweep(path: Union[str, Path], frame: Optional[bool] = None) -> SweepData:
-    """Reads a sweep directory written by ``granular sweep`` or :func:`granular.run_sweep`."""
+    """Reads a sweep directory written by ``granular sweep`` (or ``granular merge``) or
+    :func:`granular.run_sweep`: ``sweep.csv`` as a table and its sidecar ``sweep.json``."""
     d = Path(path)
     table_path = d / "sweep.csv"
     if not table_path.exists():
-        raise FileNotFoundError(f"{table_path}: not a finished sweep directory (no sweep.csv)")
-    first = table_path.read_text().splitlines()[0]
-    m = re.match(r"#\s*sweep of\s+(.*)", first)
-    points = sorted(p for p in d.glob("point_*") if p.is_dir())
+        raise FileNotFoundError(
+            f"{table_path}: not a finished sweep directory (no sweep.csv; after sharded runs: granular merge {d})"
+        )
+    meta_path = d / "sweep.json"
+    if meta_path.exists():
+        meta = json.loads(meta_path.read_text())
+        keys = [k["key"] for k in meta["keys"]]
+        members = [
+            [d / f"point_{p['point']:03}" / f"seed_{s:03}" for s in range(meta["seeds"])] for p in meta["points"]
+        ]
+    else:  # an older sweep: the key in a comment line, members from the directory
+        meta = {}
+        first = table_path.read_text().splitlines()[0]
+        m = re.match(r"#\s*sweep of\s+(.*)", first)
+        keys = [m.group(1).strip()] if m else []
+        points = sorted(p for p in d.glob("point_*") if p.is_dir())
+        members = [sorted(s for s in p.glob("seed_*") if s.is_dir()) for p in points]
     return SweepData(
         path=d,
-        key=m.group(1).strip() if m else "",
+        key=keys[0] if keys else "",
+        keys=keys,
         table=read_table(table_path, frame),
-        members=[sorted(s for s in p.glob("seed_*") if s.is_dir()) for p in points],
+        members=members,
+        meta=meta,
+        missing=list(meta.get("missing", [])),
     )

@@ -23,7 +23,8 @@ pub use overrides::apply_override;
 pub use preflight::{FALLBACK_MEMORY, MAX_COLLISIONS, MAX_OUTPUTS, available_memory};
 pub use spans::locate;
 pub use species::MAX_NAME_LEN;
-pub use sweep::sweep_observables;
+pub(crate) use sweep::sweep_member;
+pub use sweep::{MAX_SWEEP_POINTS, sweep_observables};
 pub use validate::{MAGNITUDE, MAX_BINS, MAX_HISTOGRAM_SPEED};
 
 /// Whether `--set` assignment `o` set `key` or a table above it.
@@ -194,22 +195,53 @@ pub struct CraterSpec {
     pub displacement: f64,
 }
 
-/// `[sweep]`: run the scenario for each value of `key`, each with `seeds` seeds.
+/// `[sweep]`: run the scenario at every point of a parameter scan, each point with
+/// `seeds` seeds. One key (`key` + `values`) or several (`[[sweep.vary]]`, combined as
+/// every combination, `mode = "grid"`, or element by element, `mode = "zip"`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SweepSpec {
-    /// Dotted scenario key to vary, e.g. `species[0].velocity.velocity` or
-    /// `collisions.restitution`.
-    pub key: String,
-    /// Values of the key (TOML values: numbers, arrays, ...).
+    /// Dotted scenario key to vary (the one-key form), e.g.
+    /// `species[0].velocity.velocity` or `collisions.restitution`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub key: Option<String>,
+    /// Values of `key` (TOML values: numbers, arrays, ...).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub values: Vec<toml::Value>,
-    /// Seeds per value (ensemble size).
+    /// Several keys, each with its values (instead of `key` and `values`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub vary: Vec<SweepAxis>,
+    /// How the keys' values combine: `"grid"` (every combination) or `"zip"`.
+    #[serde(default)]
+    pub mode: SweepMode,
+    /// Seeds per point (ensemble size).
     #[serde(default = "four")]
     pub seeds: usize,
     /// Observable plotted against the value (a key of `summary.json`'s `final`, or
     /// `crater_size`).
     #[serde(default = "kinetic")]
     pub observable: String,
+}
+
+/// One swept key of `[[sweep.vary]]` and its values.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SweepAxis {
+    /// Dotted scenario key, as `--set` takes it.
+    pub key: String,
+    /// Its values (TOML values).
+    pub values: Vec<toml::Value>,
+}
+
+/// How the values of several swept keys combine into points.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SweepMode {
+    /// Every combination (outer product; the first key varies slowest).
+    #[default]
+    Grid,
+    /// The `i`-th values of every key together (all lists of one length).
+    Zip,
 }
 
 fn four() -> usize {

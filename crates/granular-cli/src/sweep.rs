@@ -1,0 +1,96 @@
+//! `granular sweep` (the whole sweep, or one shard of it) and `granular merge`.
+
+use crate::error::CliError;
+use granular::run::sweep::{self, Shard, SweepRow};
+use std::path::Path;
+
+/// What `granular sweep` was given.
+pub(crate) struct SweepArgs<'a> {
+    pub scenario: &'a Path,
+    pub text: &'a str,
+    pub dir: &'a Path,
+    pub set: &'a [String],
+    pub threads: usize,
+    pub shard: Option<Shard>,
+    pub observable: String,
+}
+
+/// Runs the sweep (or its shard: `--shard`, else the environment) and, for the whole
+/// sweep, merges the table and prints the chosen observable as CSV.
+pub(crate) fn sweep(a: &SweepArgs) -> Result<(), CliError> {
+    let shard = match a.shard {
+        Some(s) => s,
+        None => match Shard::from_env(|k| std::env::var(k).ok()) {
+            Ok(Some((s, from))) => {
+                eprintln!("shard {s} (from {from}; --shard overrides it)");
+                s
+            }
+            Ok(None) => Shard::ALL,
+            Err(e) => return Err(CliError::Message(e)),
+        },
+    };
+    let start = std::time::Instant::now();
+    let report = |name: &str, s: &granular::Summary| {
+        eprintln!(
+            "{name}: {} collisions in {:.2} s, stopped by {}",
+            s.collisions, s.wall_seconds, s.stop_reason
+        );
+    };
+    let fail = |e: sweep::SweepError| format!("{}: {e}", a.scenario.display());
+    let done = sweep::run_shard(a.dir, a.text, a.set, a.threads, shard, &report).map_err(fail)?;
+    if shard.count > 1 {
+        eprintln!(
+            "{}: shard {shard}: {} of {} members ({} run now) in {:.1} s; when every shard has \
+             finished: granular merge {}",
+            a.dir.display(),
+            done.members.len(),
+            done.total,
+            done.ran,
+            start.elapsed().as_secs_f64(),
+            a.dir.display()
+        );
+        return Ok(());
+    }
+    let merged = sweep::merge(a.dir, false).map_err(fail)?;
+    print_observable(&merged.meta.keys, &merged.rows, &a.observable);
+    eprintln!(
+        "{}: {} points in {:.1} s; table in {}",
+        a.dir.display(),
+        merged.rows.len(),
+        start.elapsed().as_secs_f64(),
+        a.dir.join("sweep.csv").display()
+    );
+    Ok(())
+}
+
+/// The chosen observable as CSV on standard output: the keys, mean, standard error.
+fn print_observable(keys: &[sweep::table::KeyMeta], rows: &[SweepRow], observable: &str) {
+    let names: Vec<&str> = keys.iter().map(|k| k.key.as_str()).collect();
+    println!("{},{observable}_mean,{observable}_stderr", names.join(","));
+    for r in rows {
+        if let Some((m, e)) = r.observable(observable) {
+            println!("{},{m},{e}", r.values.join(","));
+        }
+    }
+}
+
+/// `granular merge DIR [--allow-missing]`.
+pub(crate) fn merge(dir: &Path, allow_missing: bool) -> Result<(), CliError> {
+    let merged = sweep::merge(dir, allow_missing).map_err(|e| e.to_string())?;
+    let missing = &merged.meta.missing;
+    if !missing.is_empty() {
+        eprintln!(
+            "warning: {} members missing (listed in sweep.json):\n  {}",
+            missing.len(),
+            missing.join("\n  ")
+        );
+    }
+    let members: u64 = merged.rows.iter().map(|r| r.members).sum();
+    eprintln!(
+        "{}: {} points, {members} members; table in {}",
+        dir.display(),
+        merged.rows.len(),
+        dir.join("sweep.csv").display()
+    );
+    Ok(())
+}
