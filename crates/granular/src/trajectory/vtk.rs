@@ -6,7 +6,10 @@
 //! Each `.vtp` file holds the grains as points (`Points`, 3 x `Float64`; `z = 0` in 2D)
 //! with one vertex cell each (`Verts`), and the point arrays `id` (`Int64`, from 0),
 //! `species` (`Int32`, the index of the scenario's `[[species]]`; the names are listed in
-//! an XML comment), `velocity` (3 x `Float64`), `radius` and `mass` (`Float64`). The field
+//! an XML comment), `v` (the velocity, 3 x `Float64`), `radius` and `mass` (`Float64`).
+//! The names `Points`, `v`, `id`, `radius`, `mass` are those of LIGGGHTS' and Aspherix'
+//! particle files, which OVITO's VTP particle reader maps to its position, velocity,
+//! identifier, radius and mass. The field
 //! data hold `TimeValue` (the time), `Step` (the output index), `BoxLengths` (3 values;
 //! 0 along z in 2D) and `Periodic` (3 values, 1 periodic, 0 hard walls; PolyData has no
 //! box of its own). Numbers are ASCII with Rust's shortest round-trip formatting, so the
@@ -148,19 +151,16 @@ pub fn write_frame(out: &mut impl Write, frame: &Frame) -> io::Result<()> {
         out,
         "    <Piece NumberOfPoints=\"{n}\" NumberOfVerts=\"{n}\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">"
     )?;
-    writeln!(
-        out,
-        "      <PointData Scalars=\"radius\" Vectors=\"velocity\">"
-    )?;
+    writeln!(out, "      <PointData Scalars=\"radius\" Vectors=\"v\">")?;
     array(out, "Int64", "id", 1, n, 0..n)?;
     array(out, "Int32", "species", 1, n, s.species.iter())?;
     let v = (0..n).flat_map(|i| frame.velocity(i));
-    array(out, "Float64", "velocity", 3, n, v)?;
+    array(out, "Float64", "v", 3, n, v)?;
     array(out, "Float64", "radius", 1, n, s.radii.iter())?;
     array(out, "Float64", "mass", 1, n, s.masses.iter())?;
     writeln!(out, "      </PointData>\n      <Points>")?;
     let x = (0..n).flat_map(|i| frame.position(i));
-    array(out, "Float64", "position", 3, n, x)?;
+    array(out, "Float64", "Points", 3, n, x)?;
     writeln!(out, "      </Points>\n      <Verts>")?;
     array(out, "Int64", "connectivity", 1, n, 0..n)?;
     array(out, "Int64", "offsets", 1, n, 1..=n)?;
@@ -193,8 +193,8 @@ mod tests {
             "Name=\"BoxLengths\" NumberOfTuples=\"3\" format=\"ascii\">1 0.5 0<",
             "Name=\"Periodic\" NumberOfTuples=\"3\" format=\"ascii\">1 0 0<",
             "<Piece NumberOfPoints=\"2\" NumberOfVerts=\"2\"",
-            "Name=\"position\" NumberOfComponents=\"3\" NumberOfTuples=\"2\" format=\"ascii\">0.1 0.2 0 0.7 0.4 0<",
-            "Name=\"velocity\" NumberOfComponents=\"3\" NumberOfTuples=\"2\" format=\"ascii\">1 -0.5 0 0.125 2 0<",
+            "Name=\"Points\" NumberOfComponents=\"3\" NumberOfTuples=\"2\" format=\"ascii\">0.1 0.2 0 0.7 0.4 0<",
+            "Name=\"v\" NumberOfComponents=\"3\" NumberOfTuples=\"2\" format=\"ascii\">1 -0.5 0 0.125 2 0<",
             "Name=\"species\" NumberOfTuples=\"2\" format=\"ascii\">0 1<",
             "Name=\"offsets\" NumberOfTuples=\"2\" format=\"ascii\">1 2<",
             "species: 0 = bath, 1 = intruder",
