@@ -104,6 +104,15 @@ enum Command {
         #[arg(long)]
         out: PathBuf,
     },
+    /// Write the snapshots of a run directory as trajectories for OVITO, ParaView, ASE,
+    /// LAMMPS and HOOMD tools (into RUN/trajectory/).
+    Export {
+        /// Run directory.
+        run: PathBuf,
+        /// Formats: xyz, lammps, gsd, vtk (repeatable, or a comma-separated list).
+        #[arg(long, required = true, value_delimiter = ',', value_parser = parse_format)]
+        format: Vec<granular::trajectory::Format>,
+    },
     /// Continue an interrupted run from its last checkpoint.
     Resume {
         /// Run directory.
@@ -176,6 +185,11 @@ fn parse_seed(s: &str) -> Result<u64, String> {
     s.trim()
         .parse::<u64>()
         .map_err(|_| format!("a seed is a whole number in 0..={} (got `{s}`)", u64::MAX))
+}
+
+/// `--format`: a trajectory format name.
+fn parse_format(s: &str) -> Result<granular::trajectory::Format, String> {
+    granular::trajectory::Format::parse(s)
 }
 
 /// `--threads`: at least 1, at most the number of cores (more is capped, with a note).
@@ -271,6 +285,15 @@ fn dispatch(cli: Cli) -> Result<(), CliError> {
             }
             let run = Run::create(&dir, sc).map_err(|e| e.to_string())?;
             finish(run, &dir, quiet)
+        }
+        Command::Export { run, format } => {
+            let mut formats = format;
+            formats.dedup();
+            let files = granular::trajectory::export(&run, &formats).map_err(|e| e.to_string())?;
+            for f in files {
+                println!("{}", f.display());
+            }
+            Ok(())
         }
         Command::Check { scenario, set } => {
             let sc = load(&scenario, None, &set)?;

@@ -75,6 +75,7 @@ pub mod setup;
 pub mod simulation;
 pub mod stats;
 pub mod theory;
+pub mod trajectory;
 pub mod vector;
 
 pub use boundary::{AxisKind, SimulationBox};

@@ -15,3 +15,4 @@ mod scenario_errors;
 mod simulation;
 mod spine;
 mod sweeps;
+mod trajectory;

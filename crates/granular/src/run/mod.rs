@@ -68,6 +68,9 @@ pub enum RunError {
     /// A NumPy file could not be written or read.
     #[error(transparent)]
     Npz(#[from] crate::output::npz::NpzError),
+    /// A trajectory file could not be written.
+    #[error(transparent)]
+    Trajectory(#[from] crate::trajectory::TrajectoryError),
     /// A checkpoint could not be read.
     #[error("checkpoint {path}: {message}")]
     Checkpoint {

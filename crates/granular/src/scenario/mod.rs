@@ -537,6 +537,10 @@ pub struct OutputSpec {
     /// empty: every output.
     #[serde(default)]
     pub observable_times: Vec<f64>,
+    /// Trajectory formats written at every snapshot (`trajectory/`): any of `"xyz"`,
+    /// `"lammps"`, `"gsd"`, `"vtk"`; empty: none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub trajectory: Vec<crate::trajectory::Format>,
 }
 
 fn sk_max_index() -> usize {
@@ -577,6 +581,7 @@ impl Default for OutputSpec {
             structure_factor_max_index: sk_max_index(),
             density_map: Vec::new(),
             observable_times: Vec::new(),
+            trajectory: Vec::new(),
         }
     }
 }

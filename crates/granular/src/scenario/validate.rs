@@ -293,6 +293,7 @@ pub(super) fn output(sc: &Scenario) -> Result<(), ScenarioError> {
             ),
         ));
     }
+    trajectory(sc)?;
     if sc.engine == EngineKind::Intruder {
         return Ok(());
     }
@@ -407,4 +408,24 @@ pub(super) fn crater(sc: &Scenario) -> Result<(), ScenarioError> {
         c.displacement,
         "the displacement threshold",
     )
+}
+
+/// `output.trajectory`: each format once, and only for the engines with grains.
+fn trajectory(sc: &Scenario) -> Result<(), ScenarioError> {
+    let formats = &sc.output.trajectory;
+    if sc.engine == EngineKind::Intruder && !formats.is_empty() {
+        return Err(ScenarioError::new(
+            "output.trajectory",
+            "is set, but the intruder engine has no grain trajectories (one intruder in a bath that is not simulated grain by grain); remove output.trajectory",
+        ));
+    }
+    for (k, f) in formats.iter().enumerate() {
+        if formats[..k].contains(f) {
+            return Err(ScenarioError::new(
+                "output.trajectory",
+                format!("lists \"{}\" twice; give each format once", f.name()),
+            ));
+        }
+    }
+    Ok(())
 }

@@ -14,6 +14,7 @@
 //! | [`SpatialObservables`] | `impact_histograms.npz`, `structure_factor.npz`, `density_maps.npz` |
 //! | [`Crater`] | the `crater` block of the summary |
 //! | [`IntruderStatistics`] | `intruder_histograms.csv`, `.npz`; the `intruder` block |
+//! | [`Trajectory`] | `trajectory/` (opt-in, `output.trajectory`): `trajectory.xyz`, `.lammpstrj`, `.gsd`, `.pvd` + `vtp/` |
 
 mod crater;
 mod impact;
@@ -23,6 +24,7 @@ mod snapshots;
 mod spatial;
 mod speeds;
 mod timeseries;
+mod trajectory;
 
 pub use crater::Crater;
 pub use impact::ImpactParameter;
@@ -31,6 +33,7 @@ pub use snapshots::Snapshots;
 pub use spatial::SpatialObservables;
 pub use speeds::SpeedStatistics;
 pub use timeseries::TimeSeries;
+pub use trajectory::Trajectory;
 
 use super::{RunError, Summary};
 use crate::observation::Observation;
@@ -71,6 +74,8 @@ pub struct StandardOutputs {
     impact: ImpactParameter,
     crater: Option<Crater>,
     intruder: Option<IntruderStatistics>,
+    #[serde(default)]
+    trajectory: Option<Trajectory>,
 }
 
 impl StandardOutputs {
@@ -91,6 +96,8 @@ impl StandardOutputs {
                 .intruder
                 .is_some()
                 .then(|| IntruderStatistics::new(dir)),
+            trajectory: (grains && !o.trajectory.is_empty())
+                .then(|| Trajectory::new(dir, &o.trajectory, o.snapshot_every)),
         }
     }
 
@@ -109,11 +116,18 @@ impl StandardOutputs {
         if let Some(i) = &mut self.intruder {
             i.relocate(dir);
         }
+        if let Some(t) = &mut self.trajectory {
+            t.relocate(dir);
+        }
     }
 
     /// Cuts files that are appended to back to where the checkpoint left them.
     pub(crate) fn rewind(&self) -> Result<(), RunError> {
-        self.timeseries.rewind()
+        self.timeseries.rewind()?;
+        match &self.trajectory {
+            Some(t) => t.rewind(),
+            None => Ok(()),
+        }
     }
 
     /// The outputs in the order they are called (the time series first: the others read
@@ -124,6 +138,9 @@ impl StandardOutputs {
             out.push(s);
         }
         out.push(&mut self.snapshots);
+        if let Some(t) = &mut self.trajectory {
+            out.push(t);
+        }
         if let Some(s) = &mut self.speeds {
             out.push(s);
         }

@@ -1,0 +1,192 @@
+"""Trajectories (``[output] trajectory``, ``granular export``) read back with the reference readers
+of each format and compared with the run's ``.npz`` snapshots: ``gsd`` (GSD, HOOMD schema), ASE
+(extended XYZ, LAMMPS dump) and VTK's own XML reader (``.vtp``, only where the ``vtk`` wheel is
+installed: it is 140 MB, so the test command does not install it)."""
+
+from __future__ import annotations
+
+import re
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import granular
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    tomllib = pytest.importorskip("tomli")
+from conftest import EDMD_2D, EDMD_3D, INTRUDER_1D, cli
+
+gsd_hoomd = pytest.importorskip("gsd.hoomd")
+ase_io = pytest.importorskip("ase.io")
+
+# EDMD_2D with a box periodic along x and walled along y, and every format written as it runs.
+TRAJECTORY_2D = EDMD_2D.replace('boundary = "periodic"', 'boundary = ["periodic", "wall"]').replace(
+    "lengths = [1.0, 1.0]", "lengths = [1.0, 0.5]"
+) + 'trajectory = ["xyz", "lammps", "gsd", "vtk"]\n'
+
+
+def snapshots(run: Path) -> list[granular.Snapshot]:
+    shots = list(granular.load_run(run).snapshots())
+    assert len(shots) >= 2
+    return shots
+
+
+def padded(a: np.ndarray) -> np.ndarray:
+    """(n, D) as (n, 3), with zeros along z in 2D."""
+    return np.pad(a, ((0, 0), (0, 3 - a.shape[1])))
+
+
+@pytest.fixture(scope="module")
+def run_2d(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    out = tmp_path_factory.mktemp("traj2d") / "run"
+    granular.Simulation(granular.Scenario.from_toml(TRAJECTORY_2D)).run(out=out)
+    return out
+
+
+@pytest.fixture(scope="module")
+def run_3d(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A 3D run without trajectories, exported afterwards with the command line."""
+    out = tmp_path_factory.mktemp("traj3d") / "run"
+    granular.Simulation(granular.Scenario.from_toml(EDMD_3D)).run(out=out)
+    cli("export", str(out), "--format", "xyz,lammps", "--format", "gsd", "--format", "vtk")
+    return out
+
+
+def box(run: Path) -> tuple[np.ndarray, np.ndarray]:
+    table = tomllib.loads((run / "scenario.toml").read_text())["box"]
+    lengths = np.array(table["lengths"], dtype=float)
+    boundary = table["boundary"]
+    kinds = [boundary] * len(lengths) if isinstance(boundary, str) else boundary
+    return lengths, np.array([k == "periodic" for k in kinds])
+
+
+@pytest.mark.parametrize("which", ["run_2d", "run_3d"])
+def test_gsd_reads_back_in_single_precision(which: str, request: pytest.FixtureRequest) -> None:
+    run = request.getfixturevalue(which)
+    shots = snapshots(run)
+    lengths, _ = box(run)
+    dim = len(lengths)
+    with gsd_hoomd.open(run / "trajectory" / "trajectory.gsd") as traj:
+        assert len(traj) == len(shots)
+        for frame, shot in zip(traj, shots):
+            assert frame.configuration.dimensions == dim
+            lz = lengths[2] if dim == 3 else 0.0
+            np.testing.assert_array_equal(
+                frame.configuration.box, np.array([lengths[0], lengths[1], lz, 0, 0, 0], dtype=np.float32)
+            )
+            assert frame.particles.N == len(shot.radii)
+            assert frame.particles.types == shot.species_names
+            np.testing.assert_array_equal(frame.particles.typeid, shot.species)
+            # HOOMD's box is centred on the origin.
+            centred = padded(shot.positions - lengths / 2)
+            np.testing.assert_array_equal(frame.particles.position, centred.astype(np.float32))
+            np.testing.assert_array_equal(frame.particles.velocity, padded(shot.velocities).astype(np.float32))
+            np.testing.assert_array_equal(frame.particles.mass, shot.masses.astype(np.float32))
+            np.testing.assert_array_equal(frame.particles.diameter, (2 * shot.radii).astype(np.float32))
+            assert frame.log["time"][0] == shot.time
+    steps = gsd_hoomd.read_log(run / "trajectory" / "trajectory.gsd")["configuration/step"]
+    names = sorted((run / "snapshots").glob("snapshot_*.npz"))
+    assert [int(s) for s in steps] == [int(p.stem.split("_")[1]) for p in names]
+
+
+@pytest.mark.parametrize("which", ["run_2d", "run_3d"])
+def test_extended_xyz_reads_back_exactly_with_ase(which: str, request: pytest.FixtureRequest) -> None:
+    run = request.getfixturevalue(which)
+    shots = snapshots(run)
+    lengths, periodic = box(run)
+    frames = ase_io.read(run / "trajectory" / "trajectory.xyz", index=":", format="extxyz")
+    assert len(frames) == len(shots)
+    for atoms, shot in zip(frames, shots):
+        assert atoms.info["Time"] == shot.time
+        np.testing.assert_array_equal(atoms.positions, padded(shot.positions))
+        np.testing.assert_array_equal(atoms.arrays["velo"], padded(shot.velocities))
+        np.testing.assert_array_equal(atoms.arrays["radius"], shot.radii)
+        np.testing.assert_array_equal(atoms.arrays["mass"], shot.masses)
+        np.testing.assert_array_equal(atoms.arrays["id"], np.arange(len(shot.radii)))
+        assert list(atoms.arrays["type"]) == [shot.species_names[s] for s in shot.species]
+        np.testing.assert_array_equal(np.diag(atoms.cell)[: len(lengths)], lengths)
+        assert list(atoms.pbc) == list(np.pad(periodic, (0, 3 - len(periodic))))
+
+
+@pytest.mark.parametrize("which", ["run_2d", "run_3d"])
+def test_lammps_dump_reads_back_exactly_with_ase(which: str, request: pytest.FixtureRequest) -> None:
+    from ase.calculators.lammps import convert
+
+    run = request.getfixturevalue(which)
+    shots = snapshots(run)
+    lengths, periodic = box(run)
+    path = run / "trajectory" / "trajectory.lammpstrj"
+    frames = ase_io.read(path, index=":", format="lammps-dump-text")
+    assert len(frames) == len(shots)
+    # ASE converts velocities from LAMMPS' "metal" units; radius, mass and TIME it does not read.
+    to_ase = convert(1.0, "velocity", "metal", "ASE")
+    text = path.read_text()
+    times = [float(t) for t in re.findall(r"ITEM: TIME\n(\S+)", text)]
+    blocks = text.split("ITEM: ATOMS id type x y z vx vy vz radius mass\n")[1:]
+    for atoms, shot, time, block in zip(frames, shots, times, blocks):
+        assert time == shot.time
+        order = np.argsort(atoms.arrays["id"]) if "id" in atoms.arrays else np.arange(len(atoms))
+        np.testing.assert_array_equal(atoms.positions[order], padded(shot.positions))
+        np.testing.assert_allclose(atoms.get_velocities()[order] / to_ase, padded(shot.velocities), rtol=1e-15)
+        np.testing.assert_array_equal(atoms.arrays["type"][order], shot.species + 1)
+        np.testing.assert_array_equal(np.diag(atoms.cell)[: len(lengths)], lengths)
+        assert list(atoms.pbc) == list(np.pad(periodic, (0, 3 - len(periodic))))
+        rows = np.array([line.split() for line in block.splitlines()[: len(shot.radii)]], dtype=float)
+        np.testing.assert_array_equal(rows[:, 8], shot.radii)
+        np.testing.assert_array_equal(rows[:, 9], shot.masses)
+
+
+@pytest.mark.parametrize("which", ["run_2d", "run_3d"])
+def test_vtk_polydata_reads_back_exactly_with_vtk(which: str, request: pytest.FixtureRequest) -> None:
+    vtk = pytest.importorskip("vtk", reason="the vtk wheel (140 MB) is not installed by the test command")
+    from vtk.util.numpy_support import vtk_to_numpy
+
+    run = request.getfixturevalue(which)
+    shots = snapshots(run)
+    lengths, periodic = box(run)
+    index = (run / "trajectory" / "trajectory.pvd").read_text()
+    entries = re.findall(r'timestep="([^"]+)" group="" part="0" file="([^"]+)"', index)
+    assert [float(t) for t, _ in entries] == [s.time for s in shots]
+    for (_, file), shot in zip(entries, shots):
+        reader = vtk.vtkXMLPolyDataReader()
+        reader.SetFileName(str(run / "trajectory" / file))
+        reader.Update()
+        data = reader.GetOutput()
+        n = len(shot.radii)
+        assert data.GetNumberOfPoints() == n and data.GetNumberOfVerts() == n
+        field = data.GetFieldData()
+        assert field.GetArray("TimeValue").GetValue(0) == shot.time
+        np.testing.assert_array_equal(vtk_to_numpy(field.GetArray("BoxLengths"))[: len(lengths)], lengths)
+        np.testing.assert_array_equal(vtk_to_numpy(field.GetArray("Periodic"))[: len(lengths)], periodic)
+        points = data.GetPointData()
+        np.testing.assert_array_equal(vtk_to_numpy(data.GetPoints().GetData()), padded(shot.positions))
+        np.testing.assert_array_equal(vtk_to_numpy(points.GetArray("v")), padded(shot.velocities))
+        np.testing.assert_array_equal(vtk_to_numpy(points.GetArray("radius")), shot.radii)
+        np.testing.assert_array_equal(vtk_to_numpy(points.GetArray("mass")), shot.masses)
+        np.testing.assert_array_equal(vtk_to_numpy(points.GetArray("species")), shot.species)
+        np.testing.assert_array_equal(vtk_to_numpy(points.GetArray("id")), np.arange(n))
+
+
+def test_export_rewrites_what_the_run_wrote(run_2d: Path, tmp_path: Path) -> None:
+    """``granular export`` of the run's snapshots gives the same files as writing them as it ran."""
+    import shutil
+
+    copy = tmp_path / "run"
+    shutil.copytree(run_2d, copy)
+    shutil.rmtree(copy / "trajectory")
+    cli("export", str(copy), "--format", "xyz,lammps,gsd,vtk")
+    for name in ["trajectory.xyz", "trajectory.lammpstrj", "trajectory.gsd", "trajectory.pvd"]:
+        assert (copy / "trajectory" / name).read_bytes() == (run_2d / "trajectory" / name).read_bytes(), name
+
+
+def test_export_of_an_intruder_run_says_there_are_no_trajectories(tmp_path: Path) -> None:
+    out = tmp_path / "run"
+    granular.Simulation(granular.Scenario.from_toml(INTRUDER_1D)).run(out=out)
+    result = cli("export", str(out), "--format", "xyz", check=False)
+    assert result.returncode == 2
+    assert "intruder engine, which has no grain trajectories" in result.stderr
+    assert not (out / "trajectory").exists()

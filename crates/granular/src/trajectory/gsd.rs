@@ -1,0 +1,402 @@
+//! GSD files (General Simulation Data, the format of HOOMD-blue): our own writer of the
+//! version 2 file layer and the frames of the HOOMD schema, after the specification of
+//! glotzerlab/gsd (`doc/file-layer.rst`, `doc/schema-hoomd.rst`). No Rust crate writes GSD.
+//!
+//! # File layer (version 2.0, little-endian)
+//!
+//! * A 256-byte header: magic `0x65DF65DF65DF65DF`, the location and capacity (entries)
+//!   of the index block, the location and size (in 64-byte segments) of the name list,
+//!   the schema version, the file-layer version (`major << 16 | minor`), the application
+//!   and schema names (64 bytes each, zero-padded) and 80 reserved bytes.
+//! * The index block: 32-byte entries `frame: u64, N: u64, location: i64, M: u32, id: u16,
+//!   type: u8, flags: u8`, sorted by frame, then by name id; the first entry with location
+//!   0 ends the list. When it is full a block twice as large is written at the end of the
+//!   file and the header is pointed at it.
+//! * The name list: the chunk names, each ending in a zero byte, then a zero byte. All
+//!   names are written when the file is created (this writer writes the same chunks in
+//!   every frame), so a name's id is its place in that list.
+//! * Data chunks: `N x M` values of the entry's type, row-major, appended frame by frame.
+//!
+//! # HOOMD schema 1.4 (what [`frame_chunks`] writes per frame)
+//!
+//! `configuration/step` (u64: the output index), `configuration/dimensions` (u8: 2 or 3),
+//! `configuration/box` (6 x f32: `Lx Ly Lz xy xz yz`, `Lz = 0` in 2D), `particles/N`
+//! (u32), `particles/types` (the species names, zero-padded bytes), `particles/typeid`
+//! (u32, the species index), `particles/mass`, `particles/diameter` (f32),
+//! `particles/position`, `particles/velocity` (N x 3 f32; `z = 0` in 2D) and `log/time`
+//! (f64: the simulation time). HOOMD's box is centred on the origin: positions are the
+//! run's minus `L/2` per axis. The schema has no walls (a HOOMD box is periodic on every
+//! axis), so a walled axis is not marked; the particle id is the place in the frame
+//! (ids from 0, as in the snapshots). Positions and velocities are single precision, as
+//! the schema 1.x requires.
+
+use super::Frame;
+use serde::{Deserialize, Serialize};
+use std::fs::{File, OpenOptions};
+use std::io::{self, Read, Seek, SeekFrom, Write};
+use std::path::{Path, PathBuf};
+
+const MAGIC: u64 = 0x65DF_65DF_65DF_65DF;
+const HEADER_BYTES: u64 = 256;
+const ENTRY_BYTES: u64 = 32;
+const NAME_SEGMENT: u64 = 64;
+const INITIAL_ENTRIES: u64 = 128;
+
+fn version(major: u32, minor: u32) -> u32 {
+    (major << 16) | minor
+}
+
+/// The type of a chunk's values (the file layer's type codes).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ChunkType {
+    /// `uint8`
+    U8 = 1,
+    /// `uint32`
+    U32 = 3,
+    /// `uint64`
+    U64 = 4,
+    /// `int8`
+    I8 = 5,
+    /// `float32`
+    F32 = 9,
+    /// `float64`
+    F64 = 10,
+}
+
+/// One named array of a frame: `n x m` values of `kind`, as little-endian bytes.
+#[derive(Clone, Debug)]
+pub struct Chunk {
+    /// Place of the chunk's name in the file's name list.
+    pub id: u16,
+    /// The value type.
+    pub kind: ChunkType,
+    /// Rows.
+    pub n: u64,
+    /// Columns.
+    pub m: u32,
+    /// The values.
+    pub data: Vec<u8>,
+}
+
+/// A GSD file being appended to; the state is small and serialisable (it goes into a
+/// checkpoint), and the file is opened only while a frame is written.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct GsdFile {
+    #[serde(skip)]
+    path: PathBuf,
+    index_location: u64,
+    index_capacity: u64,
+    entries: u64,
+    frames: u64,
+    bytes: u64,
+}
+
+impl GsdFile {
+    /// Creates (or truncates) `path` with an empty index and the name list `names`.
+    pub fn create(
+        path: &Path,
+        application: &str,
+        schema: &str,
+        schema_version: (u32, u32),
+        names: &[&str],
+    ) -> io::Result<GsdFile> {
+        let mut namelist: Vec<u8> = Vec::new();
+        for n in names {
+            namelist.extend_from_slice(n.as_bytes());
+            namelist.push(0);
+        }
+        namelist.push(0);
+        let segments = (namelist.len() as u64).div_ceil(NAME_SEGMENT);
+        namelist.resize((segments * NAME_SEGMENT) as usize, 0);
+        let index_location = HEADER_BYTES;
+        let namelist_location = index_location + INITIAL_ENTRIES * ENTRY_BYTES;
+        let mut header = Vec::with_capacity(HEADER_BYTES as usize);
+        for v in [
+            MAGIC,
+            index_location,
+            INITIAL_ENTRIES,
+            namelist_location,
+            segments,
+        ] {
+            header.extend_from_slice(&v.to_le_bytes());
+        }
+        header.extend_from_slice(&version(schema_version.0, schema_version.1).to_le_bytes());
+        header.extend_from_slice(&version(2, 0).to_le_bytes());
+        for text in [application, schema] {
+            let mut field = [0u8; 64];
+            let b = text.as_bytes();
+            let k = b.len().min(63);
+            field[..k].copy_from_slice(&b[..k]);
+            header.extend_from_slice(&field);
+        }
+        header.resize(HEADER_BYTES as usize, 0);
+        let mut file = File::create(path)?;
+        file.write_all(&header)?;
+        file.write_all(&vec![0u8; (INITIAL_ENTRIES * ENTRY_BYTES) as usize])?;
+        file.write_all(&namelist)?;
+        file.sync_data()?;
+        Ok(GsdFile {
+            path: path.to_path_buf(),
+            index_location,
+            index_capacity: INITIAL_ENTRIES,
+            entries: 0,
+            frames: 0,
+            bytes: namelist_location + namelist.len() as u64,
+        })
+    }
+
+    /// The file.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    pub(crate) fn set_path(&mut self, path: PathBuf) {
+        self.path = path;
+    }
+
+    /// Frames written.
+    pub fn frames(&self) -> u64 {
+        self.frames
+    }
+
+    /// Appends one frame; `chunks` must be in increasing order of `id`.
+    pub fn append_frame(&mut self, chunks: &[Chunk]) -> io::Result<()> {
+        debug_assert!(chunks.windows(2).all(|w| w[0].id < w[1].id));
+        let mut file = OpenOptions::new().read(true).write(true).open(&self.path)?;
+        let mut end = self.bytes;
+        let mut entries = Vec::with_capacity(chunks.len() * ENTRY_BYTES as usize);
+        let mut data = Vec::new();
+        for c in chunks {
+            let location = end + data.len() as u64;
+            data.extend_from_slice(&c.data);
+            entries.extend_from_slice(&self.frames.to_le_bytes());
+            entries.extend_from_slice(&c.n.to_le_bytes());
+            entries.extend_from_slice(&(location as i64).to_le_bytes());
+            entries.extend_from_slice(&c.m.to_le_bytes());
+            entries.extend_from_slice(&c.id.to_le_bytes());
+            entries.push(c.kind as u8);
+            entries.push(0);
+        }
+        file.seek(SeekFrom::Start(end))?;
+        file.write_all(&data)?;
+        end += data.len() as u64;
+        let needed = self.entries + chunks.len() as u64;
+        if needed > self.index_capacity {
+            // A larger index block at the end of the file; the old one stays unused.
+            let capacity = (2 * self.index_capacity).max(needed);
+            let mut block = vec![0u8; (self.entries * ENTRY_BYTES) as usize];
+            file.seek(SeekFrom::Start(self.index_location))?;
+            file.read_exact(&mut block)?;
+            block.resize((capacity * ENTRY_BYTES) as usize, 0);
+            file.seek(SeekFrom::Start(end))?;
+            file.write_all(&block)?;
+            self.index_location = end;
+            self.index_capacity = capacity;
+            end += capacity * ENTRY_BYTES;
+        }
+        file.seek(SeekFrom::Start(
+            self.index_location + self.entries * ENTRY_BYTES,
+        ))?;
+        file.write_all(&entries)?;
+        self.write_index_pointer(&mut file)?;
+        file.sync_data()?;
+        self.entries = needed;
+        self.frames += 1;
+        self.bytes = end;
+        Ok(())
+    }
+
+    /// Cuts the file back to the frames written when this state was saved (after a
+    /// checkpoint is read back).
+    pub fn rewind(&self) -> io::Result<()> {
+        let mut file = OpenOptions::new().read(true).write(true).open(&self.path)?;
+        file.set_len(self.bytes)?;
+        let unused = (self.index_capacity - self.entries) * ENTRY_BYTES;
+        file.seek(SeekFrom::Start(
+            self.index_location + self.entries * ENTRY_BYTES,
+        ))?;
+        file.write_all(&vec![0u8; unused as usize])?;
+        self.write_index_pointer(&mut file)?;
+        file.sync_data()
+    }
+
+    fn write_index_pointer(&self, file: &mut File) -> io::Result<()> {
+        let mut bytes = self.index_location.to_le_bytes().to_vec();
+        bytes.extend_from_slice(&self.index_capacity.to_le_bytes());
+        file.seek(SeekFrom::Start(8))?;
+        file.write_all(&bytes)
+    }
+}
+
+/// The chunk names of the HOOMD frames, in id order.
+pub const HOOMD_NAMES: [&str; 11] = [
+    "configuration/step",
+    "configuration/dimensions",
+    "configuration/box",
+    "particles/N",
+    "particles/types",
+    "particles/typeid",
+    "particles/mass",
+    "particles/diameter",
+    "particles/position",
+    "particles/velocity",
+    "log/time",
+];
+
+/// A GSD file with the HOOMD schema (version 1.4) and the names of [`HOOMD_NAMES`].
+pub fn create_hoomd(path: &Path) -> io::Result<GsdFile> {
+    let application = format!("granular {}", env!("CARGO_PKG_VERSION"));
+    GsdFile::create(path, &application, "hoomd", (1, 4), &HOOMD_NAMES)
+}
+
+fn f32s(values: impl Iterator<Item = f64>) -> Vec<u8> {
+    values.flat_map(|v| (v as f32).to_le_bytes()).collect()
+}
+
+/// The chunks of one frame in the HOOMD schema (see the module documentation).
+pub fn frame_chunks(frame: &Frame) -> Vec<Chunk> {
+    let s = frame.snapshot;
+    let n = frame.len();
+    let d = frame.dimension();
+    let l = &frame.cell.lengths;
+    let half = |k: usize| if k < d { 0.5 * l[k] } else { 0.0 };
+    let lz = if d == 3 { l[2] } else { 0.0 };
+    let width = s.species_names.iter().map(String::len).max().unwrap_or(0) + 1;
+    let mut types = Vec::with_capacity(width * s.species_names.len());
+    for name in &s.species_names {
+        let start = types.len();
+        types.extend_from_slice(name.as_bytes());
+        types.resize(start + width, 0);
+    }
+    let vector = |v: &dyn Fn(usize) -> [f64; 3], shift: bool| {
+        f32s((0..n).flat_map(|i| {
+            let x = v(i);
+            (0..3).map(move |k| if shift { x[k] - half(k) } else { x[k] })
+        }))
+    };
+    let chunk = |id: usize, kind, n: usize, m: usize, data: Vec<u8>| Chunk {
+        id: id as u16,
+        kind,
+        n: n as u64,
+        m: m as u32,
+        data,
+    };
+    vec![
+        chunk(0, ChunkType::U64, 1, 1, frame.step.to_le_bytes().to_vec()),
+        chunk(1, ChunkType::U8, 1, 1, vec![d as u8]),
+        chunk(
+            2,
+            ChunkType::F32,
+            6,
+            1,
+            f32s([l[0], l[1], lz, 0.0, 0.0, 0.0].into_iter()),
+        ),
+        chunk(3, ChunkType::U32, 1, 1, (n as u32).to_le_bytes().to_vec()),
+        chunk(4, ChunkType::I8, s.species_names.len(), width, types),
+        chunk(
+            5,
+            ChunkType::U32,
+            n,
+            1,
+            s.species.iter().flat_map(|t| t.to_le_bytes()).collect(),
+        ),
+        chunk(6, ChunkType::F32, n, 1, f32s(s.masses.iter().copied())),
+        chunk(
+            7,
+            ChunkType::F32,
+            n,
+            1,
+            f32s(s.radii.iter().map(|r| 2.0 * r)),
+        ),
+        chunk(
+            8,
+            ChunkType::F32,
+            n,
+            3,
+            vector(&|i| frame.position(i), true),
+        ),
+        chunk(
+            9,
+            ChunkType::F32,
+            n,
+            3,
+            vector(&|i| frame.velocity(i), false),
+        ),
+        chunk(10, ChunkType::F64, 1, 1, s.time.to_le_bytes().to_vec()),
+    ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::trajectory::test_frame::snapshot_2d;
+
+    fn u64_at(bytes: &[u8], at: usize) -> u64 {
+        u64::from_le_bytes(bytes[at..at + 8].try_into().unwrap())
+    }
+
+    #[test]
+    fn the_header_index_and_chunks_follow_the_file_layer() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("t.gsd");
+        let (snap, cell) = snapshot_2d();
+        let mut file = create_hoomd(&path).unwrap();
+        let frames = 13; // 143 entries: the index block of 128 is moved once
+        for step in 0..frames {
+            let frame = Frame {
+                step,
+                snapshot: &snap,
+                cell: &cell,
+            };
+            file.append_frame(&frame_chunks(&frame)).unwrap();
+        }
+        let bytes = std::fs::read(&path).unwrap();
+        assert_eq!(u64_at(&bytes, 0), MAGIC);
+        let (index, capacity) = (u64_at(&bytes, 8) as usize, u64_at(&bytes, 16));
+        assert_eq!(capacity, 256);
+        assert_eq!(&bytes[48..52], &version(2, 0).to_le_bytes());
+        assert_eq!(&bytes[44..48], &version(1, 4).to_le_bytes());
+        assert_eq!(&bytes[52 + 64..52 + 69], b"hoomd");
+        let entry = |k: usize| &bytes[index + 32 * k..index + 32 * (k + 1)];
+        let count = (0..capacity as usize)
+            .take_while(|&k| u64_at(entry(k), 16) != 0)
+            .count();
+        assert_eq!(count, 11 * frames as usize);
+        let keys: Vec<(u64, u16)> = (0..count)
+            .map(|k| {
+                let e = entry(k);
+                (u64_at(e, 0), u16::from_le_bytes([e[28], e[29]]))
+            })
+            .collect();
+        assert!(keys.windows(2).all(|w| w[0] < w[1]), "sorted by frame, id");
+        // The last frame's time chunk holds the snapshot's time.
+        let time = entry(count - 1);
+        let at = u64_at(time, 16) as usize;
+        assert_eq!(time[30], ChunkType::F64 as u8);
+        assert_eq!(
+            f64::from_le_bytes(bytes[at..at + 8].try_into().unwrap()),
+            0.25
+        );
+    }
+
+    #[test]
+    fn rewind_drops_the_frames_after_the_saved_state() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("t.gsd");
+        let (snap, cell) = snapshot_2d();
+        let mut file = create_hoomd(&path).unwrap();
+        let frame = Frame {
+            step: 0,
+            snapshot: &snap,
+            cell: &cell,
+        };
+        file.append_frame(&frame_chunks(&frame)).unwrap();
+        let saved = file.clone();
+        let before = std::fs::read(&path).unwrap();
+        for _ in 0..20 {
+            file.append_frame(&frame_chunks(&frame)).unwrap();
+        }
+        saved.rewind().unwrap();
+        assert_eq!(std::fs::read(&path).unwrap(), before);
+    }
+}

@@ -1,0 +1,91 @@
+//! The LAMMPS text dump (`dump custom`), as LAMMPS writes it with `dump_modify time yes`:
+//!
+//! ```text
+//! ITEM: TIME
+//! 0.25
+//! ITEM: TIMESTEP
+//! 3
+//! ITEM: NUMBER OF ATOMS
+//! 2
+//! ITEM: BOX BOUNDS pp ff ff
+//! 0 1
+//! 0 0.5
+//! -0.02 0.02
+//! ITEM: ATOMS id type x y z vx vy vz radius mass
+//! 1 1 0.1 0.2 0 1 -0.5 0 0.01 1
+//! 2 2 0.7 0.4 0 0.125 2 0 0.02 4
+//! ```
+//!
+//! * `TIMESTEP` is the output index of the snapshot, `TIME` the simulation time.
+//! * `BOX BOUNDS` has one flag pair per axis: `pp` periodic, `ff` fixed (hard walls). A 2D
+//!   run has `z = 0` in a thin fixed z range `[-d/2, d/2]` (`d` the largest grain
+//!   diameter); the dump has no flag for two dimensions.
+//! * `id` counts from 1 (LAMMPS' convention; it is the snapshot order plus one) and `type`
+//!   is the species index plus 1, in the order of the scenario's `[[species]]` (the dump
+//!   has no type names).
+//! * Numbers are written with Rust's shortest round-trip formatting.
+
+use super::Frame;
+use std::io::{self, Write};
+
+/// Writes one frame.
+pub fn write_frame(out: &mut impl Write, frame: &Frame) -> io::Result<()> {
+    let s = frame.snapshot;
+    let flag = |p: bool| if p { "pp" } else { "ff" };
+    let [px, py, pz] = frame.periodic3();
+    let [lx, ly, lz] = frame.lengths3();
+    writeln!(out, "ITEM: TIME\n{}", s.time)?;
+    writeln!(out, "ITEM: TIMESTEP\n{}", frame.step)?;
+    writeln!(out, "ITEM: NUMBER OF ATOMS\n{}", frame.len())?;
+    writeln!(
+        out,
+        "ITEM: BOX BOUNDS {} {} {}",
+        flag(px),
+        flag(py),
+        flag(pz)
+    )?;
+    writeln!(out, "0 {lx}\n0 {ly}")?;
+    if frame.dimension() == 2 {
+        writeln!(out, "{} {}", -0.5 * lz, 0.5 * lz)?;
+    } else {
+        writeln!(out, "0 {lz}")?;
+    }
+    writeln!(out, "ITEM: ATOMS id type x y z vx vy vz radius mass")?;
+    for i in 0..frame.len() {
+        let [x, y, z] = frame.position(i);
+        let [vx, vy, vz] = frame.velocity(i);
+        writeln!(
+            out,
+            "{} {} {x} {y} {z} {vx} {vy} {vz} {} {}",
+            i + 1,
+            s.species[i] + 1,
+            s.radii[i],
+            s.masses[i]
+        )?;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::trajectory::test_frame::snapshot_2d;
+
+    #[test]
+    fn a_2d_frame_has_every_item_and_one_line_per_grain() {
+        let (snap, cell) = snapshot_2d();
+        let frame = Frame {
+            step: 3,
+            snapshot: &snap,
+            cell: &cell,
+        };
+        let mut out = Vec::new();
+        write_frame(&mut out, &frame).unwrap();
+        let text = String::from_utf8(out).unwrap();
+        let expected = "ITEM: TIME\n0.25\nITEM: TIMESTEP\n3\nITEM: NUMBER OF ATOMS\n2\n\
+            ITEM: BOX BOUNDS pp ff ff\n0 1\n0 0.5\n-0.02 0.02\n\
+            ITEM: ATOMS id type x y z vx vy vz radius mass\n\
+            1 1 0.1 0.2 0 1 -0.5 0 0.01 1\n2 2 0.7 0.4 0 0.125 2 0 0.02 4\n";
+        assert_eq!(text, expected);
+    }
+}

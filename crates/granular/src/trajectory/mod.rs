@@ -1,0 +1,232 @@
+//! Particle trajectories in the formats the standard viewers read: extended XYZ
+//! ([`xyz`], OVITO, ASE), the LAMMPS text dump ([`lammps`], OVITO, ASE), GSD with the HOOMD
+//! schema ([`gsd`], OVITO, HOOMD-blue, `gsd` on PyPI) and VTK PolyData with a `.pvd` time
+//! index ([`vtk`], ParaView).
+//!
+//! Every frame carries the time, the box and its periodicity, and per grain its id,
+//! species, position, velocity, radius and mass. The run directory's box is
+//! `[0, L_0] x ... x [0, L_{D-1}]`; the formats keep that origin except GSD, whose HOOMD
+//! schema centres the box on the origin (positions are shifted by `-L/2`). A 2D run is
+//! written with `z = 0` (see each module for how the format marks it as two-dimensional).
+//!
+//! [`Writer`] appends frames to one file (or series) as a run goes, and can be cut back to
+//! a checkpoint; [`export()`] converts the `.npz` snapshots of an existing run directory.
+
+mod export;
+pub mod gsd;
+pub mod lammps;
+pub mod vtk;
+mod writer;
+pub mod xyz;
+
+pub use export::export;
+pub use writer::Writer;
+
+use crate::engine::Snapshot;
+use serde::{Deserialize, Serialize};
+use std::path::PathBuf;
+
+/// A trajectory format (`[output] trajectory`, `granular export --format`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Format {
+    /// Extended XYZ, `trajectory/trajectory.xyz`.
+    Xyz,
+    /// LAMMPS text dump, `trajectory/trajectory.lammpstrj`.
+    Lammps,
+    /// GSD (HOOMD schema), `trajectory/trajectory.gsd`.
+    Gsd,
+    /// VTK PolyData, `trajectory/vtp/snapshot_NNNNNN.vtp` indexed by `trajectory/trajectory.pvd`.
+    Vtk,
+}
+
+impl Format {
+    /// Every format, in the order of the documentation.
+    pub const ALL: [Format; 4] = [Format::Xyz, Format::Lammps, Format::Gsd, Format::Vtk];
+
+    /// The name in scenario files and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Format::Xyz => "xyz",
+            Format::Lammps => "lammps",
+            Format::Gsd => "gsd",
+            Format::Vtk => "vtk",
+        }
+    }
+
+    /// The format named `s` (`"xyz"`, `"lammps"`, `"gsd"`, `"vtk"`).
+    pub fn parse(s: &str) -> Result<Format, String> {
+        Format::ALL
+            .into_iter()
+            .find(|f| f.name() == s.trim())
+            .ok_or_else(|| format!("unknown trajectory format `{s}`; use xyz, lammps, gsd or vtk"))
+    }
+
+    /// The file (relative to the trajectory folder) a viewer opens.
+    pub fn file_name(self) -> &'static str {
+        match self {
+            Format::Xyz => "trajectory.xyz",
+            Format::Lammps => "trajectory.lammpstrj",
+            Format::Gsd => "trajectory.gsd",
+            Format::Vtk => "trajectory.pvd",
+        }
+    }
+}
+
+/// The simulation box as the trajectory formats see it: `[0, L_k]` along each axis, periodic
+/// or walled.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Cell {
+    /// Edge lengths `L_k`, length units; one per dimension (2 or 3).
+    pub lengths: Vec<f64>,
+    /// Whether each axis is periodic (otherwise: hard walls).
+    pub periodic: Vec<bool>,
+}
+
+impl Cell {
+    /// The box of a many-grain scenario.
+    pub fn from_scenario(scenario: &crate::Scenario) -> Cell {
+        Cell {
+            lengths: scenario.lengths(),
+            periodic: scenario
+                .axes()
+                .iter()
+                .map(|a| *a == crate::AxisKind::Periodic)
+                .collect(),
+        }
+    }
+}
+
+/// One frame: a snapshot, its output index (the step) and the box.
+#[derive(Clone, Copy, Debug)]
+pub struct Frame<'a> {
+    /// Output index of the snapshot (`NNNNNN` of `snapshot_NNNNNN.npz`), written as the
+    /// step or timestep where the format has one.
+    pub step: u64,
+    /// The state.
+    pub snapshot: &'a Snapshot,
+    /// The box.
+    pub cell: &'a Cell,
+}
+
+impl Frame<'_> {
+    /// Number of grains.
+    pub fn len(&self) -> usize {
+        self.snapshot.radii.len()
+    }
+
+    /// Whether there are no grains.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Spatial dimension of the run (2 or 3).
+    pub fn dimension(&self) -> usize {
+        self.snapshot.dimension
+    }
+
+    /// Position of grain `i` with three components (`z = 0` in 2D).
+    pub fn position(&self, i: usize) -> [f64; 3] {
+        pad(&self.snapshot.positions, self.dimension(), i)
+    }
+
+    /// Velocity of grain `i` with three components (`v_z = 0` in 2D).
+    pub fn velocity(&self, i: usize) -> [f64; 3] {
+        pad(&self.snapshot.velocities, self.dimension(), i)
+    }
+
+    /// Species name of grain `i`.
+    pub fn species_name(&self, i: usize) -> &str {
+        let s = self.snapshot.species[i] as usize;
+        self.snapshot
+            .species_names
+            .get(s)
+            .map_or("grain", String::as_str)
+    }
+
+    /// Edge lengths with three components; a 2D box gets the slab thickness
+    /// [`Frame::slab`] along z.
+    pub fn lengths3(&self) -> [f64; 3] {
+        let l = &self.cell.lengths;
+        [
+            l[0],
+            l.get(1).copied().unwrap_or(1.0),
+            l.get(2).copied().unwrap_or_else(|| self.slab()),
+        ]
+    }
+
+    /// Periodicity with three components (z of a 2D run: not periodic).
+    pub fn periodic3(&self) -> [bool; 3] {
+        let p = &self.cell.periodic;
+        [
+            p[0],
+            p.get(1).copied().unwrap_or(false),
+            p.get(2).copied().unwrap_or(false),
+        ]
+    }
+
+    /// Thickness of the thin z range a 2D run is drawn in by the formats that need a 3D
+    /// box: the largest grain diameter (1 without grains).
+    pub fn slab(&self) -> f64 {
+        let d = 2.0 * self.snapshot.radii.iter().copied().fold(0.0, f64::max);
+        if d > 0.0 { d } else { 1.0 }
+    }
+}
+
+fn pad(values: &[f64], dimension: usize, i: usize) -> [f64; 3] {
+    let mut out = [0.0; 3];
+    out[..dimension].copy_from_slice(&values[i * dimension..(i + 1) * dimension]);
+    out
+}
+
+/// Why a trajectory could not be written or exported.
+#[derive(Debug, thiserror::Error)]
+pub enum TrajectoryError {
+    /// The file system failed.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The error.
+        source: std::io::Error,
+    },
+    /// A snapshot could not be read.
+    #[error(transparent)]
+    Npz(#[from] crate::output::npz::NpzError),
+    /// The run directory cannot be exported (intruder engine, no snapshots, no scenario).
+    #[error("{0}")]
+    Export(String),
+}
+
+pub(crate) fn io_err(
+    path: &std::path::Path,
+) -> impl FnOnce(std::io::Error) -> TrajectoryError + '_ {
+    move |source| TrajectoryError::Io {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+#[cfg(test)]
+pub(crate) mod test_frame {
+    use super::*;
+
+    /// Two grains of two species in a 2D box periodic along x, walled along y.
+    pub fn snapshot_2d() -> (Snapshot, Cell) {
+        let snap = Snapshot {
+            time: 0.25,
+            dimension: 2,
+            positions: vec![0.1, 0.2, 0.7, 0.4],
+            velocities: vec![1.0, -0.5, 0.125, 2.0],
+            radii: vec![0.01, 0.02],
+            masses: vec![1.0, 4.0],
+            species: vec![0, 1],
+            species_names: vec!["bath".into(), "intruder".into()],
+        };
+        let cell = Cell {
+            lengths: vec![1.0, 0.5],
+            periodic: vec![true, false],
+        };
+        (snap, cell)
+    }
+}
