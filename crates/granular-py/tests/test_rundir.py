@@ -108,3 +108,16 @@ def test_run_sweep_equals_cli_sweep(tmp_path: Path) -> None:
     assert t.iloc[0] < t.iloc[1]
     with pytest.raises(granular.SimulationError, match="no \\[sweep\\] table"):
         granular.run_sweep(granular.Scenario.from_toml(EDMD_2D), tmp_path / "none")
+
+
+def test_output_md_snapshot_snippet_runs(edmd_run: Path, root: Path) -> None:
+    """The snapshot snippet of docs/output.md runs as written on a real run directory (it
+    once called ``json.loads`` on the species names, which are a string array)."""
+    text = (root / "docs" / "output.md").read_text()
+    blocks = [b.split("```", 1)[0] for b in text.split("```python\n")[1:]]
+    snippet = next(b for b in blocks if "species_names" in b)
+    first = sorted((edmd_run / "snapshots").glob("*.npz"))[0]
+    snippet = snippet.replace("runs/maxwell-boltzmann/snapshots/snapshot_000000.npz", str(first))
+    namespace: dict[str, object] = {}
+    exec(compile(snippet, "docs/output.md", "exec"), namespace)
+    assert namespace["names"] == ["small", "big"]
