@@ -72,10 +72,12 @@ pub(crate) fn plot_run(dir: &Path) -> Result<Vec<PathBuf>, String> {
 
     // Histograms with their reference densities.
     let h = read_csv(&dir.join("intruder_histograms.csv"))?;
-    let reference = block
-        .as_ref()
-        .map(|b| b.histogram_reference.clone())
-        .unwrap_or_else(|| "reference".into());
+    let reference = match block.as_ref().map(|b| b.histogram_reference.as_str()) {
+        Some("gaussian_eq18") => "Gaussian at the temperature of Eq. 18".to_string(),
+        Some("gaussian_best_fit") => "best-fit zero-mean Gaussian".to_string(),
+        Some(other) => other.replace('_', " "),
+        None => "reference".into(),
+    };
     let var = h.0.iter().position(|c| c == "variable").unwrap_or(0);
     let mut names: Vec<String> = Vec::new();
     for r in &h.1 {
@@ -117,11 +119,7 @@ pub(crate) fn plot_run(dir: &Path) -> Result<Vec<PathBuf>, String> {
             .x_label(x_label)
             .y_label(y_label)
             .log_y(log)
-            .theory_points_over_data(
-                reference.replace('_', " "),
-                centres.clone(),
-                th.clone(),
-            );
+            .theory_points_over_data(reference.clone(), centres.clone(), th.clone());
             if let Some(f) = &fit {
                 p = p.goodness_of_fit(f.statistic, f.degrees_of_freedom, f.p_value);
             }
