@@ -16,7 +16,7 @@ use granular::intruder::theory::{GAUSSIAN_KURTOSIS, martin_piasecki_ratio};
 use granular::random::derive_key;
 
 use crate::ReportError;
-use crate::plot::{HistogramPlot, LegendPosition, LinePlot, PALETTE, Panels, PlotError, Series};
+use crate::plot::{HistogramPlot, LinePlot, PALETTE, Panels, PlotError, Series};
 
 /// The figures that can be reproduced (Fig. 6 of the paper is a sketch of the needle).
 pub const FIGURES: [&str; 7] = ["fig1", "fig2", "fig3", "fig4", "fig5", "fig7", "fig8"];
@@ -177,9 +177,9 @@ fn plot_fig1(t: &Table) -> LinePlot {
     let v = col(t, "v1");
     let mut p = LinePlot::new("Fig. 1: collision rate of a Gaussian bath (Eq. 16)")
         .x_label("intruder velocity v₁ [√(T_B/m)]")
-        .y_label("collision rate per bath density φ(v₁)/ρ [√(T_B/m)]")
-        .legend(LegendPosition::UpperLeft);
-    for a in ["0.5", "1", "2", "4"] {
+        .y_label("collision rate per bath density φ(v₁)/ρ [√(T_B/m)]");
+    // One colour per `a`: its Monte Carlo markers and its Eq. 16 line.
+    for (j, a) in ["0.5", "1", "2", "4"].iter().enumerate() {
         // Every third point, so the Monte Carlo markers do not hide the curves.
         let (x, y): (Vec<f64>, Vec<f64>) = v
             .iter()
@@ -187,16 +187,18 @@ fn plot_fig1(t: &Table) -> LinePlot {
             .step_by(3)
             .map(|(x, y)| (*x, y))
             .unzip();
-        p = p.series(Series::markers(format!("Monte Carlo, a = {a}"), x, y));
+        p = p
+            .series(Series::markers(format!("Monte Carlo, a = {a}"), x, y).with_colour(PALETTE[j]));
     }
-    for a in ["0.5", "1", "2", "4"] {
+    for (j, a) in ["0.5", "1", "2", "4"].iter().enumerate() {
         p = p.series(
             Series::theory(
                 format!("Eq. 16, a = {a}"),
                 v.clone(),
                 col(t, &format!("phi_a{a}")),
             )
-            .dashed(false),
+            .dashed(false)
+            .with_colour(PALETTE[j]),
         );
     }
     p
@@ -206,21 +208,22 @@ fn plot_fig2(t: &Table) -> LinePlot {
     let v = col(t, "v");
     let mut p = LinePlot::new("Fig. 2: colliding bath velocities g₊(v, v₁) (Eq. 12)")
         .x_label("bath velocity v [√(T_B/m)]")
-        .y_label("density of colliding velocities g₊(v, v₁) [√(m/T_B)]")
-        .legend(LegendPosition::UpperLeft);
-    for v1 in ["-2", "-1", "0", "1", "2"] {
+        .y_label("density of colliding velocities g₊(v, v₁) [√(m/T_B)]");
+    // One colour per v₁: its sampled markers and its Eq. 12 line.
+    for (j, v1) in ["-2", "-1", "0", "1", "2"].iter().enumerate() {
         let (x, y) = finite(&v, &col(t, &format!("g_sampled_v1={v1}")));
         let (x, y): (Vec<f64>, Vec<f64>) = x.into_iter().zip(y).step_by(2).unzip();
-        p = p.series(Series::markers(format!("sampled, v₁ = {v1}"), x, y));
+        p = p.series(Series::markers(format!("sampled, v₁ = {v1}"), x, y).with_colour(PALETTE[j]));
     }
-    for v1 in ["-2", "-1", "0", "1", "2"] {
+    for (j, v1) in ["-2", "-1", "0", "1", "2"].iter().enumerate() {
         p = p.series(
             Series::theory(
                 format!("Eq. 12, v₁ = {v1}"),
                 v.clone(),
                 col(t, &format!("g_theory_v1={v1}")),
             )
-            .dashed(false),
+            .dashed(false)
+            .with_colour(PALETTE[j]),
         );
     }
     p
@@ -232,7 +235,6 @@ fn plot_fig3(t: &Table) -> Panels<LinePlot, LinePlot> {
         .size(HALF.0, HALF.1)
         .x_label("restitution α")
         .y_label("temperature ratio T/T_B")
-        .legend(LegendPosition::UpperLeft)
         .series(
             Series::markers("simulation", alpha.clone(), col(t, "T_over_TB"))
                 .with_errors(col(t, "T_over_TB_error")),
@@ -265,19 +267,20 @@ fn plot_fig4(t: &Table) -> LinePlot {
     let alpha = col(t, "alpha");
     let mut p = LinePlot::new("Fig. 4: T/T_B, power-law bath (Eq. 19)")
         .x_label("restitution α")
-        .y_label("temperature ratio T/T_B")
-        .legend(LegendPosition::UpperLeft);
-    for m in ["1", "0.5"] {
+        .y_label("temperature ratio T/T_B");
+    // One colour per mass: its simulation markers and its Eq. 18 line.
+    for (j, m) in ["1", "0.5"].iter().enumerate() {
         p = p.series(
             Series::markers(
                 format!("simulation, M = {m}"),
                 alpha.clone(),
                 col(t, &format!("T_over_TB_M{m}")),
             )
-            .with_errors(col(t, &format!("T_over_TB_M{m}_error"))),
+            .with_errors(col(t, &format!("T_over_TB_M{m}_error")))
+            .with_colour(PALETTE[j]),
         );
     }
-    for m in ["1", "0.5"] {
+    for (j, m) in ["1", "0.5"].iter().enumerate() {
         let mass: f64 = m.parse().unwrap_or(1.0);
         p = p.series(
             Series::theory_fn(
@@ -287,7 +290,8 @@ fn plot_fig4(t: &Table) -> LinePlot {
                 false,
                 move |a| martin_piasecki_ratio(a, mass, 1.0),
             )
-            .dashed(true),
+            .dashed(true)
+            .with_colour(PALETTE[j]),
         );
     }
     let (mut ex, mut ey) = (Vec::new(), Vec::new());
@@ -296,7 +300,7 @@ fn plot_fig4(t: &Table) -> LinePlot {
         ex.extend(x);
         ey.extend(y);
     }
-    p.series(Series::markers("exact, M/m = α", ex, ey))
+    p.series(Series::markers("exact, M/m = α", ex, ey).with_colour(PALETTE[6]))
 }
 
 fn plot_fig5(t: &Table) -> Panels<LinePlot, LinePlot> {
@@ -351,8 +355,7 @@ fn plot_fig7(t: &Table) -> Panels<LinePlot, LinePlot> {
     let mut right = LinePlot::new("Temperatures")
         .size(HALF.0, HALF.1)
         .x_label("restitution α")
-        .y_label("temperature ratio T/T_B")
-        .legend(LegendPosition::UpperLeft);
+        .y_label("temperature ratio T/T_B");
     // One colour per mass ratio in both panels; translational (solid, circles) and
     // rotational (dashed, squares) temperatures told apart by line style.
     for (j, m) in ["0.1", "0.5", "1"].iter().enumerate() {
