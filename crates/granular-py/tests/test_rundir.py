@@ -173,3 +173,16 @@ def test_shards_merge_to_the_whole_sweep(tmp_path: Path) -> None:
     for bad in ("0/3", "4/3", "a/b"):
         with pytest.raises(ValueError, match="shard"):
             granular.run_shard(sc, tmp_path / "bad", bad)
+
+
+def test_output_md_snapshot_snippet_runs(edmd_run: Path, root: Path) -> None:
+    """The snapshot snippet of docs/output.md runs as written on a real run directory (it
+    once called ``json.loads`` on the species names, which are a string array)."""
+    text = (root / "docs" / "output.md").read_text()
+    blocks = [b.split("```", 1)[0] for b in text.split("```python\n")[1:]]
+    snippet = next(b for b in blocks if "species_names" in b)
+    first = sorted((edmd_run / "snapshots").glob("*.npz"))[0]
+    snippet = snippet.replace("runs/maxwell-boltzmann/snapshots/snapshot_000000.npz", str(first))
+    namespace: dict[str, object] = {}
+    exec(compile(snippet, "docs/output.md", "exec"), namespace)
+    assert namespace["names"] == ["small", "big"]

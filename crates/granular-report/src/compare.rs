@@ -113,14 +113,18 @@ fn energy(runs: &[RunFiles], out: &Path, made: &mut Vec<PathBuf>) -> Result<(), 
     let first = &runs[0];
     let t0 = haff_time(first);
     let mut plot = LinePlot::new("Kinetic energy per grain")
-        .x_label("time t")
-        .y_label("kinetic energy per grain K / N")
+        .x_label("time t [τ]")
+        .y_label("kinetic energy per grain E/N [m L²/τ²]")
         .log_x(true)
         .log_y(true)
         .legend(LegendPosition::Auto);
     let mut ratio = LinePlot::new("Kinetic energy relative to Haff's law")
-        .x_label(if t0.is_some() { "t / t0" } else { "time t" })
-        .y_label("K(t) / K_Haff(t); ratio of runs")
+        .x_label(if t0.is_some() {
+            "time t/t₀"
+        } else {
+            "time t [τ]"
+        })
+        .y_label("energy ratio E/E_Haff; ratio of runs")
         .log_x(true)
         .log_y(true);
     for run in runs {
@@ -153,18 +157,31 @@ fn energy(runs: &[RunFiles], out: &Path, made: &mut Vec<PathBuf>) -> Result<(), 
             .cloned()
             .find(|t| *t > 0.0)
             .unwrap_or(t0 * 1e-2);
+        // The t0 marker spans the data (and the Haff curve), not beyond.
+        let lowest = runs
+            .iter()
+            .flat_map(|r| {
+                let n = r.scenario.particle_count().max(1) as f64;
+                r.energy.iter().map(move |k| k / n)
+            })
+            .chain(std::iter::once(haff::haff_energy(k0, t_end, t0)))
+            .filter(|k| *k > 0.0)
+            .fold(k0, f64::min);
         plot = plot
             .series(Series::theory_fn(
-                format!("Haff, DSMC-3: t0 = {t0:.4} (Enskog + Sonine)"),
+                format!(
+                    "Haff, DSMC-3: t₀ = {t0:.4} τ ({})",
+                    crate::run_files::haff_model(first)
+                ),
                 (t_start, t_end.max(t_start * 10.0)),
                 200,
                 true,
                 move |t| haff::haff_energy(k0, t, t0),
             ))
             .series(Series::theory(
-                "t = t0".to_string(),
+                "t = t₀".to_string(),
                 vec![t0, t0],
-                vec![k0 * 1e-6, k0 * 1.2],
+                vec![0.8 * lowest, k0 * 1.2],
             ));
         // The first run against the others, where their output times coincide.
         if runs.len() > 1 {

@@ -4,15 +4,16 @@
 use crate::plot::{
     Animation, ColourBy, HistogramPlot, LinePlot, PictureStyle, PlotError, Series, SnapshotPicture,
 };
-use crate::table::{Table, column, read_csv};
+use crate::table::{column, column_of, read_csv};
 use granular::boundary::AxisKind;
-use granular::run::sweep::SweepTable;
+use granular::run::Summary;
 use granular::scenario::Scenario;
+use granular::stats::{ChiSquare, Histogram, chi_square_test};
 use granular::theory::equilibrium;
 use granular::theory::haff;
 use std::path::{Path, PathBuf};
 
-fn save_both(
+pub(crate) fn save_both(
     stem: &Path,
     r: Result<[PathBuf; 2], PlotError>,
     made: &mut Vec<PathBuf>,
@@ -25,7 +26,7 @@ fn save_both(
 /// Draws the figures of a run or a sweep directory; returns the files written.
 pub(crate) fn plot(dir: &Path, animate: bool) -> Result<Vec<PathBuf>, String> {
     if dir.join("sweep.csv").is_file() {
-        plot_sweep(dir)
+        crate::sweep_plots::plot_sweep(dir)
     } else if dir.join("timeseries.csv").is_file() {
         plot_run(dir, animate)
     } else {
@@ -70,15 +71,39 @@ fn plot_run(dir: &Path, animate: bool) -> Result<Vec<PathBuf>, String> {
     let out = dir.join("figures");
     std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
     let mut made = Vec::new();
-    let d = scenario.dimension;
-    let names: Vec<String> = scenario.species.iter().map(|s| s.name.clone()).collect();
+    let summary = Summary::read(dir).ok();
+    energy(dir, &scenario, &out, &mut made)?;
+    speed_histograms(dir, &scenario, summary.as_ref(), &out, &mut made)?;
+    impact_parameters(dir, &scenario, &out, &mut made)?;
+    snapshot_figures(dir, &scenario, animate, &out, &mut made)?;
+    // Impact histograms at several times, S(k), density maps (opt-in [output] keys).
+    made.extend(crate::observable_plots::observables(dir, &out)?);
+    Ok(made)
+}
 
-    // Kinetic energy against time (per grain and species when there are several).
+/// Kinetic energy per grain against time (and per species when there are several); a
+/// cooling gas (restitution below 1) on log-log axes with Haff's law (DSMC-3) at the
+/// kinetic-theory `t0` (Enskog contact value and first Sonine correction,
+/// `theory::haff::enskog_haff_time`).
+fn energy(
+    dir: &Path,
+    scenario: &Scenario,
+    out: &Path,
+    made: &mut Vec<PathBuf>,
+) -> Result<(), String> {
+    let names: Vec<String> = scenario.species.iter().map(|s| s.name.clone()).collect();
     let ts = read_csv(&dir.join("timeseries.csv"))?;
     let time = column(&ts, "time").unwrap_or_default();
-    let mut energy = LinePlot::new("Kinetic energy")
-        .x_label("time t")
-        .y_label("kinetic energy per grain E / N");
+    let run = crate::run_files::load(dir).ok();
+    let t0 = run.as_ref().and_then(crate::run_files::haff_time);
+    let model = run.as_ref().map_or("", crate::run_files::haff_model);
+    let mut energy = LinePlot::new(if t0.is_some() {
+        "Kinetic energy of the cooling gas"
+    } else {
+        "Kinetic energy"
+    })
+    .x_label("time t [τ]")
+    .y_label("kinetic energy per grain E/N [m L²/τ²]");
     let n_total = scenario.particle_count() as f64;
     if let Some(k) = column(&ts, "kinetic_energy") {
         let per_grain: Vec<f64> = k.iter().map(|x| x / n_total).collect();
@@ -86,9 +111,26 @@ fn plot_run(dir: &Path, animate: bool) -> Result<Vec<PathBuf>, String> {
             .first()
             .zip(per_grain.last())
             .is_some_and(|(a, b)| *b < 0.1 * a && *b > 0.0);
-        energy = energy
-            .log_y(decays)
-            .series(Series::line("all grains", time.clone(), per_grain));
+        if let (Some(t0), Some(&k0)) = (t0, per_grain.first()) {
+            let t_end = time.iter().copied().fold(0.0, f64::max);
+            let t_start = time.iter().copied().find(|t| *t > 0.0).unwrap_or(t0 * 1e-2);
+            energy = energy
+                .log_x(true)
+                .log_y(true)
+                .series(Series::line("all grains", time.clone(), per_grain))
+                .series(Series::theory_fn(
+                    format!("Haff's law, t₀ = {t0:.4} τ ({model})"),
+                    (t_start, t_end.max(t_start * 10.0)),
+                    200,
+                    true,
+                    move |t| haff::haff_energy(k0, t, t0),
+                ));
+        } else {
+            energy =
+                energy
+                    .log_y(decays)
+                    .series(Series::line("all grains", time.clone(), per_grain));
+        }
     }
     if names.len() > 1 {
         for name in &names {
@@ -100,258 +142,326 @@ fn plot_run(dir: &Path, animate: bool) -> Result<Vec<PathBuf>, String> {
     save_both(
         &out.join("energy"),
         energy.save_png_and_svg(out.join("energy")),
-        &mut made,
-    )?;
+        made,
+    )
+}
 
-    // Speed histograms: initial and pooled equilibrium, with Maxwell-Boltzmann (HD-12).
-    if let Ok(h) = read_csv(&dir.join("speed_histograms.csv")) {
-        let sp_col = h.0.iter().position(|c| c == "species").unwrap_or(0);
-        for (s, name) in names.iter().enumerate() {
-            let rows: Vec<&Vec<String>> =
-                h.1.iter().filter(|r| r.get(sp_col) == Some(name)).collect();
-            if rows.is_empty() {
-                continue;
-            }
-            let get = |c: &str| -> Vec<f64> {
-                let i = h.0.iter().position(|x| x == c).unwrap_or(0);
-                rows.iter()
-                    .map(|r| r.get(i).and_then(|x| x.parse().ok()).unwrap_or(f64::NAN))
-                    .collect()
-            };
-            let (lo, hi) = (get("speed_low"), get("speed_high"));
-            let mut edges = lo.clone();
-            edges.push(*hi.last().unwrap_or(&0.0));
-            let initial = get("initial_density");
-            let stem = out.join(format!("speed_initial_{name}"));
-            let p = HistogramPlot::new(format!("Initial speeds: {name}"), edges.clone(), initial)
-                .x_label("speed v")
-                .y_label("probability density p(v)");
-            save_both(&stem, p.save_png_and_svg(&stem), &mut made)?;
-            let eq = get("equilibrium_density");
-            let counts = get("equilibrium_count");
-            let total: f64 = counts.iter().filter(|c| c.is_finite()).sum();
-            if total > 0.0 {
-                let width = hi[0] - lo[0];
-                let errors: Vec<f64> = counts
-                    .iter()
-                    .map(|c| c.max(0.0).sqrt() / (total * width))
-                    .collect();
-                let mass = scenario.species[s].mass;
-                // Temperature of the pooled samples from the mean of m v^2 over the density.
+/// Speed histograms per species: initial, and the pooled equilibrium ones with
+/// Maxwell-Boltzmann (HD-12) and the run's Pearson test printed on the figure.
+fn speed_histograms(
+    dir: &Path,
+    scenario: &Scenario,
+    summary: Option<&Summary>,
+    out: &Path,
+    made: &mut Vec<PathBuf>,
+) -> Result<(), String> {
+    let Ok(h) = read_csv(&dir.join("speed_histograms.csv")) else {
+        return Ok(());
+    };
+    let d = scenario.dimension;
+    let sp_col = h.0.iter().position(|c| c == "species").unwrap_or(0);
+    for (s, species) in scenario.species.iter().enumerate() {
+        let name = &species.name;
+        let rows: Vec<&Vec<String>> = h.1.iter().filter(|r| r.get(sp_col) == Some(name)).collect();
+        if rows.is_empty() {
+            continue;
+        }
+        let get = |c: &str| column_of(&h, c, &rows);
+        let (lo, hi) = (get("speed_low"), get("speed_high"));
+        let mut edges = lo.clone();
+        edges.push(*hi.last().unwrap_or(&0.0));
+        let initial = get("initial_density");
+        let stem = out.join(format!("speed_initial_{name}"));
+        let p = HistogramPlot::new(format!("Initial speeds: {name}"), edges.clone(), initial)
+            .x_label("speed v [L/τ]")
+            .y_label("probability density p(v) [τ/L]");
+        save_both(&stem, p.save_png_and_svg(&stem), made)?;
+        if let Some(scaled) = summary.and_then(|sm| sm.scaled_speeds.get(name)) {
+            // Not a steady state: no single temperature describes the pooled speeds; the
+            // scaled speeds c = v / v_T(t) instead.
+            scaled_speed_histogram(dir, name, scaled.a2, out, made)?;
+            continue;
+        }
+        let eq = get("equilibrium_density");
+        let counts = get("equilibrium_count");
+        let total: f64 = counts.iter().filter(|c| c.is_finite()).sum();
+        if total <= 0.0 {
+            continue;
+        }
+        let width = hi[0] - lo[0];
+        let errors: Vec<f64> = counts
+            .iter()
+            .map(|c| c.max(0.0).sqrt() / (total * width))
+            .collect();
+        let mass = scenario.species[s].mass;
+        let fit = summary.and_then(|sm| sm.maxwell_boltzmann_fit.get(name));
+        // The fit's temperature; without one, that of the pooled density.
+        let temperature = fit.map_or_else(
+            || {
                 let mv2: f64 = lo
                     .iter()
                     .zip(&hi)
                     .zip(&eq)
                     .map(|((a, b), p)| mass * (0.5 * (a + b)).powi(2) * p * width)
                     .sum();
-                let temperature = equilibrium::kinetic_temperature(d, mv2);
-                let stem = out.join(format!("speed_equilibrium_{name}"));
-                let p =
-                    HistogramPlot::new(format!("Equilibrium speeds: {name}"), edges.clone(), eq)
-                        .with_errors(errors)
-                        .data_label(format!("simulation ({} speeds)", total as u64))
-                        .x_label("speed v")
-                        .y_label("probability density p(v)")
-                        .theory(
-                            format!("Maxwell-Boltzmann, T = {temperature:.4}"),
-                            move |v| equilibrium::speed_density(d, v, mass, temperature),
-                        );
-                save_both(&stem, p.save_png_and_svg(&stem), &mut made)?;
-            }
-        }
-    }
-
-    // Impact parameters of pair collisions against molecular chaos (uniform in 2D, 2x in 3D).
-    if let Ok(h) = read_csv(&dir.join("impact_parameter.csv"))
-        && let (Some(lo), Some(hi), Some(dens)) = (
-            column(&h, "b_over_sigma_low"),
-            column(&h, "b_over_sigma_high"),
-            column(&h, "density"),
-        )
-        && dens.iter().any(|x| *x > 0.0)
-    {
-        let mut edges = lo.clone();
-        edges.push(*hi.last().unwrap_or(&1.0));
-        let stem = out.join("impact_parameter");
-        let p = HistogramPlot::new("Impact parameters of collisions", edges, dens)
-            .x_label("impact parameter b / sigma")
-            .y_label("probability density")
-            .theory("molecular chaos", move |x| {
-                haff::impact_parameter_density(d, x)
-            });
-        save_both(&stem, p.save_png_and_svg(&stem), &mut made)?;
-    }
-
-    // Snapshots: first and last, grains as true-size disks.
-    let files = snapshots(dir);
-    if d == 2 {
-        for (label, file) in [("first", files.first()), ("last", files.last())] {
-            if let Some(f) = file {
-                let snap = granular::run::read_snapshot(f).map_err(|e| e.to_string())?;
-                let stem = out.join(format!("snapshot_{label}"));
-                let style = picture_style(&scenario, names.len());
-                save_both(
-                    &stem,
-                    SnapshotPicture::new(&snap, style).save_png_and_svg(&stem),
-                    &mut made,
-                )?;
-            }
-        }
-        if animate && files.len() > 1 {
-            let snaps = files
-                .iter()
-                .map(|f| granular::run::read_snapshot(f).map_err(|e| e.to_string()))
-                .collect::<Result<Vec<_>, String>>()?;
-            let path = out.join("animation.gif");
-            let anim = Animation::new(
-                &snaps,
-                picture_style(&scenario, names.len()).show_time(true),
+                equilibrium::kinetic_temperature(d, mv2)
+            },
+            |f| f.temperature,
+        );
+        let stem = out.join(format!("speed_equilibrium_{name}"));
+        let mut p = HistogramPlot::new(format!("Equilibrium speeds: {name}"), edges.clone(), eq)
+            .with_errors(errors)
+            .data_label(format!("simulation ({} speeds)", total as u64))
+            .x_label("speed v [L/τ]")
+            .y_label("probability density p(v) [τ/L]")
+            .theory(
+                format!("Maxwell-Boltzmann, T = {temperature:.4} [m L²/τ²]"),
+                move |v| equilibrium::speed_density(d, v, mass, temperature),
             );
-            anim.save_gif(&path)
-                .map_err(|e| format!("{}: {e}", path.display()))?;
-            made.push(path.clone());
-            let mp4 = out.join("animation.mp4");
-            if anim.save_mp4(&mp4).map_err(|e| e.to_string())? {
-                made.push(mp4);
-            }
+        if let Some(f) = fit {
+            p = p.goodness_of_fit(f.chi_square, f.degrees_of_freedom, f.p_value);
         }
+        save_both(&stem, p.save_png_and_svg(&stem), made)?;
     }
-    // Impact histograms at several times, S(k), density maps (opt-in [output] keys).
-    made.extend(crate::observable_plots::observables(dir, &out)?);
-    Ok(made)
+    Ok(())
 }
 
-fn plot_sweep(dir: &Path) -> Result<Vec<PathBuf>, String> {
-    let table = SweepTable::read(dir).map_err(|e| e.to_string())?;
-    let key = table
-        .keys
-        .first()
-        .cloned()
-        .unwrap_or_else(|| "point".into());
-    let out = dir.join("figures");
-    std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
-    let mut made = Vec::new();
-    // The first key on the x axis (the point number for a key whose values are text);
-    // one curve per combination of the other keys.
-    let x: Vec<f64> = table
-        .rows
-        .iter()
-        .map(|r| match r.numbers.first() {
-            Some(x) if x.is_finite() => *x,
-            _ => r.point as f64,
-        })
-        .collect();
-    let mut groups: Vec<(String, Vec<usize>)> = Vec::new();
-    for (i, r) in table.rows.iter().enumerate() {
-        let label: Vec<String> = table
-            .keys
-            .iter()
-            .zip(&r.values)
-            .skip(1)
-            .map(|(k, v)| format!("{k} = {v}"))
+/// The pooled scaled speeds `c = v / v_T(t)` of a species that was not in a steady state
+/// (`scaled_speed_histograms.csv`) against the Maxwell-Boltzmann density of `c`, with
+/// Pearson's test and the pooled `a2`.
+fn scaled_speed_histogram(
+    dir: &Path,
+    name: &str,
+    a2: f64,
+    out: &Path,
+    made: &mut Vec<PathBuf>,
+) -> Result<(), String> {
+    let Ok(h) = read_csv(&dir.join("scaled_speed_histograms.csv")) else {
+        return Ok(());
+    };
+    let sp_col = h.0.iter().position(|c| c == "species").unwrap_or(0);
+    let rows: Vec<&Vec<String>> =
+        h.1.iter()
+            .filter(|r| r.get(sp_col).map(String::as_str) == Some(name))
             .collect();
-        let label = label.join(", ");
-        match groups.iter_mut().find(|g| g.0 == label) {
-            Some(g) => g.1.push(i),
-            None => groups.push((label, vec![i])),
+    let get = |c: &str| column_of(&h, c, &rows);
+    let (lo, hi, dens, counts, mb) = (
+        get("c_low"),
+        get("c_high"),
+        get("density"),
+        get("count"),
+        get("maxwell_boltzmann_density"),
+    );
+    if lo.is_empty() || hi.len() != lo.len() {
+        return Ok(());
+    }
+    let mut edges = lo.clone();
+    edges.push(*hi.last().unwrap_or(&0.0));
+    let centres: Vec<f64> = lo.iter().zip(&hi).map(|(a, b)| 0.5 * (a + b)).collect();
+    let total: f64 = counts.iter().filter(|c| c.is_finite()).sum();
+    let stem = out.join(format!("speed_scaled_{name}"));
+    let mut p = HistogramPlot::new(
+        format!("Scaled speeds of the cooling gas: {name}"),
+        edges.clone(),
+        dens,
+    )
+    .data_label(format!(
+        "simulation ({} speeds), a₂ = {a2:.4}",
+        total as u64
+    ))
+    .x_label("scaled speed c = v/v_T(t)")
+    .y_label("probability density p(c)")
+    .theory_points("Maxwell-Boltzmann", centres, mb.clone());
+    if let Some(fit) = chi_square_of_bins(&edges, &counts, binned_cdf(&edges, &mb)) {
+        p = p.goodness_of_fit(fit.statistic, fit.degrees_of_freedom, fit.p_value);
+    }
+    save_both(&stem, p.save_png_and_svg(&stem), made)
+}
+
+/// Pearson's test of binned counts (`counts[i]` in `[edges[i], edges[i+1])`) against a
+/// model's cumulative distribution over the binned range, pooling bins to five expected
+/// counts (`granular::stats::chi_square_test`).
+pub(crate) fn chi_square_of_bins(
+    edges: &[f64],
+    counts: &[f64],
+    cdf: impl Fn(f64) -> f64,
+) -> Option<ChiSquare> {
+    let (&min, &max) = (edges.first()?, edges.last()?);
+    let bins = counts.len();
+    if bins == 0 || edges.len() != bins + 1 || counts.iter().any(|c| !c.is_finite() || *c < 0.0) {
+        return None;
+    }
+    // Equal bins are what `Histogram` holds; the run files write equal bins.
+    let width = (max - min) / bins as f64;
+    if edges
+        .windows(2)
+        .any(|w| ((w[1] - w[0]) - width).abs() > 1e-9 * width.abs().max(1e-300))
+    {
+        return None;
+    }
+    let mut hist = Histogram::new(min, max, bins);
+    hist.counts = counts.iter().map(|c| c.round() as u64).collect();
+    (hist.total() > 0).then(|| chi_square_test(&hist, cdf))
+}
+
+/// Impact parameters of pair collisions against molecular chaos (uniform in 2D, 2x in 3D),
+/// with Pearson's test.
+fn impact_parameters(
+    dir: &Path,
+    scenario: &Scenario,
+    out: &Path,
+    made: &mut Vec<PathBuf>,
+) -> Result<(), String> {
+    let d = scenario.dimension;
+    let Ok(h) = read_csv(&dir.join("impact_parameter.csv")) else {
+        return Ok(());
+    };
+    let (Some(lo), Some(hi), Some(dens)) = (
+        column(&h, "b_over_sigma_low"),
+        column(&h, "b_over_sigma_high"),
+        column(&h, "density"),
+    ) else {
+        return Ok(());
+    };
+    if !dens.iter().any(|x| *x > 0.0) {
+        return Ok(());
+    }
+    let mut edges = lo.clone();
+    edges.push(*hi.last().unwrap_or(&1.0));
+    let stem = out.join("impact_parameter");
+    let mut p = HistogramPlot::new("Impact parameters of collisions", edges.clone(), dens)
+        .x_label("reduced impact parameter b/σ")
+        .y_label("probability density p(b/σ)")
+        .theory("molecular chaos", move |x| {
+            haff::impact_parameter_density(d, x)
+        });
+    if let Some(counts) = column(&h, "count")
+        && let Some(fit) = chi_square_of_bins(&edges, &counts, |x| haff::impact_parameter_cdf(d, x))
+    {
+        p = p.goodness_of_fit(fit.statistic, fit.degrees_of_freedom, fit.p_value);
+    }
+    save_both(&stem, p.save_png_and_svg(&stem), made)
+}
+
+/// Fewer snapshots than this make a short animation: its title says how to get more.
+const FEW_FRAMES: usize = 10;
+
+/// Snapshots, first and last: 2D runs as they are; 3D runs as the x-y projection of all
+/// grains (nearer grains on top) and as a central slice `Lz/2 ± w` (`w` two grain
+/// diameters or `Lz/20`, whichever is larger). With `animate`, a GIF (and MP4) of all
+/// snapshots (2D: the box; 3D: the projection).
+fn snapshot_figures(
+    dir: &Path,
+    scenario: &Scenario,
+    animate: bool,
+    out: &Path,
+    made: &mut Vec<PathBuf>,
+) -> Result<(), String> {
+    let files = snapshots(dir);
+    let species = scenario.species.len();
+    let l = scenario.lengths();
+    for (label, file) in [("first", files.first()), ("last", files.last())] {
+        let Some(f) = file else { continue };
+        let snap = granular::run::read_snapshot(f).map_err(|e| e.to_string())?;
+        let stem = out.join(format!("snapshot_{label}"));
+        let style = picture_style(scenario, species);
+        if scenario.dimension == 2 {
+            let r = SnapshotPicture::new(&snap, style).save_png_and_svg(&stem);
+            save_both(&stem, r, made)?;
+            continue;
+        }
+        let lz = l.get(2).copied().unwrap_or(1.0);
+        let r_max = snap.radii.iter().copied().fold(0.0, f64::max);
+        let w = (4.0 * r_max).max(lz / 20.0);
+        let projection = style.clone().title("x-y projection of all grains");
+        let r = SnapshotPicture::new(&snap, projection).save_png_and_svg(&stem);
+        save_both(&stem, r, made)?;
+        let stem = out.join(format!("snapshot_{label}_slice"));
+        let slice = style
+            .title(format!(
+                "slice {:.4} ≤ z < {:.4} [L] (centres)",
+                0.5 * lz - w,
+                0.5 * lz + w
+            ))
+            .slab(0.5 * lz - w, 0.5 * lz + w);
+        let r = SnapshotPicture::new(&snap, slice).save_png_and_svg(&stem);
+        save_both(&stem, r, made)?;
+    }
+    if animate && files.len() > 1 {
+        let snaps = files
+            .iter()
+            .map(|f| granular::run::read_snapshot(f).map_err(|e| e.to_string()))
+            .collect::<Result<Vec<_>, String>>()?;
+        let mut style = picture_style(scenario, species).show_time(true);
+        if snaps.len() < FEW_FRAMES {
+            style = style.title(few_frames_note(snaps.len()));
+        }
+        let path = out.join("animation.gif");
+        let anim = Animation::new(&snaps, style);
+        anim.save_gif(&path)
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        made.push(path.clone());
+        let mp4 = out.join("animation.mp4");
+        if anim.save_mp4(&mp4).map_err(|e| e.to_string())? {
+            made.push(mp4);
         }
     }
-    // One figure per observable with error bars over seeds.
-    for name in &table.observables {
-        let Some((y, e)) = table.observable(name) else {
-            continue;
-        };
-        if y.iter().all(|v| !v.is_finite()) {
-            continue;
-        }
-        let stem = out.join(format!("sweep_{}", name.replace(['.', '/'], "_")));
-        let mut p = LinePlot::new(format!("{name} against {key}"))
-            .x_label(key.clone())
-            .y_label(format!("{name} (mean ± standard error)"));
-        for (label, rows) in &groups {
-            let pick = |v: &[f64]| rows.iter().map(|&i| v[i]).collect::<Vec<f64>>();
-            let err: Vec<f64> = pick(&e)
-                .into_iter()
-                .map(|v| if v.is_finite() { v } else { 0.0 })
-                .collect();
-            let label = if label.is_empty() {
-                name.clone()
-            } else {
-                label.clone()
-            };
-            p = p.series(Series::line_markers(label, pick(&x), pick(&y)).with_errors(err));
-        }
-        save_both(&stem, p.save_png_and_svg(&stem), &mut made)?;
-    }
-    // Time series of every point (mean over seeds), per species energy when present.
-    let points: Vec<(String, Vec<PathBuf>)> = table
-        .meta
-        .points
-        .iter()
-        .zip(&table.rows)
-        .map(|(p, r)| {
-            let label: Vec<String> = table
-                .keys
-                .iter()
-                .zip(&r.values)
-                .map(|(k, v)| format!("{k} = {v}"))
-                .collect();
-            (
-                label.join(", "),
-                p.members.iter().map(|m| dir.join(m)).collect(),
-            )
-        })
-        .collect();
-    let mut energy = LinePlot::new(format!("Kinetic energy per grain, by {key}"))
-        .x_label("time t")
-        .y_label("kinetic energy per grain");
-    let mut any = false;
-    for (label, seeds) in &points {
-        let tables: Vec<Table> = seeds
-            .iter()
-            .filter_map(|s| read_csv(&s.join("timeseries.csv")).ok())
-            .collect();
-        let Some(first) = tables.first() else {
-            continue;
-        };
-        let time = column(first, "time").unwrap_or_default();
-        let species_cols: Vec<String> = first
-            .0
-            .iter()
-            .filter(|c| c.starts_with("kinetic_energy_per_grain."))
-            .cloned()
-            .collect();
-        let cols: Vec<String> = if species_cols.is_empty() {
-            vec!["kinetic_energy".into()]
+    Ok(())
+}
+
+/// The title of an animation with few frames: how to get more.
+pub(crate) fn few_frames_note(frames: usize) -> String {
+    format!(
+        "only {frames} snapshots: for more frames, rerun with --set output.snapshot_every=1 \
+         (and a smaller output.interval)"
+    )
+}
+
+/// The cumulative distribution over the binned range of a density given as bin averages
+/// (`density[i]` over `[edges[i], edges[i+1])`), normalised to 1 over the range (samples
+/// outside it are not counted), linear inside each bin.
+pub(crate) fn binned_cdf(edges: &[f64], density: &[f64]) -> impl Fn(f64) -> f64 + use<> {
+    let mut cumulative = vec![0.0];
+    for (w, d) in edges.windows(2).zip(density) {
+        let mass = if d.is_finite() {
+            d.max(0.0) * (w[1] - w[0])
         } else {
-            species_cols
+            0.0
         };
-        for c in cols {
-            let mut mean = vec![0.0; time.len()];
-            let mut used = 0.0;
-            for t in &tables {
-                if let Some(v) = column(t, &c)
-                    && v.len() >= time.len()
-                {
-                    mean.iter_mut().zip(&v).for_each(|(m, x)| *m += x);
-                    used += 1.0;
-                }
-            }
-            if used > 0.0 {
-                mean.iter_mut().for_each(|m| *m /= used);
-                let species = c.strip_prefix("kinetic_energy_per_grain.").unwrap_or("all");
-                energy = energy.series(Series::line(
-                    format!("{label}: {species}"),
-                    time.clone(),
-                    mean,
-                ));
-                any = true;
-            }
+        cumulative.push(cumulative.last().copied().unwrap_or(0.0) + mass);
+    }
+    let total = cumulative.last().copied().unwrap_or(0.0);
+    let edges = edges.to_vec();
+    move |x: f64| {
+        if total <= 0.0 || edges.len() < 2 {
+            return f64::NAN;
         }
+        let i = edges.partition_point(|e| *e <= x);
+        if i == 0 {
+            return 0.0;
+        }
+        if i >= edges.len() {
+            return 1.0;
+        }
+        let (a, b) = (edges[i - 1], edges[i]);
+        let f = cumulative[i - 1] + (cumulative[i] - cumulative[i - 1]) * (x - a) / (b - a);
+        f / total
     }
-    if any {
-        let stem = out.join("sweep_energy_time");
-        save_both(&stem, energy.save_png_and_svg(&stem), &mut made)?;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::binned_cdf;
+
+    #[test]
+    fn binned_cdf_is_piecewise_linear_and_normalised() {
+        let cdf = binned_cdf(&[0.0, 1.0, 2.0], &[0.25, 0.75]);
+        assert_eq!(cdf(-1.0), 0.0);
+        assert_eq!(cdf(0.0), 0.0);
+        assert!((cdf(0.5) - 0.125).abs() < 1e-15);
+        assert!((cdf(1.0) - 0.25).abs() < 1e-15);
+        assert!((cdf(1.5) - 0.625).abs() < 1e-15);
+        assert_eq!(cdf(2.0), 1.0);
+        assert_eq!(cdf(3.0), 1.0);
     }
-    Ok(made)
 }

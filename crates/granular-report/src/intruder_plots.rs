@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 
 use granular::run::Summary;
 
+use crate::figures::{binned_cdf, chi_square_of_bins};
 use crate::plot::{HistogramPlot, LinePlot, PlotError, Series};
 use crate::table::{column_of as column, read_csv};
 
@@ -35,17 +36,17 @@ pub(crate) fn plot_run(dir: &Path) -> Result<Vec<PathBuf>, String> {
     let rows: Vec<&Vec<String>> = ts.1.iter().collect();
     let time = column(&ts, "time", &rows);
     let pairs: &[(&str, &str)] = if ts.0.iter().any(|c| c == "temperature_ratio") {
-        &[("temperature_ratio", "T / T_B")]
+        &[("temperature_ratio", "T/T_B")]
     } else {
         &[
-            ("translational_temperature_ratio", "T_tr / T_B"),
-            ("rotational_temperature_ratio", "T_rot / T_B"),
+            ("translational_temperature_ratio", "T_tr/T_B"),
+            ("rotational_temperature_ratio", "T_rot/T_B"),
             ("correlation_r", "R (Eq. 30)"),
         ]
     };
     let mut p = LinePlot::new("Intruder: running averages on the time grid")
-        .x_label("time t")
-        .y_label("running average ± batch-means error");
+        .x_label("time t [τ]")
+        .y_label("running average (dimensionless) ± batch-means error");
     for (key, label) in pairs {
         let y = column(&ts, key, &rows);
         let e = column(&ts, &format!("{key}_error"), &rows);
@@ -71,10 +72,12 @@ pub(crate) fn plot_run(dir: &Path) -> Result<Vec<PathBuf>, String> {
 
     // Histograms with their reference densities.
     let h = read_csv(&dir.join("intruder_histograms.csv"))?;
-    let reference = block
-        .as_ref()
-        .map(|b| b.histogram_reference.clone())
-        .unwrap_or_else(|| "reference".into());
+    let reference = match block.as_ref().map(|b| b.histogram_reference.as_str()) {
+        Some("gaussian_eq18") => "Gaussian at the temperature of Eq. 18".to_string(),
+        Some("gaussian_best_fit") => "best-fit zero-mean Gaussian".to_string(),
+        Some(other) => other.replace('_', " "),
+        None => "reference".into(),
+    };
     let var = h.0.iter().position(|c| c == "variable").unwrap_or(0);
     let mut names: Vec<String> = Vec::new();
     for r in &h.1 {
@@ -89,20 +92,37 @@ pub(crate) fn plot_run(dir: &Path) -> Result<Vec<PathBuf>, String> {
         let (lo, hi) = (column(&h, "low", &rows), column(&h, "high", &rows));
         let dens = column(&h, "density", &rows);
         let th = column(&h, "theory_density", &rows);
+        let counts = column(&h, "count", &rows);
         let mut edges = lo.clone();
         edges.push(hi.last().copied().unwrap_or(0.0));
         let centres: Vec<f64> = lo.iter().zip(&hi).map(|(a, b)| 0.5 * (a + b)).collect();
+        let fit = chi_square_of_bins(&edges, &counts, binned_cdf(&edges, &th));
+        let (x_label, y_label) = match name.as_str() {
+            "velocity" => (
+                "intruder velocity v [L/τ]",
+                "probability density p(v) [τ/L]",
+            ),
+            "velocity_component" => (
+                "intruder velocity component vₓ, v_y [L/τ]",
+                "probability density [τ/L]",
+            ),
+            "angular_velocity" => ("angular velocity ω [1/τ]", "probability density p(ω) [τ]"),
+            _ => (name.as_str(), "probability density"),
+        };
         for log in [false, true] {
             let stem = out.join(format!("histogram_{name}{}", if log { "_log" } else { "" }));
-            let p = HistogramPlot::new(
-                format!("Intruder {name} on the time grid"),
+            let mut p = HistogramPlot::new(
+                format!("Intruder {} on the time grid", name.replace('_', " ")),
                 edges.clone(),
                 dens.clone(),
             )
-            .x_label(name.replace('_', " "))
-            .y_label("probability density")
+            .x_label(x_label)
+            .y_label(y_label)
             .log_y(log)
-            .theory_points(reference.replace('_', " "), centres.clone(), th.clone());
+            .theory_points_over_data(reference.clone(), centres.clone(), th.clone());
+            if let Some(f) = &fit {
+                p = p.goodness_of_fit(f.statistic, f.degrees_of_freedom, f.p_value);
+            }
             save(&stem, p.save_png_and_svg(&stem), &mut made)?;
         }
     }

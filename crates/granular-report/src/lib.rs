@@ -17,6 +17,7 @@ mod observable_plots;
 pub mod plot;
 pub mod reproduce;
 mod run_files;
+mod sweep_plots;
 mod table;
 
 use std::path::{Path, PathBuf};

@@ -6,7 +6,7 @@
 use crate::plot::{HeatMaps, HeatPanel, LinePlot, Series};
 use crate::run_files::{RunFiles, floats, get, haff_time, load, save, tag};
 use granular::output::npz::read_npz;
-use granular::theory::haff;
+use granular::theory::{equilibrium, haff};
 use std::path::{Path, PathBuf};
 
 /// The figures of the opt-in observables of one run (impact histograms, `S(k)`, density
@@ -37,7 +37,7 @@ pub(crate) fn impact(runs: &[RunFiles], out: &Path, made: &mut Vec<PathBuf>) -> 
         }
         let centres: Vec<f64> = edges.windows(2).map(|w| 0.5 * (w[0] + w[1])).collect();
         let unit = t0.unwrap_or(1.0);
-        let name = if t0.is_some() { "t/t0" } else { "t" };
+        let name = if t0.is_some() { "t/t₀" } else { "t/τ" };
         // From 0, so that a flat histogram looks flat next to one with a grazing excess.
         let top = dens
             .iter()
@@ -45,8 +45,8 @@ pub(crate) fn impact(runs: &[RunFiles], out: &Path, made: &mut Vec<PathBuf>) -> 
             .filter(|v| v.is_finite())
             .fold(1.25, f64::max);
         let mut plot = LinePlot::new(format!("Impact parameters: {}", run.label))
-            .x_label("impact parameter b / sigma")
-            .y_label("probability density")
+            .x_label("reduced impact parameter b/σ")
+            .y_label("probability density p(b/σ)")
             .y_range(0.0, 1.05 * top);
         for (i, row) in dens.chunks(bins).enumerate() {
             if row.iter().all(|v| !v.is_finite()) {
@@ -110,6 +110,21 @@ pub(crate) fn read_sk(run: &RunFiles) -> Result<Option<SkData>, String> {
     }))
 }
 
+/// The packing fraction of a run and the long-wavelength limit `S(0)` of the equilibrium
+/// fluid at it, from the library's equation of state
+/// (`theory::equilibrium::structure_factor_zero`).
+fn eos_structure_factor_zero(scenario: &granular::scenario::Scenario) -> (f64, f64) {
+    let d = scenario.dimension;
+    let volume: f64 = scenario.lengths().iter().product();
+    let phi: f64 = scenario
+        .species
+        .iter()
+        .enumerate()
+        .map(|(i, s)| s.count as f64 * haff::grain_volume(d, scenario.radius(i)) / volume)
+        .sum();
+    (phi, equilibrium::structure_factor_zero(d, phi))
+}
+
 pub(crate) fn structure_factor(
     runs: &[RunFiles],
     out: &Path,
@@ -117,10 +132,14 @@ pub(crate) fn structure_factor(
 ) -> Result<(), String> {
     let t0 = haff_time(&runs[0]);
     let unit = t0.unwrap_or(1.0);
-    let name = if t0.is_some() { "t/t0" } else { "t" };
+    let name = if t0.is_some() { "t/t₀" } else { "t/τ" };
     let mut peak = LinePlot::new("Largest S(k) against time")
-        .x_label(if t0.is_some() { "t / t0" } else { "time t" })
-        .y_label("max_k S(k)")
+        .x_label(if t0.is_some() {
+            "time t/t₀"
+        } else {
+            "time t [τ]"
+        })
+        .y_label("largest structure factor max S(k)")
         .log_x(true)
         .log_y(true);
     let mut any = false;
@@ -129,8 +148,8 @@ pub(crate) fn structure_factor(
             continue;
         };
         let mut plot = LinePlot::new(format!("Structure factor: {}", run.label))
-            .x_label("k L / (2 pi)")
-            .y_label("S(k)")
+            .x_label("wave number k [2π/L]")
+            .y_label("structure factor S(k)")
             .log_x(true)
             .log_y(true);
         let mut px = Vec::new();
@@ -146,10 +165,20 @@ pub(crate) fn structure_factor(
                 py.push(row.iter().cloned().fold(0.0, f64::max));
             }
         }
+        let k_range = vec![sk.k_units[0], *sk.k_units.last().unwrap_or(&1.0)];
         plot = plot.series(Series::theory(
-            "ideal gas S = 1",
-            vec![sk.k_units[0], *sk.k_units.last().unwrap_or(&1.0)],
+            "ideal gas, S = 1",
+            k_range.clone(),
             vec![1.0, 1.0],
+        ));
+        let s0 = eos_structure_factor_zero(&run.scenario);
+        plot = plot.series(Series::theory(
+            format!(
+                "S(0) of the equation of state, φ = {:.3}: {:.3}",
+                s0.0, s0.1
+            ),
+            k_range,
+            vec![s0.1, s0.1],
         ));
         save(
             &plot,
@@ -174,8 +203,8 @@ pub(crate) fn density_maps(
 ) -> Result<(), String> {
     let t0 = haff_time(&runs[0]);
     let unit = t0.unwrap_or(1.0);
-    let name = if t0.is_some() { "t/t0" } else { "t" };
-    let mut fig = HeatMaps::new("number density / mean density", 3);
+    let name = if t0.is_some() { "t/t₀" } else { "t/τ" };
+    let mut fig = HeatMaps::new("number density in bins / mean density", 3).log_scale(true);
     let mut any = false;
     for run in runs {
         let path = run.dir.join("density_maps.npz");

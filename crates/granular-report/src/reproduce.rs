@@ -16,7 +16,7 @@ use granular::intruder::theory::{GAUSSIAN_KURTOSIS, martin_piasecki_ratio};
 use granular::random::derive_key;
 
 use crate::ReportError;
-use crate::plot::{HistogramPlot, LegendPosition, LinePlot, Panels, PlotError, Series};
+use crate::plot::{HistogramPlot, LinePlot, PALETTE, Panels, PlotError, Series};
 
 /// The figures that can be reproduced (Fig. 6 of the paper is a sketch of the needle).
 pub const FIGURES: [&str; 7] = ["fig1", "fig2", "fig3", "fig4", "fig5", "fig7", "fig8"];
@@ -176,10 +176,10 @@ fn figure(name: &str, out: &Path, st: Statistics, seed: u64) -> Result<Vec<PathB
 fn plot_fig1(t: &Table) -> LinePlot {
     let v = col(t, "v1");
     let mut p = LinePlot::new("Fig. 1: collision rate of a Gaussian bath (Eq. 16)")
-        .x_label("intruder velocity v₁")
-        .y_label("φ(v₁)/ρ")
-        .legend(LegendPosition::UpperLeft);
-    for a in ["0.5", "1", "2", "4"] {
+        .x_label("intruder velocity v₁ [√(T_B/m)]")
+        .y_label("collision rate per bath density φ(v₁)/ρ [√(T_B/m)]");
+    // One colour per `a`: its Monte Carlo markers and its Eq. 16 line.
+    for (j, a) in ["0.5", "1", "2", "4"].iter().enumerate() {
         // Every third point, so the Monte Carlo markers do not hide the curves.
         let (x, y): (Vec<f64>, Vec<f64>) = v
             .iter()
@@ -187,16 +187,18 @@ fn plot_fig1(t: &Table) -> LinePlot {
             .step_by(3)
             .map(|(x, y)| (*x, y))
             .unzip();
-        p = p.series(Series::markers(format!("Monte Carlo, a = {a}"), x, y));
+        p = p
+            .series(Series::markers(format!("Monte Carlo, a = {a}"), x, y).with_colour(PALETTE[j]));
     }
-    for a in ["0.5", "1", "2", "4"] {
+    for (j, a) in ["0.5", "1", "2", "4"].iter().enumerate() {
         p = p.series(
             Series::theory(
                 format!("Eq. 16, a = {a}"),
                 v.clone(),
                 col(t, &format!("phi_a{a}")),
             )
-            .dashed(false),
+            .dashed(false)
+            .with_colour(PALETTE[j]),
         );
     }
     p
@@ -205,22 +207,23 @@ fn plot_fig1(t: &Table) -> LinePlot {
 fn plot_fig2(t: &Table) -> LinePlot {
     let v = col(t, "v");
     let mut p = LinePlot::new("Fig. 2: colliding bath velocities g₊(v, v₁) (Eq. 12)")
-        .x_label("bath velocity v")
-        .y_label("g₊(v, v₁)")
-        .legend(LegendPosition::UpperLeft);
-    for v1 in ["-2", "-1", "0", "1", "2"] {
+        .x_label("bath velocity v [√(T_B/m)]")
+        .y_label("density of colliding velocities g₊(v, v₁) [√(m/T_B)]");
+    // One colour per v₁: its sampled markers and its Eq. 12 line.
+    for (j, v1) in ["-2", "-1", "0", "1", "2"].iter().enumerate() {
         let (x, y) = finite(&v, &col(t, &format!("g_sampled_v1={v1}")));
         let (x, y): (Vec<f64>, Vec<f64>) = x.into_iter().zip(y).step_by(2).unzip();
-        p = p.series(Series::markers(format!("sampled, v₁ = {v1}"), x, y));
+        p = p.series(Series::markers(format!("sampled, v₁ = {v1}"), x, y).with_colour(PALETTE[j]));
     }
-    for v1 in ["-2", "-1", "0", "1", "2"] {
+    for (j, v1) in ["-2", "-1", "0", "1", "2"].iter().enumerate() {
         p = p.series(
             Series::theory(
                 format!("Eq. 12, v₁ = {v1}"),
                 v.clone(),
                 col(t, &format!("g_theory_v1={v1}")),
             )
-            .dashed(false),
+            .dashed(false)
+            .with_colour(PALETTE[j]),
         );
     }
     p
@@ -231,8 +234,7 @@ fn plot_fig3(t: &Table) -> Panels<LinePlot, LinePlot> {
     let left = LinePlot::new("Fig. 3: T/T_B, M = m, Gaussian bath")
         .size(HALF.0, HALF.1)
         .x_label("restitution α")
-        .y_label("T / T_B")
-        .legend(LegendPosition::UpperLeft)
+        .y_label("temperature ratio T/T_B")
         .series(
             Series::markers("simulation", alpha.clone(), col(t, "T_over_TB"))
                 .with_errors(col(t, "T_over_TB_error")),
@@ -247,7 +249,7 @@ fn plot_fig3(t: &Table) -> Panels<LinePlot, LinePlot> {
     let right = LinePlot::new("Kurtosis ⟨v⁴⟩/⟨v²⟩²")
         .size(HALF.0, HALF.1)
         .x_label("restitution α")
-        .y_label("kurtosis")
+        .y_label("kurtosis ⟨v⁴⟩/⟨v²⟩²")
         .y_range(2.8, 3.2)
         .series(
             Series::markers("simulation", alpha.clone(), col(t, "kurtosis"))
@@ -265,19 +267,20 @@ fn plot_fig4(t: &Table) -> LinePlot {
     let alpha = col(t, "alpha");
     let mut p = LinePlot::new("Fig. 4: T/T_B, power-law bath (Eq. 19)")
         .x_label("restitution α")
-        .y_label("T / T_B")
-        .legend(LegendPosition::UpperLeft);
-    for m in ["1", "0.5"] {
+        .y_label("temperature ratio T/T_B");
+    // One colour per mass: its simulation markers and its Eq. 18 line.
+    for (j, m) in ["1", "0.5"].iter().enumerate() {
         p = p.series(
             Series::markers(
                 format!("simulation, M = {m}"),
                 alpha.clone(),
                 col(t, &format!("T_over_TB_M{m}")),
             )
-            .with_errors(col(t, &format!("T_over_TB_M{m}_error"))),
+            .with_errors(col(t, &format!("T_over_TB_M{m}_error")))
+            .with_colour(PALETTE[j]),
         );
     }
-    for m in ["1", "0.5"] {
+    for (j, m) in ["1", "0.5"].iter().enumerate() {
         let mass: f64 = m.parse().unwrap_or(1.0);
         p = p.series(
             Series::theory_fn(
@@ -287,7 +290,8 @@ fn plot_fig4(t: &Table) -> LinePlot {
                 false,
                 move |a| martin_piasecki_ratio(a, mass, 1.0),
             )
-            .dashed(true),
+            .dashed(true)
+            .with_colour(PALETTE[j]),
         );
     }
     let (mut ex, mut ey) = (Vec::new(), Vec::new());
@@ -296,7 +300,7 @@ fn plot_fig4(t: &Table) -> LinePlot {
         ex.extend(x);
         ey.extend(y);
     }
-    p.series(Series::markers("exact, M/m = α", ex, ey))
+    p.series(Series::markers("exact, M/m = α", ex, ey).with_colour(PALETTE[6]))
 }
 
 fn plot_fig5(t: &Table) -> Panels<LinePlot, LinePlot> {
@@ -304,17 +308,15 @@ fn plot_fig5(t: &Table) -> Panels<LinePlot, LinePlot> {
     let shown = ["0", "0.2", "0.5", "0.8", "1"];
     let mut left = LinePlot::new("Fig. 5: F(v₁), power-law bath, M = 1/2")
         .size(HALF.0, HALF.1)
-        .x_label("intruder velocity v₁")
-        .y_label("F(v₁)")
-        .log_y(true)
-        .legend(LegendPosition::LowerRight);
+        .x_label("intruder velocity v₁ [√(T_B/m)]")
+        .y_label("velocity distribution F(v₁) [√(m/T_B)]")
+        .log_y(true);
     let mut right = LinePlot::new("Tail, v₁ > 0 (log-log)")
         .size(HALF.0, HALF.1)
-        .x_label("v₁")
-        .y_label("F(v₁)")
+        .x_label("intruder velocity v₁ [√(T_B/m)]")
+        .y_label("velocity distribution F(v₁) [√(m/T_B)]")
         .log_x(true)
-        .log_y(true)
-        .legend(LegendPosition::LowerLeft);
+        .log_y(true);
     let positive = |y: &[f64]| -> (Vec<f64>, Vec<f64>) {
         v.iter()
             .zip(y)
@@ -349,35 +351,50 @@ fn plot_fig7(t: &Table) -> Panels<LinePlot, LinePlot> {
     let mut left = LinePlot::new("Fig. 7: needle correlation R (Eq. 30)")
         .size(HALF.0, HALF.1)
         .x_label("restitution α")
-        .y_label("R = ⟨v²ω²⟩/(⟨v²⟩⟨ω²⟩)");
+        .y_label("correlation R = ⟨v²ω²⟩/(⟨v²⟩⟨ω²⟩)");
     let mut right = LinePlot::new("Temperatures")
         .size(HALF.0, HALF.1)
         .x_label("restitution α")
-        .y_label("T / T_B")
-        .legend(LegendPosition::UpperLeft);
-    for m in ["0.1", "0.5", "1"] {
+        .y_label("temperature ratio T/T_B");
+    // One colour per mass ratio in both panels; translational (solid, circles) and
+    // rotational (dashed, squares) temperatures told apart by line style.
+    for (j, m) in ["0.1", "0.5", "1"].iter().enumerate() {
+        let colour = PALETTE[j];
         left = left.series(
             Series::markers(
                 format!("M/m = {m}"),
                 alpha.clone(),
                 col(t, &format!("R_M{m}")),
             )
-            .with_errors(col(t, &format!("R_M{m}_error"))),
+            .with_errors(col(t, &format!("R_M{m}_error")))
+            .with_colour(colour)
+            .with_pattern(0),
         );
         right = right
-            .series(Series::line_markers(
-                format!("T_tr, M/m = {m}"),
-                alpha.clone(),
-                col(t, &format!("Ttr_over_TB_M{m}")),
-            ))
-            .series(Series::line_markers(
-                format!("T_rot, M/m = {m}"),
-                alpha.clone(),
-                col(t, &format!("Trot_over_TB_M{m}")),
-            ));
+            .series(
+                Series::line_markers(
+                    format!("T_tr, M/m = {m}"),
+                    alpha.clone(),
+                    col(t, &format!("Ttr_over_TB_M{m}")),
+                )
+                .with_colour(colour)
+                .with_pattern(0),
+            )
+            .series(
+                Series::line_markers(
+                    format!("T_rot, M/m = {m}"),
+                    alpha.clone(),
+                    col(t, &format!("Trot_over_TB_M{m}")),
+                )
+                .with_colour(colour)
+                .with_pattern(1),
+            );
     }
-    left = left
-        .series(Series::theory("equilibrium, R = 1", vec![0.0, 1.0], vec![1.0, 1.0]).dashed(true));
+    left = left.series(
+        Series::theory("equilibrium, R = 1", vec![0.0, 1.0], vec![1.0, 1.0])
+            .dashed(true)
+            .with_colour(PALETTE[6]),
+    );
     Panels::new(left, right)
 }
 
@@ -397,26 +414,18 @@ fn histogram(t: &Table, log: bool, title: &str) -> HistogramPlot {
         (Some(&a), Some(&b)) => (a, b + 1),
         _ => (0, dens.len()),
     };
-    let floor = dens[lo..hi]
-        .iter()
-        .copied()
-        .filter(|d| *d > 0.0)
-        .fold(f64::INFINITY, f64::min)
-        / 10.0;
     let mut edges: Vec<f64> = centres[lo..hi].iter().map(|c| c - 0.5 * w).collect();
     edges.push(centres[hi - 1] + 0.5 * w);
-    let (fx, fy): (Vec<f64>, Vec<f64>) = centres[lo..hi]
-        .iter()
-        .zip(&fit[lo..hi])
-        .filter(|(_, y)| !log || **y >= floor)
-        .map(|(x, y)| (*x, *y))
-        .unzip();
     HistogramPlot::new(title, edges, dens[lo..hi].to_vec())
         .size(HALF.0, HALF.1)
-        .x_label("angular velocity ω")
-        .y_label("probability density")
+        .x_label("angular velocity ω [√(T_B/m)/L]")
+        .y_label("probability density p(ω) [L√(m/T_B)]")
         .log_y(log)
-        .theory_points("best-fit Gaussian", fx, fy)
+        .theory_points_over_data(
+            "best-fit Gaussian",
+            centres[lo..hi].to_vec(),
+            fit[lo..hi].to_vec(),
+        )
 }
 
 fn plot_fig8(t: &Table) -> Panels<HistogramPlot, HistogramPlot> {

@@ -71,8 +71,10 @@ pub(crate) fn load(dir: &Path) -> Result<RunFiles, String> {
     })
 }
 
-/// Haff's time of a run from kinetic theory: Enskog contact value at the run's packing
-/// fraction, first Sonine correction, initial temperature from `timeseries.csv`.
+/// Haff's time of a run from kinetic theory: the contact value of the collision rate the
+/// run uses (Enskog's at the run's packing fraction for the event-driven engine and for
+/// DSMC with `dsmc.enskog = true`; 1, Boltzmann's, for DSMC without it), first Sonine
+/// correction, initial temperature from `timeseries.csv`.
 pub(crate) fn haff_time(run: &RunFiles) -> Option<f64> {
     let sc = &run.scenario;
     let d = sc.dimension;
@@ -81,7 +83,27 @@ pub(crate) fn haff_time(run: &RunFiles) -> Option<f64> {
     let n = sc.particle_count() as f64 / volume;
     let t0 = *run.temperature.first()?;
     let e = sc.collisions.restitution;
-    (e < 1.0 && t0 > 0.0).then(|| haff::enskog_haff_time(d, n, radius, t0, sc.species[0].mass, e))
+    let chi = if boltzmann(run) {
+        1.0
+    } else {
+        haff::contact_value(d, haff::packing_fraction(d, n, radius))
+    };
+    (e < 1.0 && t0 > 0.0)
+        .then(|| haff::haff_time(d, n, radius, t0, sc.species[0].mass, e, chi, true))
+}
+
+/// Whether the run's collision rate is Boltzmann's (DSMC without the Enskog factor).
+fn boltzmann(run: &RunFiles) -> bool {
+    run.scenario.engine == EngineKind::Dsmc && !run.scenario.dsmc.enskog
+}
+
+/// How [`haff_time`] was computed, for legends: `Enskog + Sonine` or `Boltzmann + Sonine`.
+pub(crate) fn haff_model(run: &RunFiles) -> &'static str {
+    if boltzmann(run) {
+        "Boltzmann + Sonine"
+    } else {
+        "Enskog + Sonine"
+    }
 }
 
 pub(crate) fn save(plot: &LinePlot, stem: PathBuf, made: &mut Vec<PathBuf>) -> Result<(), String> {

@@ -2,7 +2,7 @@
 //! grid, and a legend placed where it covers the fewest data points.
 
 use plotters::coord::Shift;
-use plotters::coord::ranged1d::{Ranged, ValueFormatter};
+use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint, Ranged, ValueFormatter};
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
@@ -26,6 +26,48 @@ pub enum LegendPosition {
     None,
 }
 
+/// A logarithmic axis whose ticks are the decades, with 2 and 5 times them (and 3 on a range
+/// of about a decade) when it spans fewer than three decades: plotters' own log axis puts
+/// a single tick, or none, on such a range.
+pub(crate) struct LogAxis(LogCoord<f64>);
+
+impl Ranged for LogAxis {
+    type FormatOption = DefaultFormatting;
+    type ValueType = f64;
+
+    fn map(&self, value: &f64, limit: (i32, i32)) -> i32 {
+        self.0.map(value, limit)
+    }
+
+    fn key_points<H: KeyPointHint>(&self, hint: H) -> Vec<f64> {
+        let r = self.0.range();
+        let (a, b) = (r.start.min(r.end), r.start.max(r.end));
+        let decades = (b / a).log10();
+        if !(a > 0.0 && decades.is_finite()) || decades >= 3.0 {
+            return self.0.key_points(hint);
+        }
+        let multiples: &[f64] = if decades < 1.3 {
+            &[1.0, 2.0, 3.0, 5.0]
+        } else {
+            &[1.0, 2.0, 5.0]
+        };
+        let mut ticks = Vec::new();
+        for e in (a.log10().floor() as i32)..=(b.log10().ceil() as i32) {
+            for m in multiples {
+                let v = m * 10f64.powi(e);
+                if v >= a * (1.0 - 1e-12) && v <= b * (1.0 + 1e-12) {
+                    ticks.push(v);
+                }
+            }
+        }
+        ticks
+    }
+
+    fn range(&self) -> std::ops::Range<f64> {
+        self.0.range()
+    }
+}
+
 /// Axes, titles and legend placement for one chart.
 pub(crate) struct Frame<'a> {
     pub title: &'a str,
@@ -38,6 +80,8 @@ pub(crate) struct Frame<'a> {
     pub legend: LegendPosition,
     /// Longest legend entry in characters and number of entries (for auto placement).
     pub legend_extent: (usize, usize),
+    /// The y range was fixed by the caller: no headroom is added for the legend.
+    pub y_fixed: bool,
     pub metrics: Metrics,
 }
 
@@ -65,7 +109,11 @@ pub(crate) fn draw_chart<DB: DrawingBackend, B: ChartBody>(
     body: &B,
 ) -> Result<(), PlotError> {
     let (x0, x1) = frame.x_range;
-    let (y0, y1) = frame.y_range;
+    let (y0, y1) = legend_headroom(frame, area, &body.points());
+    let frame = &Frame {
+        y_range: (y0, y1),
+        ..*frame
+    };
     match (frame.log_x, frame.log_y) {
         (false, false) => draw_in(
             area,
@@ -78,7 +126,7 @@ pub(crate) fn draw_chart<DB: DrawingBackend, B: ChartBody>(
             area,
             frame,
             body,
-            LogCoord::from((x0..x1).log_scale()),
+            LogAxis(LogCoord::from((x0..x1).log_scale())),
             RangedCoordf64::from(y0..y1),
         ),
         (false, true) => draw_in(
@@ -86,14 +134,14 @@ pub(crate) fn draw_chart<DB: DrawingBackend, B: ChartBody>(
             frame,
             body,
             RangedCoordf64::from(x0..x1),
-            LogCoord::from((y0..y1).log_scale()),
+            LogAxis(LogCoord::from((y0..y1).log_scale())),
         ),
         (true, true) => draw_in(
             area,
             frame,
             body,
-            LogCoord::from((x0..x1).log_scale()),
-            LogCoord::from((y0..y1).log_scale()),
+            LogAxis(LogCoord::from((x0..x1).log_scale())),
+            LogAxis(LogCoord::from((y0..y1).log_scale())),
         ),
     }
 }
@@ -119,7 +167,7 @@ where
         .x_label_area_size(m.tick * 1.3 + m.label * 1.9)
         .y_label_area_size(m.tick * 3.4 + m.label * 1.6);
     if !frame.title.is_empty() {
-        builder.caption(frame.title, font(m.title));
+        builder.caption(frame.title, font(title_size(frame.title, area, m)));
     }
     let mut chart = builder.build_cartesian_2d(x, y)?;
     let tick = |log: bool| {
@@ -131,7 +179,13 @@ where
             }
         }
     };
-    let (x_fmt, y_fmt) = (tick(frame.log_x), tick(frame.log_y));
+    // Powers of ten on a log axis of three decades or more; plain numbers on a shorter one,
+    // whose ticks are 1, 2 and 5 times the decades (`LogAxis`).
+    let decades = |(a, b): (f64, f64)| (b / a).log10().abs() >= 3.0;
+    let (x_fmt, y_fmt) = (
+        tick(frame.log_x && decades(frame.x_range)),
+        tick(frame.log_y && decades(frame.y_range)),
+    );
     chart
         .configure_mesh()
         .x_desc(frame.x_label)
@@ -160,7 +214,7 @@ where
         LegendPosition::UpperRight => Some(SeriesLabelPosition::UpperRight),
         LegendPosition::LowerLeft => Some(SeriesLabelPosition::LowerLeft),
         LegendPosition::LowerRight => Some(SeriesLabelPosition::LowerRight),
-        LegendPosition::Auto => Some(auto_legend_position(frame, &body.points(), area)),
+        LegendPosition::Auto => Some(auto_legend_position(frame, &body.points(), area).0),
     };
     if let Some(position) = position
         && frame.legend_extent.1 > 0
@@ -178,20 +232,64 @@ where
     Ok(())
 }
 
-/// The corner whose legend box would cover the fewest points (ties: upper right first).
+/// The title's font size: the figure's, shrunk so that the title fits the width.
+fn title_size<DB: DrawingBackend>(title: &str, area: &DrawingArea<DB, Shift>, m: &Metrics) -> f64 {
+    let width = f64::from(area.dim_in_pixel().0) - 2.0 * f64::from(m.margin);
+    // DejaVu Sans averages about 0.56 em per character; 0.62 leaves a margin.
+    let fits = width / (0.62 * title.chars().count().max(1) as f64);
+    m.title.min(fits).max(0.45 * m.title)
+}
+
+/// The legend box as fractions of the plot area (width, height).
+fn legend_box<DB: DrawingBackend>(frame: &Frame<'_>, area: &DrawingArea<DB, Shift>) -> (f64, f64) {
+    let (w, h) = area.dim_in_pixel();
+    let m = &frame.metrics;
+    // Rough plot-area size and legend-box size in pixels (generous, so that the legend
+    // never ends up on data).
+    let plot_w = (f64::from(w) - m.tick * 3.4 - m.label * 1.6 - 3.0 * f64::from(m.margin)).max(1.0);
+    let plot_h = (f64::from(h) - m.title * 1.5 - m.tick * 1.3 - m.label * 1.9).max(1.0);
+    let (chars, entries) = frame.legend_extent;
+    let box_w = ((chars as f64 * 0.62 * m.legend + m.legend * 4.0) / plot_w).min(1.0);
+    let box_h = ((entries as f64 * m.legend * 1.45 + m.legend * 1.2) / plot_h).min(1.0);
+    (box_w, box_h)
+}
+
+/// The y range, raised at the top so that an automatically placed legend covers no data
+/// when every corner of the original range holds some (not for a fixed range).
+fn legend_headroom<DB: DrawingBackend>(
+    frame: &Frame<'_>,
+    area: &DrawingArea<DB, Shift>,
+    points: &[(f64, f64)],
+) -> (f64, f64) {
+    let (lo, hi) = frame.y_range;
+    if frame.legend != LegendPosition::Auto || frame.y_fixed || frame.legend_extent.1 == 0 {
+        return (lo, hi);
+    }
+    if auto_legend_position(frame, points, area).1 == 0 {
+        return (lo, hi);
+    }
+    let (_, box_h) = legend_box(frame, area);
+    if box_h > 0.6 {
+        return (lo, hi);
+    }
+    // The data keep the lower `1 - box_h - 3 %` of the plot.
+    let keep = 1.0 - box_h - 0.03;
+    if frame.log_y {
+        let (a, b) = (lo.ln(), hi.ln());
+        (lo, (a + (b - a) / keep).exp())
+    } else {
+        (lo, lo + (hi - lo) / keep)
+    }
+}
+
+/// The corner whose legend box would cover the fewest points (ties: upper right first),
+/// and how many it covers.
 fn auto_legend_position<DB: DrawingBackend>(
     frame: &Frame<'_>,
     points: &[(f64, f64)],
     area: &DrawingArea<DB, Shift>,
-) -> SeriesLabelPosition {
-    let (w, h) = area.dim_in_pixel();
-    let m = &frame.metrics;
-    // Rough plot-area size and legend-box size in pixels.
-    let plot_w = (f64::from(w) - m.tick * 3.4 - m.label * 1.6 - 3.0 * f64::from(m.margin)).max(1.0);
-    let plot_h = (f64::from(h) - m.title * 1.5 - m.tick * 1.3 - m.label * 1.9).max(1.0);
-    let (chars, entries) = frame.legend_extent;
-    let box_w = ((chars as f64 * 0.6 * m.legend + m.legend * 3.5) / plot_w).min(1.0);
-    let box_h = ((entries as f64 * m.legend * 1.3 + m.legend) / plot_h).min(1.0);
+) -> (SeriesLabelPosition, usize) {
+    let (box_w, box_h) = legend_box(frame, area);
     let unit = |v: f64, (a, b): (f64, f64), log: bool| {
         if log {
             (v.ln() - a.ln()) / (b.ln() - a.ln())
@@ -228,8 +326,28 @@ fn auto_legend_position<DB: DrawingBackend>(
     candidates
         .iter()
         .min_by_key(|(_, n)| *n)
-        .map(|(p, _)| p.clone())
-        .unwrap_or(SeriesLabelPosition::UpperRight)
+        .cloned()
+        .unwrap_or((SeriesLabelPosition::UpperRight, 0))
+}
+
+/// Points along a polyline (each segment cut into eight, geometrically on a log axis), so
+/// that legend placement sees lines, not only their vertices.
+pub(crate) fn along(points: &[(f64, f64)], log_x: bool, log_y: bool) -> Vec<(f64, f64)> {
+    let mix = |a: f64, b: f64, t: f64, log: bool| {
+        if log && a > 0.0 && b > 0.0 {
+            (a.ln() + t * (b.ln() - a.ln())).exp()
+        } else {
+            a + t * (b - a)
+        }
+    };
+    let mut out: Vec<(f64, f64)> = points.first().copied().into_iter().collect();
+    for w in points.windows(2) {
+        for k in 1..=8 {
+            let t = f64::from(k) / 8.0;
+            out.push((mix(w[0].0, w[1].0, t, log_x), mix(w[0].1, w[1].1, t, log_y)));
+        }
+    }
+    out
 }
 
 /// The x and y ranges of a chart.

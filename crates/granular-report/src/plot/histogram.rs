@@ -7,9 +7,9 @@ use plotters::coord::Shift;
 use plotters::coord::ranged1d::Ranged;
 use plotters::prelude::*;
 
-use super::chart::{ChartBody, Frame, LegendPosition, Ranges, draw_chart, padded_range};
+use super::chart::{ChartBody, Frame, LegendPosition, Ranges, along, draw_chart, padded_range};
 use super::colour::{Colour, darken, lighten, palette};
-use super::line::{Series, check_range, draw_error_bars, draw_line, sample_points};
+use super::line::{Series, check_range, draw_error_bars, draw_line, draw_notes, sample_points};
 use super::{DEFAULT_SIZE, Draw, Metrics, PlotError, save_both, save_figure};
 
 /// A normalised histogram with theory curves.
@@ -39,6 +39,7 @@ pub struct HistogramPlot {
     legend: LegendPosition,
     size: (u32, u32),
     colour: Colour,
+    notes: Vec<String>,
 }
 
 impl HistogramPlot {
@@ -58,7 +59,21 @@ impl HistogramPlot {
             legend: LegendPosition::Auto,
             size: DEFAULT_SIZE,
             colour: palette(0),
+            notes: Vec::new(),
         }
+    }
+
+    /// Adds a line of text to the legend box, e.g. the goodness of fit
+    /// (see [`HistogramPlot::goodness_of_fit`]).
+    pub fn note(mut self, text: impl Into<String>) -> Self {
+        self.notes.push(text.into());
+        self
+    }
+
+    /// Prints Pearson's test of the histogram against its theory curve in the legend:
+    /// `χ² = …, dof = …, p = …`.
+    pub fn goodness_of_fit(self, chi_square: f64, degrees_of_freedom: usize, p: f64) -> Self {
+        self.note(fit_text(chi_square, degrees_of_freedom, p))
     }
 
     /// Bins `samples` into `bins` equal bins over `range` (default: the finite samples'
@@ -136,6 +151,29 @@ impl HistogramPlot {
     pub fn theory_points(mut self, name: impl Into<String>, x: Vec<f64>, y: Vec<f64>) -> Self {
         self.theories.push(Series::theory(name, x, y));
         self
+    }
+
+    /// Overlays a theory curve given as points, drawn only over the range of the bins that
+    /// hold data (so a log-scale tail is not extrapolated past the data).
+    pub fn theory_points_over_data(
+        self,
+        name: impl Into<String>,
+        x: Vec<f64>,
+        y: Vec<f64>,
+    ) -> Self {
+        let used: Vec<usize> = (0..self.densities.len())
+            .filter(|&i| self.densities[i] > 0.0)
+            .collect();
+        let (lo, hi) = match (used.first(), used.last()) {
+            (Some(&a), Some(&b)) => (self.edges[a], self.edges[b + 1]),
+            _ => (f64::NEG_INFINITY, f64::INFINITY),
+        };
+        let (x, y) = x
+            .into_iter()
+            .zip(y)
+            .filter(|(x, _)| *x >= lo && *x <= hi)
+            .unzip();
+        self.theory_points(name, x, y)
     }
 
     /// Logarithmic density axis (to show the tails); empty bins are not drawn.
@@ -231,23 +269,19 @@ impl ChartBody for HistogramPlot {
         let bars = self.bars();
         if self.log_y {
             // On a log axis bars would need an arbitrary floor: draw the histogram as steps,
-            // one polyline per run of adjacent non-empty bins.
+            // one polyline per run of adjacent non-empty bins, not dropped to the axis
+            // (an empty bin has no logarithm: it is left blank).
             let mut runs: Vec<Vec<(f64, f64)>> = Vec::new();
             let mut last_end = f64::NAN;
             for &(a, b, d, _) in &bars {
                 if a != last_end || runs.is_empty() {
-                    runs.push(vec![(a, floor)]);
+                    runs.push(Vec::new());
                 }
                 if let Some(run) = runs.last_mut() {
                     run.push((a, d));
                     run.push((b, d));
                 }
                 last_end = b;
-            }
-            for run in &mut runs {
-                if let Some(&(b, _)) = run.last() {
-                    run.push((b, floor));
-                }
             }
             let style = darken(self.colour, 0.1).stroke_width(m.line);
             let anno =
@@ -294,7 +328,7 @@ impl ChartBody for HistogramPlot {
             };
             draw_line(chart, &pts, colour, w, dash, &s.name, m)?;
         }
-        Ok(())
+        draw_notes(chart, &self.notes)
     }
 
     fn points(&self) -> Vec<(f64, f64)> {
@@ -310,7 +344,8 @@ impl ChartBody for HistogramPlot {
             }
         }
         for s in &self.theories {
-            pts.extend(s.x.iter().copied().zip(s.y.iter().copied()));
+            let xy: Vec<(f64, f64)> = s.x.iter().copied().zip(s.y.iter().copied()).collect();
+            pts.extend(along(&xy, false, self.log_y));
         }
         pts
     }
@@ -361,6 +396,7 @@ impl Draw for HistogramPlot {
         let (x_range, y_range) = self.ranges()?;
         let names: Vec<&str> = std::iter::once(self.data_name.as_str())
             .chain(self.theories.iter().map(|s| s.name.as_str()))
+            .chain(self.notes.iter().map(String::as_str))
             .filter(|n| !n.is_empty())
             .collect();
         let frame = Frame {
@@ -376,10 +412,21 @@ impl Draw for HistogramPlot {
                 names.iter().map(|n| n.chars().count()).max().unwrap_or(0),
                 names.len(),
             ),
+            y_fixed: false,
             metrics: Metrics::for_size(self.size),
         };
         draw_chart(area, &frame, self)
     }
+}
+
+/// The goodness-of-fit line printed on histograms: `χ² = 40.0, dof = 48, p = 0.787`.
+pub fn fit_text(chi_square: f64, degrees_of_freedom: usize, p: f64) -> String {
+    let p = if p >= 1e-3 {
+        format!("{p:.3}")
+    } else {
+        format!("{p:.1e}")
+    };
+    format!("χ² = {chi_square:.1}, dof = {degrees_of_freedom}, p = {p}")
 }
 
 #[cfg(test)]

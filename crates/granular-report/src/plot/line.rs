@@ -9,7 +9,7 @@ use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 
 use super::chart::LegendPosition;
-use super::chart::{ChartBody, Frame, Ranges, draw_chart, padded_range};
+use super::chart::{ChartBody, Frame, Ranges, along, draw_chart, padded_range};
 use super::colour::{Colour, palette};
 use super::{DEFAULT_SIZE, Draw, Metrics, PlotError, save_both, save_figure};
 
@@ -43,6 +43,10 @@ pub struct Series {
     pub colour: Option<Colour>,
     /// Theory curves: `Some(true)` dashed, `Some(false)` solid, `None` the cycling pattern.
     pub dashed: Option<bool>,
+    /// Line and marker pattern of a data series (the second grouping of a figure whose
+    /// colours mark the first): dash pattern `i` (0 solid) and marker shape `i`; `None`
+    /// solid lines and markers by position.
+    pub pattern: Option<usize>,
 }
 
 impl Series {
@@ -55,6 +59,7 @@ impl Series {
             style,
             colour: None,
             dashed: None,
+            pattern: None,
         }
     }
 
@@ -89,6 +94,12 @@ impl Series {
         let x = sample_points(x0, x1, samples, log);
         let y = x.iter().map(|&v| f(v)).collect();
         Self::theory(name, x, y)
+    }
+
+    /// Sets the line and marker pattern (see [`Series::pattern`]).
+    pub fn with_pattern(mut self, pattern: usize) -> Self {
+        self.pattern = Some(pattern);
+        self
     }
 
     /// Adds symmetric error bars.
@@ -201,7 +212,7 @@ impl Marker {
 }
 
 /// Dash pattern (dash, gap) in pixels for the `i`-th theory curve; `None` is solid.
-fn dash(i: usize, m: &Metrics) -> Option<(u32, u32)> {
+pub(crate) fn dash(i: usize, m: &Metrics) -> Option<(u32, u32)> {
     let w = m.line.max(1);
     match i % 4 {
         0 => None,
@@ -291,6 +302,25 @@ where
     Ok(())
 }
 
+/// Adds `notes` to the legend as lines of text without a symbol.
+pub(crate) fn draw_notes<'a, DB, X, Y>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+    notes: &[String],
+) -> Result<(), PlotError>
+where
+    DB: DrawingBackend + 'a,
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+{
+    for note in notes {
+        chart
+            .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())?
+            .label(note.as_str())
+            .legend(|(x, y)| PathElement::new(vec![(x, y)], TRANSPARENT));
+    }
+    Ok(())
+}
+
 /// Draws vertical error bars at `(x, y ± e)`, clipped below at `floor` (for log axes).
 pub(crate) fn draw_error_bars<'a, DB, X, Y>(
     chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
@@ -348,6 +378,7 @@ pub struct LinePlot {
     legend: LegendPosition,
     size: (u32, u32),
     series: Vec<Series>,
+    notes: Vec<String>,
 }
 
 impl LinePlot {
@@ -364,7 +395,14 @@ impl LinePlot {
             legend: LegendPosition::Auto,
             size: DEFAULT_SIZE,
             series: Vec::new(),
+            notes: Vec::new(),
         }
+    }
+
+    /// Adds a line of text to the legend box (e.g. a goodness of fit).
+    pub fn note(mut self, text: impl Into<String>) -> Self {
+        self.notes.push(text.into());
+        self
     }
 
     /// The x-axis label, with units, e.g. `"time t [τ₀]"`.
@@ -503,15 +541,17 @@ impl ChartBody for LinePlot {
                 }
                 SeriesStyle::Line => {
                     draw_error_bars(chart, &pts, colour, floor, m)?;
-                    draw_line(chart, &xy, colour, m.line, None, &s.name, m)?;
+                    let pattern = s.pattern.and_then(|p| dash(p, m));
+                    draw_line(chart, &xy, colour, m.line, pattern, &s.name, m)?;
                 }
                 SeriesStyle::Markers | SeriesStyle::LineMarkers => {
                     let with_line = s.style == SeriesStyle::LineMarkers;
                     if with_line {
-                        draw_line(chart, &xy, colour, m.line.max(2) - 1, None, "", m)?;
+                        let pattern = s.pattern.and_then(|p| dash(p, m));
+                        draw_line(chart, &xy, colour, m.line.max(2) - 1, pattern, "", m)?;
                     }
                     draw_error_bars(chart, &pts, colour, floor, m)?;
-                    let marker = Marker::nth(data_index);
+                    let marker = Marker::nth(s.pattern.unwrap_or(data_index));
                     draw_markers(chart, &xy, marker, colour, &s.name, m)?;
                 }
             }
@@ -525,15 +565,24 @@ impl ChartBody for LinePlot {
             };
             draw_line(chart, &xy, colour, m.line, pattern, &s.name, m)?;
         }
-        Ok(())
+        draw_notes(chart, &self.notes)
     }
 
     fn points(&self) -> Vec<(f64, f64)> {
-        self.series
-            .iter()
-            .flat_map(|s| s.usable(self.log_x, self.log_y))
-            .map(|(x, y, _)| (x, y))
-            .collect()
+        let mut out = Vec::new();
+        for s in &self.series {
+            let xy: Vec<(f64, f64)> = s
+                .usable(self.log_x, self.log_y)
+                .into_iter()
+                .map(|(x, y, _)| (x, y))
+                .collect();
+            if s.style == SeriesStyle::Markers {
+                out.extend(xy);
+            } else {
+                out.extend(along(&xy, self.log_x, self.log_y));
+            }
+        }
+        out
     }
 }
 
@@ -561,7 +610,13 @@ impl Draw for LinePlot {
     ) -> Result<(), PlotError> {
         self.check()?;
         let (x_range, y_range) = self.ranges()?;
-        let named: Vec<&Series> = self.series.iter().filter(|s| !s.name.is_empty()).collect();
+        let named: Vec<&str> = self
+            .series
+            .iter()
+            .map(|s| s.name.as_str())
+            .filter(|n| !n.is_empty())
+            .chain(self.notes.iter().map(String::as_str))
+            .collect();
         let frame = Frame {
             title: &self.title,
             x_label: &self.x_label,
@@ -572,13 +627,10 @@ impl Draw for LinePlot {
             log_y: self.log_y,
             legend: self.legend,
             legend_extent: (
-                named
-                    .iter()
-                    .map(|s| s.name.chars().count())
-                    .max()
-                    .unwrap_or(0),
+                named.iter().map(|n| n.chars().count()).max().unwrap_or(0),
                 named.len(),
             ),
+            y_fixed: self.y_range.is_some(),
             metrics: Metrics::for_size(self.size),
         };
         draw_chart(area, &frame, self)

@@ -24,7 +24,7 @@ pub use animation::Animation;
 pub use chart::LegendPosition;
 pub use colour::{Colour, PALETTE, viridis};
 pub use heatmap::{HeatMaps, HeatPanel};
-pub use histogram::HistogramPlot;
+pub use histogram::{HistogramPlot, fit_text};
 pub use line::{LinePlot, Series, SeriesStyle};
 pub use snapshot::{ColourBy, PictureStyle, SnapshotPicture};
 

@@ -63,6 +63,24 @@ pub fn compressibility(dimension: usize, eta: f64) -> f64 {
     }
 }
 
+/// Long-wavelength limit of the static structure factor of the equilibrium hard-disk
+/// (`D = 2`) or hard-sphere (`D = 3`) fluid at packing fraction `η`, from its equation of
+/// state: `S(0) = k_B T (∂n/∂P)_T = 1 / (∂(η Z)/∂η)` (compressibility sum rule; Hansen &
+/// McDonald, *Theory of Simple Liquids*, Eq. 2.4.25), with `Z` of
+/// [`hard_disk_compressibility`] or [`hard_sphere_compressibility`], differentiated
+/// analytically. For spheres this is `(1-η)⁴ / (1 + 4η + 4η² - 4η³ + η⁴)`.
+pub fn structure_factor_zero(dimension: usize, eta: f64) -> f64 {
+    let d_eta_z = if dimension == 2 {
+        // η Z = η N(η) / (1-η)², N = 1 + η²/8 + η³/18 - 4η⁴/21.
+        let n = 1.0 + eta * eta / 8.0 + eta.powi(3) / 18.0 - 4.0 * eta.powi(4) / 21.0;
+        let dn = eta / 4.0 + eta * eta / 6.0 - 16.0 * eta.powi(3) / 21.0;
+        ((n + eta * dn) * (1.0 - eta) + 2.0 * eta * n) / (1.0 - eta).powi(3)
+    } else {
+        (1.0 + 4.0 * eta + 4.0 * eta * eta - 4.0 * eta.powi(3) + eta.powi(4)) / (1.0 - eta).powi(4)
+    };
+    1.0 / d_eta_z
+}
+
 /// Collision frequency per grain implied by a compressibility factor, for equal grains of
 /// diameter `σ` and mass `m` at temperature `T`. Exact for elastic hard grains in
 /// equilibrium: both the collisional pressure and the collision rate are set by the
@@ -127,6 +145,23 @@ mod tests {
             );
         }
         assert_eq!(kinetic_temperature(2, 3.0), 1.5);
+    }
+
+    #[test]
+    fn structure_factor_zero_is_the_inverse_derivative_of_eta_z() {
+        // Against a central difference of η Z(η), and the ideal-gas limit S(0) = 1.
+        for d in [2, 3] {
+            assert!((structure_factor_zero(d, 0.0) - 1.0).abs() < 1e-15);
+            for eta in [0.05, 0.25, 0.4] {
+                let h = 1e-5;
+                let f = |e: f64| e * compressibility(d, e);
+                let numeric = 1.0 / ((f(eta + h) - f(eta - h)) / (2.0 * h));
+                let exact = structure_factor_zero(d, eta);
+                assert!((exact - numeric).abs() < 1e-8, "D = {d}, η = {eta}");
+            }
+        }
+        // The value quoted in docs/dsmc.md for the section 3.2 gas.
+        assert!((structure_factor_zero(2, 0.25) - 0.332).abs() < 5e-4);
     }
 
     #[test]
