@@ -311,7 +311,7 @@ impl Cost {
                 format!(
                     "would take about {:.3e} pair collisions (stop at t ~ {}); the limit is {MAX_COLLISIONS:e} (days of computing): lower it, or bound the run with stop.events or stop.wall_seconds, {insist}",
                     self.collisions,
-                    num(self.end_time)
+                    sig(self.end_time)
                 ),
             ));
         }
@@ -322,11 +322,11 @@ impl Cost {
                     "gives at least {:.3e} outputs before {} can stop the run (at t >= {}); the limit is {MAX_OUTPUTS:e}: write fewer outputs (a longer output.interval, or output.spacing = \"log\"), {insist}",
                     self.outputs_at_least,
                     self.rule,
-                    num(self.end_time)
+                    sig(self.end_time)
                 ),
             ));
         }
-        if self.bytes > MAX_BYTES {
+        if self.bytes.is_finite() && self.bytes > MAX_BYTES {
             let key = if self.snapshots * 1e3 > self.outputs {
                 "output.snapshot_every"
             } else {
@@ -354,8 +354,8 @@ impl Cost {
                 format!(
                     "the gas cools: {} is reached at t ~ {} by Haff's law (sooner if the gas clusters, at t >= {}), after {:.3e} to {:.3e} evenly spaced outputs at output.interval = {}; output.spacing = \"log\" writes {} outputs per decade of time instead",
                     self.rule,
-                    num(self.end_time),
-                    num(self.earliest_time),
+                    sig(self.end_time),
+                    sig(self.earliest_time),
                     self.outputs_at_least,
                     self.outputs,
                     num(sc.output.interval),
@@ -369,7 +369,7 @@ impl Cost {
         let mut out = vec![format!(
             "stops by {} at t ~ {}{}",
             self.rule,
-            num(self.end_time),
+            sig(self.end_time),
             if self.cooling {
                 " (Haff's law for the cooling gas; a clustering gas gets there sooner)"
             } else {
@@ -389,6 +389,11 @@ impl Cost {
         out.push(work);
         out
     }
+}
+
+/// `x` to three significant digits, as [`num`] writes it (`23905.09` becomes `2.39e4`).
+fn sig(x: f64) -> String {
+    num(format!("{x:.2e}").parse::<f64>().unwrap_or(x))
 }
 
 fn human_bytes(b: f64) -> String {
@@ -622,7 +627,12 @@ fn intruder_cost(sc: &Scenario) -> Cost {
         .map(|&(_, t, r)| (t, r))
         .fold((f64::INFINITY, "stop"), nan_last);
     let o = &sc.output;
-    let outputs = o.count_until(end_time);
+    // Unknown where the bath's collision rate is (a tabulated bath).
+    let outputs = if end_time.is_finite() {
+        o.count_until(end_time)
+    } else {
+        f64::NAN
+    };
     Cost {
         end_time,
         rule,

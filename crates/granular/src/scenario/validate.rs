@@ -300,7 +300,7 @@ pub(super) fn output(sc: &Scenario) -> Result<(), ScenarioError> {
         ));
     }
     let c = o.checkpoint_seconds;
-    if !(c > 0.0) || (c.is_finite() && c < 1.0 / MAGNITUDE) {
+    if c.is_nan() || c <= 0.0 || (c.is_finite() && c < 1.0 / MAGNITUDE) {
         return Err(ScenarioError::new(
             "output.checkpoint_seconds",
             format!(
