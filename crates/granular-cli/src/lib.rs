@@ -49,14 +49,21 @@ enum Command {
         /// Replace an earlier run in the --out directory (finished or interrupted).
         #[arg(long)]
         replace: bool,
+        /// Run even above the pre-flight cost limits (outputs, collisions, bytes; see
+        /// `granular check` and docs/scenario.md, "Limits").
+        #[arg(long)]
+        insist: bool,
     },
-    /// Validate a scenario and print it fully resolved.
+    /// Validate a scenario, print it fully resolved and estimate what the run will cost.
     Check {
         /// Scenario file.
         scenario: PathBuf,
         /// Override a scenario key (repeatable).
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
+        /// Accept a scenario above the pre-flight cost limits (as `run --insist` would).
+        #[arg(long)]
+        insist: bool,
     },
     /// Run a scenario's `[sweep]`: every value of a key, several seeds each, in parallel.
     Sweep {
@@ -208,6 +215,42 @@ fn worker_threads(threads: Option<usize>) -> Result<usize, CliError> {
     }
 }
 
+/// The values the scenario leaves to the engine (intruder `sample_interval`, `transient`,
+/// `histogram_max`; DSMC `time_step`, `cell_size` of a gas of at most 10^6 grains, which
+/// is built to read them).
+fn automatic_values(sc: &Scenario) -> Vec<(String, f64)> {
+    use granular::run::AnyEngine;
+    use granular::scenario::EngineKind;
+    match sc.engine {
+        EngineKind::Intruder => granular::run::intruder::automatic_values(sc),
+        EngineKind::Dsmc
+            if (sc.dsmc.time_step.is_none() || sc.dsmc.cell_size.is_none())
+                && sc.particle_count() <= 1_000_000 =>
+        {
+            let Ok(sim) = granular::prelude::Simulation::new(sc.clone()) else {
+                return Vec::new();
+            };
+            let (step, cell) = match sim.engine() {
+                AnyEngine::Dsmc2(e) => (e.time_step(), e.grid().edges[0]),
+                AnyEngine::Dsmc3(e) => (e.time_step(), e.grid().edges[0]),
+                _ => return Vec::new(),
+            };
+            let mut out = Vec::new();
+            if sc.dsmc.time_step.is_none() {
+                out.push((
+                    "dsmc.time_step (initial; it follows the mean free time)".to_string(),
+                    step,
+                ));
+            }
+            if sc.dsmc.cell_size.is_none() {
+                out.push(("dsmc.cell_size (cell edge along x)".to_string(), cell));
+            }
+            out
+        }
+        _ => Vec::new(),
+    }
+}
+
 /// `runs/<scenario file stem>`.
 fn default_dir(scenario: &Path) -> PathBuf {
     PathBuf::from("runs").join(
@@ -218,18 +261,33 @@ fn default_dir(scenario: &Path) -> PathBuf {
 }
 
 fn load(path: &Path, seed: Option<u64>, set: &[String]) -> Result<Scenario, CliError> {
+    load_with(path, seed, set, false)
+}
+
+/// The scenario at `path` with its overrides; `insist`: without the cost limits.
+fn load_with(
+    path: &Path,
+    seed: Option<u64>,
+    set: &[String],
+    insist: bool,
+) -> Result<Scenario, CliError> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let mut overrides = set.to_vec();
     if let Some(s) = seed {
         // A string: TOML integers stop at i64::MAX, seeds at u64::MAX.
         overrides.push(format!("seed=\"{s}\""));
     }
-    let mut sc = Scenario::from_toml(&text, &overrides)
-        .map_err(|e| CliError::scenario(path, &text, &overrides, e))?;
+    let read = |o: &[String]| {
+        if insist {
+            Scenario::from_toml_insisting(&text, o)
+        } else {
+            Scenario::from_toml(&text, o)
+        }
+    };
+    let mut sc = read(&overrides).map_err(|e| CliError::scenario(path, &text, &overrides, e))?;
     if let Some(o) = bath_file_override(path, &sc) {
         overrides.push(o);
-        sc = Scenario::from_toml(&text, &overrides)
-            .map_err(|e| CliError::scenario(path, &text, &overrides, e))?;
+        sc = read(&overrides).map_err(|e| CliError::scenario(path, &text, &overrides, e))?;
     }
     Ok(sc)
 }
@@ -264,8 +322,9 @@ fn dispatch(cli: Cli) -> Result<(), CliError> {
             set,
             quiet,
             replace,
+            insist,
         } => {
-            let sc = load(&scenario, seed, &set)?;
+            let sc = load_with(&scenario, seed, &set, insist)?;
             let dir = out.unwrap_or_else(|| default_dir(&scenario));
             if let DirectoryState::Run { finished } = DirectoryState::of(&dir)
                 && !replace
@@ -295,9 +354,30 @@ fn dispatch(cli: Cli) -> Result<(), CliError> {
             }
             Ok(())
         }
-        Command::Check { scenario, set } => {
-            let sc = load(&scenario, None, &set)?;
+        Command::Check {
+            scenario,
+            set,
+            insist,
+        } => {
+            let sc = load_with(&scenario, None, &set, insist)?;
             print!("{}", sc.to_toml());
+            let automatic = automatic_values(&sc);
+            if !automatic.is_empty() {
+                println!("\n# Values left to the engine, as it resolves them for this scenario:");
+                for (key, value) in automatic {
+                    println!("# {key} = {value}");
+                }
+            }
+            let cost = sc.cost();
+            for line in cost.lines() {
+                eprintln!("estimate: {line}");
+            }
+            if let Some(w) = cost.warning(&sc) {
+                eprintln!("warning: {w}");
+            }
+            if let Err(e) = cost.check_limits() {
+                eprintln!("above the limits, accepted by --insist: {e}");
+            }
             match &sc.intruder {
                 Some(i) => eprintln!(
                     "{}: valid (intruder engine, model {})",

@@ -313,10 +313,10 @@ impl Simulation {
         self.engine.as_engine().advance(until, max_events.max(1))
     }
 
-    /// The next time of the output grid, `(k + 1) × output.interval`, or the stop time
-    /// when it comes first.
+    /// The next time of the output grid (`(k + 1) × output.interval`, or its logarithmic
+    /// counterpart with `output.spacing = "log"`), or the stop time when it comes first.
     pub fn next_output_time(&self) -> f64 {
-        let mut next = (self.outputs_done + 1) as f64 * self.scenario.output.interval;
+        let mut next = self.scenario.output.time(self.outputs_done + 1);
         if let Some(t) = self.scenario.stop.time {
             next = next.min(t);
         }
@@ -337,7 +337,7 @@ impl Simulation {
     pub fn run_with<H: RunHooks>(&mut self, hooks: &mut H) -> Result<StopReason, H::Error> {
         let stop = self.scenario.stop.clone();
         // Output times already passed (a simulation advanced by hand before the run).
-        while (self.outputs_done + 1) as f64 * self.scenario.output.interval < self.time() {
+        while self.scenario.output.time(self.outputs_done + 1) < self.time() {
             self.outputs_done += 1;
         }
         loop {

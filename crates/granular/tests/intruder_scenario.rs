@@ -21,7 +21,7 @@ collisions = 200000
 
 [output]
 interval = 2000.0
-checkpoint_seconds = 0.0
+checkpoint_seconds = 1e-9
 "#;
 
 use crate::common::tmp;
@@ -165,6 +165,80 @@ interval = 500.0
         "intruder-1d",
         with(&["output.interval=1e9", "stop.events=1000000"]),
     );
+}
+
+/// Regression (issue 24): the needle's checkpoints grew with the run (6 MB after 9 s of
+/// wall time, 19 MB after 50 s), because every block of 64 grid samples was kept. The
+/// block means are now bounded (`MAX_BLOCKS`, the block length doubling): on a grid so
+/// fine that the bound is reached early, the checkpoints of the second half of the run are
+/// no larger than those of the first half, although the run holds several times more samples than the bound
+/// by then, and the run resumes bit for bit.
+#[test]
+fn intruder_checkpoints_do_not_grow_with_the_run() {
+    let text = r#"
+engine = "intruder"
+seed = 5
+[intruder]
+model = "needle"
+mass = 0.5
+restitution = 0.5
+sample_interval = 2e-4
+transient = 0.0
+[stop]
+collisions = 3000
+[output]
+interval = 200.0
+checkpoint_seconds = 1e-9
+"#;
+    let s = Scenario::from_toml(text, &[]).unwrap();
+    let dir = tmp("needle-size");
+    let mut sizes: Vec<(f64, u64)> = Vec::new();
+    let checkpoint = dir.join("checkpoint.msgpack");
+    let a = Run::create(&dir, s.clone())
+        .unwrap()
+        .run_to_end(
+            &mut |p| {
+                if let Ok(m) = std::fs::metadata(&checkpoint) {
+                    sizes.push((p.time, m.len()));
+                }
+            },
+            None,
+        )
+        .unwrap();
+    let end = sizes.last().map_or(0.0, |x| x.0);
+    let half = |(t, _): &&(f64, u64)| *t < end / 2.0;
+    let first: u64 = sizes.iter().filter(half).map(|x| x.1).max().unwrap();
+    let second: u64 = sizes
+        .iter()
+        .filter(|x| !half(x))
+        .map(|x| x.1)
+        .max()
+        .unwrap();
+    let samples = a.intruder.as_ref().unwrap().samples as f64;
+    let bound = (granular::intruder::observables::MAX_BLOCKS * 64) as f64;
+    assert!(
+        samples > 4.0 * bound,
+        "{samples} samples: the bound is not reached"
+    );
+    assert!(
+        sizes.len() >= 10 && second as f64 <= 1.05 * first as f64,
+        "checkpoint bytes: {first} in the first half, {second} in the second: {sizes:?}"
+    );
+    assert!(second < 2_000_000, "{second} bytes");
+    // Killed after five outputs, resumed: the same run.
+    let cut = tmp("needle-size-cut");
+    assert!(
+        Run::create(&cut, s)
+            .unwrap()
+            .run_to_end(&mut |_| {}, Some(5))
+            .is_err()
+    );
+    let b = Run::resume(&cut)
+        .unwrap()
+        .run_to_end(&mut |_| {}, None)
+        .unwrap();
+    assert_eq!(crate::spine::final_bits(&a), crate::spine::final_bits(&b));
+    assert_eq!(a.intruder, b.intruder);
 }
 
 fn ratio(s: &Summary) -> (f64, f64) {

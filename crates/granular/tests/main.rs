@@ -10,6 +10,7 @@ mod golden;
 mod intruder;
 mod intruder_scenario;
 mod observables;
+mod preflight;
 mod problems;
 mod scenario_errors;
 mod simulation;

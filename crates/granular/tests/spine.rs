@@ -36,7 +36,7 @@ collisions_per_particle = 30.0
 [output]
 interval = 0.01
 snapshot_every = 10
-checkpoint_seconds = 0.0
+checkpoint_seconds = 1e-9
 "#;
 
 pub(crate) use crate::common::tmp;
@@ -276,7 +276,7 @@ pub(crate) fn final_bits(s: &granular::Summary) -> Vec<(String, u64)> {
 /// Runs `s` whole, and again killed after its third chunk of events (the directory then
 /// holds the second chunk's checkpoint), resumed from there, and finished: the two must
 /// agree. `s` should have one output interval longer than the whole run, which stops by
-/// its event count, and `checkpoint_seconds = 0`, so that each checkpoint falls inside
+/// its event count, and `checkpoint_seconds = 1e-9` (after every chunk), so that each checkpoint falls inside
 /// the interval.
 pub(crate) fn assert_resume_mid_interval(name: &str, s: Scenario) {
     let (full, cut, killed) = (
@@ -337,7 +337,7 @@ fn resume_from_the_middle_of_an_output_interval_equals_the_uninterrupted_run() {
         // Elastic: a cooled gas takes ever longer steps, with ever fewer collisions each.
         "collisions.restitution=1.0".into(),
         "output.interval=1e6".into(),
-        "output.checkpoint_seconds=0".into(),
+        "output.checkpoint_seconds=1e-9".into(),
         "stop.events=800000".into(),
     ];
     assert_resume_mid_interval("dsmc", Scenario::from_toml(&text, &o).unwrap());

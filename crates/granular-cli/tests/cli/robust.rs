@@ -13,7 +13,7 @@ const LONG: [&str; 6] = [
     "--set",
     "stop.collisions_per_particle=400",
     "--set",
-    "output.checkpoint_seconds=0",
+    "output.checkpoint_seconds=1e-9",
 ];
 
 fn stderr(out: &Output) -> String {
@@ -235,8 +235,11 @@ fn the_run_directory_is_locked_and_never_foreign() {
         "{err}"
     );
     assert!(run(&dir, &["--replace"]).status.success());
-    // A live lock (this test's own process) refuses run and resume; the message names it.
+    // A live lock (held by this test's own process) refuses run and resume; the message
+    // names its process.
     std::fs::write(dir.join(".lock"), format!("{}\n", std::process::id())).unwrap();
+    let held = std::fs::File::open(dir.join(".lock")).unwrap();
+    held.try_lock().unwrap();
     let out = run(&dir, &["--replace"]);
     let err = stderr(&out);
     assert!(
@@ -249,18 +252,47 @@ fn the_run_directory_is_locked_and_never_foreign() {
     let err = stderr(&resume(&dir));
     assert!(err.contains("is in use"), "{err}");
     std::fs::remove_file(dir.join("checkpoint.msgpack")).unwrap();
-    // A stale lock (a process that is gone) is taken over and logged.
-    if Path::new("/proc/self").exists() {
-        std::fs::write(dir.join(".lock"), "4294967\n").unwrap();
-        let out = run(&dir, &["--replace"]);
-        assert!(out.status.success(), "{}", stderr(&out));
-        let log = std::fs::read_to_string(dir.join("log.txt")).unwrap();
-        assert!(
-            log.contains("stale lock") && log.contains("4294967"),
-            "{log}"
-        );
-        assert!(!dir.join(".lock").exists());
+    drop(held);
+    // A stale lock (its process is gone, so nothing holds it) is taken over and logged.
+    std::fs::write(dir.join(".lock"), "4294967\n").unwrap();
+    let out = run(&dir, &["--replace"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let log = std::fs::read_to_string(dir.join("log.txt")).unwrap();
+    assert!(
+        log.contains("stale lock") && log.contains("4294967"),
+        "{log}"
+    );
+    assert!(!dir.join(".lock").exists());
+}
+
+/// A run killed with `kill -9` leaves its lock file behind: `resume` takes it over (the
+/// system lock died with the process), says so in the log, and finishes the run as if it
+/// had not been killed.
+#[test]
+fn a_lock_left_by_a_killed_run_is_taken_over_by_resume() {
+    let dir = tmp("killed-lock");
+    let mut child = run_long(&dir)
+        .stderr(Stdio::null())
+        .stdout(Stdio::null())
+        .spawn()
+        .unwrap();
+    let checkpoint = dir.join("checkpoint.msgpack");
+    let start = std::time::Instant::now();
+    while !checkpoint.is_file() && start.elapsed().as_secs() < 60 {
+        std::thread::sleep(std::time::Duration::from_millis(20));
     }
+    child.kill().unwrap();
+    child.wait().unwrap();
+    let left = std::fs::read_to_string(dir.join(".lock")).unwrap();
+    assert_eq!(left.trim(), child.id().to_string());
+    let out = resume(&dir);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let log = std::fs::read_to_string(dir.join("log.txt")).unwrap();
+    assert!(
+        log.contains("stale lock") && log.contains(&format!("process {}", child.id())),
+        "{log}"
+    );
+    assert!(!dir.join(".lock").exists() && dir.join("summary.json").is_file());
 }
 
 #[test]
@@ -440,4 +472,143 @@ fn a_full_disk_keeps_the_previous_checkpoint() {
         "the previous checkpoint changed"
     );
     assert!(!tmp_left, "checkpoint.msgpack.tmp left behind");
+}
+
+/// A tabulated bath file spanning ±1e300 (issue 24: a panic in the histogram code) is an
+/// error of `intruder.bath` that names the point and the fix, from `check` and `run`.
+#[test]
+fn a_tabulated_bath_file_out_of_range_is_named() {
+    let dir = tmp("bath-range");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("bath.txt"),
+        "# v f\n-1e300 1.0\n0.0 2.0\n1e300 1.0\n",
+    )
+    .unwrap();
+    let scenario = dir.join("wide.toml");
+    std::fs::write(
+        &scenario,
+        "engine = \"intruder\"\n[intruder]\nmodel = \"1d\"\nmass = 1.0\nrestitution = 0.5\n\
+         bath = { kind = \"tabulated\", file = \"bath.txt\" }\n[stop]\ncollisions = 1000\n\
+         [output]\ninterval = 100.0\n",
+    )
+    .unwrap();
+    for args in [&["check"][..], &["run", "--quiet", "--out"][..]] {
+        let mut c = granular();
+        c.args(args);
+        if args[0] == "run" {
+            c.arg(dir.join("run"));
+        }
+        let out = c.arg(&scenario).output().unwrap();
+        let err = stderr(&out);
+        assert!(
+            out.status.code() == Some(2)
+                && err.contains("intruder.bath")
+                && err.contains("-1e300")
+                && err.contains("rescale the table"),
+            "{args:?}: {err}"
+        );
+    }
+}
+
+/// `check` prints the pre-flight estimate; a run above a cost limit is refused naming
+/// the key and `--insist`, which lets `check` accept it.
+#[test]
+fn check_prints_the_estimate_and_insist_lifts_the_limits() {
+    let scenario = scenarios().join("dsmc-cooling.toml");
+    let out = granular().arg("check").arg(&scenario).output().unwrap();
+    let err = stderr(&out);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.contains("estimate: stops by stop.collisions_per_particle")
+            && err.contains("outputs")
+            && err.contains("written")
+            && err.contains("time steps"),
+        "{err}"
+    );
+    // The values left to the engine, as comments after the resolved scenario.
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains("# dsmc.time_step (initial") && stdout.contains("# dsmc.cell_size"),
+        "{stdout}"
+    );
+    let one_d = granular()
+        .arg("check")
+        .arg(scenarios().join("intruder-1d.toml"))
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&one_d.stdout);
+    for key in ["sample_interval", "transient", "histogram_max"] {
+        assert!(stdout.contains(&format!("# intruder.{key} = ")), "{stdout}");
+    }
+    let tiny = ["--set", "output.interval=1e-9"];
+    let out = granular()
+        .arg("check")
+        .arg(&scenario)
+        .args(tiny)
+        .output()
+        .unwrap();
+    let err = stderr(&out);
+    assert!(
+        out.status.code() == Some(2) && err.contains("output.interval") && err.contains("--insist"),
+        "{err}"
+    );
+    let out = granular()
+        .arg("check")
+        .arg(&scenario)
+        .args(tiny)
+        .arg("--insist")
+        .output()
+        .unwrap();
+    let err = stderr(&out);
+    assert!(
+        out.status.success() && err.contains("above the limits, accepted by --insist"),
+        "{err}"
+    );
+    // The cooling gas to 250 collisions per grain warns and proposes log spacing.
+    let out = granular()
+        .arg("check")
+        .arg(&scenario)
+        .args(["--set", "stop.collisions_per_particle=250"])
+        .output()
+        .unwrap();
+    let err = stderr(&out);
+    assert!(
+        out.status.success() && err.contains("warning:") && err.contains("output.spacing"),
+        "{err}"
+    );
+}
+
+/// The corpus of bad command lines (`tests/bad_command_lines/cases.txt`): each exits with
+/// status 2 and shows its expected text.
+#[test]
+fn every_bad_command_line_fails_with_its_expected_text() {
+    let cases = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/bad_command_lines/cases.txt"),
+    )
+    .unwrap();
+    let mut failures = Vec::new();
+    let mut n = 0;
+    for line in cases
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
+    {
+        let (args, expect) = line.split_once(" => ").expect("ARGUMENTS => EXPECTED");
+        let dir = tmp("bad-command");
+        let args: Vec<String> = args
+            .split(' ')
+            .map(|a| {
+                a.replace("{scenarios}", &scenarios().to_string_lossy())
+                    .replace("{tmp}", &dir.to_string_lossy())
+            })
+            .collect();
+        let out = granular().args(&args).output().unwrap();
+        let err = stderr(&out);
+        if out.status.code() != Some(2) || !err.contains(expect) {
+            failures.push(format!("{line}\n  status {:?}: {err}", out.status.code()));
+        }
+        n += 1;
+    }
+    assert!(n >= 20, "{n} cases");
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
 }

@@ -706,8 +706,8 @@ pub struct Tabulated {
 }
 
 impl Tabulated {
-    /// Builds the table; errors if the points are unsorted, negative, too few or of zero
-    /// integral.
+    /// Builds the table; errors if the points are unsorted, negative, too few, of zero
+    /// integral, or beyond `1e100` in magnitude ([`crate::scenario::MAGNITUDE`]).
     pub fn new(points: &[(f64, f64)]) -> Result<Self, BathError> {
         if points.len() < 2 {
             return Err(BathError::Invalid("need at least two points".into()));
@@ -716,6 +716,12 @@ impl Tabulated {
             if !v.is_finite() || !f.is_finite() || f < 0.0 {
                 return Err(BathError::Invalid(format!(
                     "point {i}: velocity must be finite and density finite and >= 0, got ({v}, {f})"
+                )));
+            }
+            let big = crate::scenario::MAGNITUDE;
+            if v.abs() > big || f > big {
+                return Err(BathError::Invalid(format!(
+                    "point {i}: ({v:e}, {f:e}) lies outside the range the engine can integrate (velocities between -1e100 and 1e100, densities at most 1e100, so that the moments v^2 f and v^3 f of the table stay finite); rescale the table to units in which the bath's speeds are of order 1"
                 )));
             }
             if i > 0 && v <= points[i - 1].0 {

@@ -449,6 +449,10 @@ impl Needle {
     pub fn transient(&self) -> f64 {
         self.transient
     }
+    /// Averaging grid spacing.
+    pub fn sample_interval(&self) -> f64 {
+        self.dt
+    }
     /// Angular velocity.
     pub fn angular_velocity(&self) -> f64 {
         self.omega

@@ -44,9 +44,18 @@ pub fn grid_points_before(next: f64, dt: f64, upto: f64, inclusive: bool) -> (u6
 /// Number of batches used for batch-means errors.
 pub const BATCHES: usize = 32;
 
+/// Most block means a [`GridSeries`] keeps: when it has this many, adjacent pairs are
+/// merged into blocks twice as long. A run's memory and checkpoint therefore stay bounded
+/// (at most `N * MAX_BLOCKS` numbers, 1.5 MB for the needle's six quantities) whatever its
+/// length; runs with fewer than `MAX_BLOCKS * 64` samples (2.1 million, the bundled
+/// scenarios among them) are not affected.
+pub const MAX_BLOCKS: usize = 1 << 15;
+
 /// Accumulates `N` quantities sampled on a fixed time grid, in blocks of `block_len`
 /// consecutive samples; the block means are the input of the batch-means error estimate
-/// (`crate::stats::batch_means`), so the memory is `N * samples / block_len`.
+/// (`crate::stats::batch_means`). At [`MAX_BLOCKS`] blocks the block length doubles (pairs
+/// of blocks merged), so the memory is at most `N * MAX_BLOCKS` numbers; the batch means
+/// stay means of equally long runs of consecutive samples.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(into = "GridSeriesData", try_from = "GridSeriesData")]
 pub struct GridSeries<const N: usize> {
@@ -175,6 +184,42 @@ impl<const N: usize> GridSeries<N> {
         }
         self.blocks.push(means);
         self.in_block = 0;
+        if self.blocks.len() >= MAX_BLOCKS {
+            self.merge_pairs();
+        }
+    }
+
+    /// Halves the number of blocks by averaging adjacent pairs (an odd last block is kept
+    /// apart in `sums`, as the start of the next, longer block) and doubles `block_len`.
+    #[cold]
+    fn merge_pairs(&mut self) {
+        let Some(longer) = self.block_len.checked_mul(2) else {
+            return; // 2^31 samples per block: more blocks rather than an overflow
+        };
+        let odd = self.blocks.len() % 2 == 1;
+        if odd {
+            // The last block goes back into the open sums (its samples, not yet closed).
+            let last = self.blocks.pop().unwrap_or([0.0; N]);
+            let len = f64::from(self.block_len);
+            for ((s, t), m) in self.sums.iter_mut().zip(&mut self.totals).zip(last) {
+                *s += m * len;
+                *t -= m * len;
+            }
+            self.in_block += self.block_len;
+        }
+        let merged: Vec<[f64; N]> = self
+            .blocks
+            .chunks_exact(2)
+            .map(|p| {
+                let mut m = [0.0; N];
+                for (q, x) in m.iter_mut().enumerate() {
+                    *x = 0.5 * (p[0][q] + p[1][q]);
+                }
+                m
+            })
+            .collect();
+        self.blocks = merged;
+        self.block_len = longer;
     }
 
     /// Number of samples.
@@ -351,5 +396,36 @@ mod tests {
             assert!((a - b).abs() < 1e-12, "{a} {b}");
         }
         assert!((batched.mean(0) - single.mean(0)).abs() < 1e-12);
+    }
+
+    /// Past `MAX_BLOCKS` blocks the block length doubles: the blocks stay bounded and each
+    /// is still the mean of one run of consecutive samples (checked on the ramp `x_k = k`,
+    /// whose block means are known exactly), and the overall mean is that of all samples.
+    #[test]
+    fn blocks_stay_bounded_and_consecutive() {
+        let len = 4u32;
+        let mut g = GridSeries::<1>::new(len);
+        let samples = 5 * MAX_BLOCKS as u64 * u64::from(len) + 3;
+        for k in 0..samples {
+            g.push([k as f64]);
+        }
+        let blocks = g.block_means(0);
+        assert!(blocks.len() <= MAX_BLOCKS && blocks.len() >= MAX_BLOCKS / 2);
+        let per = u64::from(g.block_len);
+        assert_eq!(
+            per,
+            8 * u64::from(len),
+            "block length after three doublings"
+        );
+        for (b, &m) in blocks.iter().enumerate() {
+            let first = b as u64 * per;
+            let exact = first as f64 + (per - 1) as f64 / 2.0;
+            assert_eq!(m, exact, "block {b}");
+        }
+        assert_eq!(g.samples(), samples);
+        assert_eq!(g.mean(0), (samples - 1) as f64 / 2.0);
+        // The serialised size is bounded too.
+        let bytes = rmp_serde::to_vec(&g).unwrap().len();
+        assert!(bytes < 10 * MAX_BLOCKS, "{bytes} bytes");
     }
 }

@@ -342,6 +342,11 @@ impl Intruder1d {
         self.transient
     }
 
+    /// Upper edge `h` of the velocity histogram `[-h, h]`.
+    pub fn histogram_max(&self) -> f64 {
+        self.histogram.max
+    }
+
     /// Adds the grid points not yet sampled that lie before `upto` (or at it when
     /// `inclusive`), all at the current velocity (constant since the last collision).
     #[inline]

@@ -121,3 +121,35 @@ pub fn theory_ratio(spec: &IntruderSpec) -> Option<(f64, &'static str)> {
         _ => None,
     }
 }
+
+/// The values `[intruder]` leaves to the engine (`sample_interval`, `transient`,
+/// `histogram_max`), as the engine resolved them, each with its key; only those the
+/// scenario does not set. `granular check` prints them.
+pub fn automatic_values(scenario: &Scenario) -> Vec<(String, f64)> {
+    let mut out = Vec::new();
+    let mut add = |given: Option<f64>, key: &str, value: f64| {
+        if given.is_none() {
+            out.push((format!("intruder.{key}"), value));
+        }
+    };
+    match &scenario.intruder {
+        Some(IntruderSpec::Needle(c)) => {
+            if let Ok(n) = Needle::new(c, scenario.seed) {
+                add(c.sample_interval, "sample_interval", n.sample_interval());
+                add(c.transient, "transient", n.transient());
+            }
+        }
+        Some(spec) => {
+            // The twin resolves its defaults as the 1D engine of the same table does.
+            if let Some(c) = spec.one_d()
+                && let Ok(e) = Intruder1d::new(c, scenario.seed)
+            {
+                add(c.sample_interval, "sample_interval", e.sample_interval());
+                add(c.transient, "transient", e.transient());
+                add(c.histogram_max, "histogram_max", e.histogram_max());
+            }
+        }
+        None => {}
+    }
+    out
+}

@@ -251,6 +251,7 @@ impl Run {
         if let AnyEngine::Dsmc3(e) = simulation.engine() {
             warnings.extend(e.validity_warnings().iter().map(|w| w.message.clone()));
         }
+        warnings.extend(simulation.scenario().cost().warning(simulation.scenario()));
         let mut recorder = Recorder {
             dir: dir.to_path_buf(),
             outputs: StandardOutputs::for_simulation(dir, &simulation),
@@ -322,7 +323,7 @@ impl Run {
             ),
         })?;
         let scenario =
-            Scenario::from_toml(&cp.scenario, &[]).map_err(|e| RunError::Checkpoint {
+            Scenario::from_toml_insisting(&cp.scenario, &[]).map_err(|e| RunError::Checkpoint {
                 path: path.clone(),
                 message: e.to_string(),
             })?;

@@ -20,12 +20,15 @@ mod validate;
 
 pub use intruder::IntruderSpec;
 pub use overrides::apply_override;
-pub use preflight::{FALLBACK_MEMORY, MAX_COLLISIONS, MAX_OUTPUTS, available_memory};
+pub use preflight::{
+    Cost, EDMD_EVENTS_PER_COLLISION, FALLBACK_MEMORY, MAX_BYTES, MAX_COLLISIONS, MAX_OUTPUTS,
+    NOMINAL_COLLISIONS_PER_SECOND, WARN_OUTPUTS, available_memory,
+};
 pub use spans::locate;
 pub use species::MAX_NAME_LEN;
 pub(crate) use sweep::sweep_member;
 pub use sweep::{MAX_SWEEP_POINTS, sweep_observables};
-pub use validate::{MAGNITUDE, MAX_BINS, MAX_HISTOGRAM_SPEED};
+pub use validate::{MAGNITUDE, MAX_BINS, MAX_HISTOGRAM_SPEED, MAX_PER_DECADE};
 
 /// Whether `--set` assignment `o` set `key` or a table above it.
 fn overridden(o: &str, key: &str) -> bool {
@@ -541,6 +544,55 @@ pub struct OutputSpec {
     /// `"lammps"`, `"gsd"`, `"vtk"`; empty: none.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub trajectory: Vec<crate::trajectory::Format>,
+    /// Spacing of the output times: `"linear"` (every `interval`) or `"log"` (the first
+    /// at `interval`, then `per_decade` per decade of time).
+    #[serde(default)]
+    pub spacing: OutputSpacing,
+    /// Outputs per decade of time with `spacing = "log"`.
+    #[serde(default = "per_decade")]
+    pub per_decade: u32,
+}
+
+/// `output.spacing`: how the output times are laid out.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum OutputSpacing {
+    /// `t_k = k * interval`.
+    #[default]
+    Linear,
+    /// `t_k = interval * 10^((k - 1) / per_decade)`, `k >= 1`: equal steps of `ln t`, which
+    /// for a gas cooling by Haff's law (HD-17) are equal steps of collisions per grain once
+    /// `t >> t0`.
+    Log,
+}
+
+impl OutputSpec {
+    /// Time of output `k` (`k = 1` is the first after the start; `k = 0` is `t = 0`).
+    pub fn time(&self, k: u64) -> f64 {
+        match self.spacing {
+            OutputSpacing::Linear => k as f64 * self.interval,
+            OutputSpacing::Log if k == 0 => 0.0,
+            OutputSpacing::Log => {
+                self.interval * 10f64.powf((k - 1) as f64 / f64::from(self.per_decade.max(1)))
+            }
+        }
+    }
+
+    /// Outputs written up to time `t` (the last one at `t`), at least 1.
+    pub fn count_until(&self, t: f64) -> f64 {
+        let n = match self.spacing {
+            OutputSpacing::Linear => (t / self.interval).ceil(),
+            OutputSpacing::Log if t <= self.interval => 1.0,
+            OutputSpacing::Log => {
+                1.0 + (f64::from(self.per_decade) * (t / self.interval).log10()).ceil()
+            }
+        };
+        n.max(1.0)
+    }
+}
+
+fn per_decade() -> u32 {
+    10
 }
 
 fn sk_max_index() -> usize {
@@ -582,6 +634,8 @@ impl Default for OutputSpec {
             density_map: Vec::new(),
             observable_times: Vec::new(),
             trajectory: Vec::new(),
+            spacing: OutputSpacing::Linear,
+            per_decade: per_decade(),
         }
     }
 }
@@ -660,6 +714,17 @@ impl Scenario {
     /// Errors carry the key (from the parser's span of the value or key at fault), the
     /// line in `source` when the key is written there, and the fix.
     pub fn from_toml(source: &str, overrides: &[String]) -> Result<Scenario, ScenarioError> {
+        let scenario = Self::from_toml_insisting(source, overrides)?;
+        scenario.cost().check_limits().map_err(|e| e.at(source))?;
+        Ok(scenario)
+    }
+
+    /// [`Scenario::from_toml`] without the cost limits ([`Cost::check_limits`]: outputs,
+    /// collisions and bytes), what `--insist` asks for. Every other check stays.
+    pub fn from_toml_insisting(
+        source: &str,
+        overrides: &[String],
+    ) -> Result<Scenario, ScenarioError> {
         let scenario = Self::parse(source, overrides)?;
         scenario.validate().map_err(|e| e.at(source))?;
         if let Some(sw) = &scenario.sweep {
@@ -668,9 +733,17 @@ impl Scenario {
         Ok(scenario)
     }
 
+    /// The pre-flight estimate of what the run will cost (outputs, snapshots, bytes,
+    /// collisions, events or time steps); see `docs/scenario.md`, "Limits".
+    pub fn cost(&self) -> Cost {
+        preflight::cost(self)
+    }
+
     /// Reads a resolved scenario written by an earlier version (checkpoints, run
     /// directories): tables that do not apply to its engine, which older versions wrote
-    /// with their defaults, are dropped before [`Scenario::from_toml`]'s checks.
+    /// with their defaults, are dropped before [`Scenario::from_toml`]'s checks. The cost
+    /// limits are not checked again (the run was accepted when it started, perhaps with
+    /// `--insist`).
     pub fn from_resolved_toml(source: &str) -> Result<Scenario, ScenarioError> {
         let mut table: toml::Table =
             toml::from_str(source).map_err(|e| spans::parse_error(source, source, &e))?;
@@ -680,7 +753,7 @@ impl Scenario {
         {
             tables::strip(&mut table, engine);
         }
-        Self::from_toml(&toml::to_string(&table).unwrap_or_default(), &[])
+        Self::from_toml_insisting(&toml::to_string(&table).unwrap_or_default(), &[])
     }
 
     /// Parses and applies the overrides, without validating the values.

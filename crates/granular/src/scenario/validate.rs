@@ -10,6 +10,8 @@ use crate::boundary::AxisKind;
 pub const MAGNITUDE: f64 = 1e100;
 /// Most bins of a speed or impact-parameter histogram.
 pub const MAX_BINS: usize = 100_000;
+/// Most outputs per decade of time (`output.per_decade`).
+pub const MAX_PER_DECADE: u32 = 10_000;
 /// Largest `output.histogram_max_speed` (in units of the initial r.m.s. speed).
 pub const MAX_HISTOGRAM_SPEED: f64 = 1000.0;
 
@@ -283,13 +285,27 @@ pub(super) fn stop(sc: &Scenario) -> Result<(), ScenarioError> {
 /// `[output]`: the interval, the histograms, the checkpoints and the observables.
 pub(super) fn output(sc: &Scenario) -> Result<(), ScenarioError> {
     let o = &sc.output;
-    positive("output.interval", o.interval, "the time between outputs")?;
-    if o.checkpoint_seconds.is_nan() || o.checkpoint_seconds < 0.0 {
+    positive(
+        "output.interval",
+        o.interval,
+        "the time between outputs (with spacing = \"log\": the first output time)",
+    )?;
+    if !(1..=MAX_PER_DECADE).contains(&o.per_decade) {
+        return Err(ScenarioError::new(
+            "output.per_decade",
+            format!(
+                "is {}; give the outputs per decade of time of spacing = \"log\", 1 to {MAX_PER_DECADE} (default 10)",
+                o.per_decade
+            ),
+        ));
+    }
+    let c = o.checkpoint_seconds;
+    if c.is_nan() || c <= 0.0 || (c.is_finite() && c < 1.0 / MAGNITUDE) {
         return Err(ScenarioError::new(
             "output.checkpoint_seconds",
             format!(
-                "is {}; give the wall-clock seconds between checkpoints, >= 0 (0: at every output; inf: never)",
-                o.checkpoint_seconds
+                "is {}; give the wall-clock seconds between checkpoints, a positive number (default 60; inf: never; a tiny value such as 1e-9 checkpoints after every chunk of events)",
+                num(c)
             ),
         ));
     }
