@@ -12,9 +12,11 @@
 //! | [`SpeedStatistics`] | `speed_histograms.csv`, `velocity_histograms.csv`; the Maxwell-Boltzmann fit and per-species averages of the summary |
 //! | [`ImpactParameter`] | `impact_parameter.csv` |
 //! | [`SpatialObservables`] | `impact_histograms.npz`, `structure_factor.npz`, `density_maps.npz` |
+//! | [`Averages`] | the `averages` block of the summary (means and blocking errors) |
 //! | [`Crater`] | the `crater` block of the summary |
 //! | [`IntruderStatistics`] | `intruder_histograms.csv`, `.npz`; the `intruder` block |
 
+mod averages;
 mod crater;
 mod impact;
 mod intruder;
@@ -24,6 +26,7 @@ mod spatial;
 mod speeds;
 mod timeseries;
 
+pub use averages::Averages;
 pub use crater::Crater;
 pub use impact::ImpactParameter;
 pub use intruder::IntruderStatistics;
@@ -71,6 +74,7 @@ pub struct StandardOutputs {
     impact: ImpactParameter,
     crater: Option<Crater>,
     intruder: Option<IntruderStatistics>,
+    averages: Averages,
 }
 
 impl StandardOutputs {
@@ -91,6 +95,7 @@ impl StandardOutputs {
                 .intruder
                 .is_some()
                 .then(|| IntruderStatistics::new(dir)),
+            averages: Averages::new(),
         }
     }
 
@@ -134,6 +139,7 @@ impl StandardOutputs {
         if let Some(i) = &mut self.intruder {
             out.push(i);
         }
+        out.push(&mut self.averages);
         out
     }
 }
