@@ -175,6 +175,11 @@ pub struct ScaledSpeedSummary {
     pub temperature_min: f64,
     /// Highest temperature of a pooled snapshot (energy units).
     pub temperature_max: f64,
+    /// The homogeneous cooling state's `a2` at the scenario's restitution, the first and
+    /// the second estimate of van Noije and Ernst (1998) ([`crate::theory::sonine`]), for
+    /// one species in a periodic box without gravity or TC model.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub theory_a2: Option<[f64; 2]>,
 }
 
 /// The mean of one observable over the run after the equilibration time, with its
