@@ -57,12 +57,14 @@
 //! unit), masses in units of the scenario's mass unit, Boltzmann's constant `k_B = 1`, so
 //! a temperature is an energy, `T = m <|v|^2> / D` in `D` dimensions.
 
+pub mod averaging;
 pub mod boundary;
 pub mod collision_law;
 pub mod dsmc;
 pub mod edmd;
 pub mod engine;
 pub mod intruder;
+pub mod moments;
 pub mod observables;
 pub mod observation;
 pub mod output;

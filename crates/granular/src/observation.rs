@@ -18,6 +18,10 @@ pub struct SpeciesObservation {
     pub kinetic_energy_per_grain: f64,
     /// Granular temperature `T_s = Σ m v² / (D N_s)` (`k_B = 1`), energy units.
     pub temperature: f64,
+    /// Fourth cumulant `a2` of the species' peculiar velocities (event-driven engine;
+    /// [`crate::moments::a2_by_species`]).
+    #[serde(default)]
+    pub a2: Option<f64>,
 }
 
 /// Counters of the DSMC engine.
@@ -74,7 +78,8 @@ pub struct Observation {
     pub volume: f64,
     /// Total area (2D: length) of the walls, zero in a periodic box.
     pub wall_area: f64,
-    /// Fourth cumulant `a2 = D/(D+2) <c⁴>/<c²>² - 1` of the peculiar velocities (DSMC).
+    /// Fourth cumulant `a2 = D/(D+2) <c⁴>/<c²>² - 1` of the peculiar velocities (DSMC-4;
+    /// the event-driven engine: [`crate::moments::a2_by_species`]).
     pub a2: Option<f64>,
     /// DSMC counters.
     pub dsmc: Option<DsmcCounters>,
@@ -183,6 +188,11 @@ impl Observation {
         }
         if let Some(a2) = self.a2 {
             out.push(("a2".into(), a2));
+        }
+        for s in &self.species {
+            if let Some(a2) = s.a2 {
+                out.push((format!("a2.{}", s.name), a2));
+            }
         }
         if let Some(c) = &self.dsmc {
             out.push(("steps".into(), c.steps as f64));

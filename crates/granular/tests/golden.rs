@@ -8,6 +8,9 @@
 //! `docs/output.md`: the Maxwell-Boltzmann fit of the species not in a steady state replaced
 //! by `scaled_speeds` (`dsmc-cooling`, `problem3-cooling`, `problem4-crater`); DSMC's
 //! automatic time step following the mean free time (`dsmc-cooling`).
+//! Extended since, with keys added only (no number of the files changed): the `averages`
+//! block, the event-driven engine's `final.a2` and `final.a2.<species>`, and
+//! `scaled_speeds.<species>.theory_a2`.
 //!
 //! The two scenarios of the DSMC seed's section 3.2 take minutes; they are not here.
 

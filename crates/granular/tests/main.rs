@@ -1,5 +1,6 @@
 //! The library's integration tests, one binary (fast to link on two cores).
 
+mod averages;
 mod collision_law;
 mod common;
 mod dsmc;

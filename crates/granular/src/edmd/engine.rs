@@ -1419,6 +1419,16 @@ impl<const D: usize> Edmd<D> {
             + self.cells.memory_bytes()
     }
 
+    /// The fourth cumulant `a2` of the peculiar velocities, of all grains and per species
+    /// ([`crate::moments::a2_by_species`]).
+    pub fn a2_by_species(&self) -> (f64, Vec<f64>) {
+        let species = self.species_names.len().max(1);
+        crate::moments::a2_by_species::<D>(self.len(), species, |i| {
+            let s = self.kind_species[self.grains[i].kind as usize] as usize;
+            (s, self.mass(i), self.velocity_slot(i))
+        })
+    }
+
     /// Kinetic energy and grain count per species.
     pub fn species_kinetic_energy(&self) -> Vec<(f64, usize)> {
         let mut out = vec![(0.0, 0usize); self.species_names.len().max(1)];
@@ -1502,6 +1512,7 @@ impl<const D: usize> Engine for Edmd<D> {
         let n = self.len();
         let volume = self.bx.volume();
         let kinetic = self.kinetic_energy_now();
+        let (a2, species_a2) = self.a2_by_species();
         let species = if self.species_names.len() > 1 {
             self.species_kinetic_energy()
                 .iter()
@@ -1513,6 +1524,7 @@ impl<const D: usize> Engine for Edmd<D> {
                         grains: count,
                         kinetic_energy_per_grain: k / c,
                         temperature: 2.0 * k / (D as f64 * c),
+                        a2: species_a2.get(s).copied(),
                     }
                 })
                 .collect()
@@ -1541,7 +1553,7 @@ impl<const D: usize> Engine for Edmd<D> {
             wall_impulse: Some(self.totals.wall_impulse),
             volume,
             wall_area,
-            a2: None,
+            a2: Some(a2),
             dsmc: None,
             engine_specific: Vec::new(),
         }

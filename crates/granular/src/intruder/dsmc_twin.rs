@@ -64,6 +64,9 @@ pub struct DsmcTwin {
     bound_raises: u64,
     rng: Stream,
     dt: f64,
+    /// Time discarded before the first sample.
+    #[serde(default)]
+    transient: f64,
     next_sample: f64,
     series: GridSeries<3>,
     histogram: Histogram,
@@ -111,11 +114,17 @@ impl DsmcTwin {
             bound_raises: 0,
             rng,
             dt,
+            transient,
             next_sample: transient,
             series: GridSeries::new(64),
             histogram: Histogram::new(-hmax, hmax, cfg.intruder.histogram_bins),
             inv_bin_width: cfg.intruder.histogram_bins as f64 / (2.0 * hmax),
         })
+    }
+
+    /// Time discarded before the first sample (the resolved `transient`).
+    pub fn transient(&self) -> f64 {
+        self.transient
     }
 
     /// Records the grid points before `upto` (and at `upto` when `inclusive`).

@@ -52,6 +52,13 @@ pub fn build(scenario: &Scenario) -> Result<IntruderEngine, String> {
     }
 }
 
+impl IntruderEngine {
+    /// Time the model discards before its own averages (the resolved `transient`).
+    pub fn transient(&self) -> f64 {
+        each_model!(self, e => e.transient())
+    }
+}
+
 impl Engine for IntruderEngine {
     fn name(&self) -> &'static str {
         "intruder"

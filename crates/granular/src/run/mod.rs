@@ -27,7 +27,7 @@ pub mod sweep;
 pub use crate::output::npz::{read_snapshot, write_snapshot};
 pub use build::{AnyEngine, BuildError, build, initial_particles};
 pub use outputs::{Output, StandardOutputs};
-pub use summary::{Resolved, Summary};
+pub use summary::{AverageValue, AveragesSummary, Resolved, Summary};
 
 use crate::engine::EngineError;
 use crate::output::format_number;
@@ -45,8 +45,9 @@ use std::time::Instant;
 /// tournament tree or a calendar, by the number of grains; 6: the cell grid keeps a few
 /// large grains out of its lists; 7: the run's outputs as typed states, the time series'
 /// rate window out of the event-driven engine; 8: a header with the payload's length and
-/// CRC-32 before the MessagePack payload, [`checkpoint`]).
-pub const CHECKPOINT_FORMAT: u32 = 8;
+/// CRC-32 before the MessagePack payload, [`checkpoint`]; 9: the blocking accumulators of
+/// the summary's `averages`).
+pub const CHECKPOINT_FORMAT: u32 = 9;
 
 /// Why a run failed.
 #[derive(Debug, thiserror::Error)]
@@ -557,6 +558,7 @@ impl Recorder {
             scaled_speeds: BTreeMap::new(),
             crater: None,
             intruder: None,
+            averages: None,
             resolved: Recorder::resolved(simulation),
             warnings: self.warnings.clone(),
             outputs: simulation.outputs_done(),

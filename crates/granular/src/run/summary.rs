@@ -175,6 +175,47 @@ pub struct ScaledSpeedSummary {
     pub temperature_min: f64,
     /// Highest temperature of a pooled snapshot (energy units).
     pub temperature_max: f64,
+    /// The homogeneous cooling state's `a2` at the scenario's restitution, the first and
+    /// the second estimate of van Noije and Ernst (1998) ([`crate::theory::sonine`]), for
+    /// one species in a periodic box without gravity or TC model.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub theory_a2: Option<[f64; 2]>,
+}
+
+/// The mean of one observable over the run after the equilibration time, with its
+/// standard error by blocking ([`crate::averaging`], `docs/output.md`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct AverageValue {
+    /// Mean of the samples (one per output time after the equilibration time).
+    #[serde(deserialize_with = "nan_from_null")]
+    pub mean: f64,
+    /// Standard error of the mean; `null` where no valid estimate exists (`error_note`).
+    pub error: Option<f64>,
+    /// Why `error` is `null`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub error_note: Option<String>,
+    /// Samples averaged.
+    pub samples: u64,
+    /// The block length the error comes from, in samples (0 without an error).
+    pub block_length: u64,
+    /// Whole blocks of that length.
+    pub blocks: u64,
+}
+
+/// The `averages` block: run averages after the equilibration time.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct AveragesSummary {
+    /// Time of the first sample averaged (`null`: no output after the equilibration time).
+    #[serde(deserialize_with = "nan_from_null")]
+    pub start_time: f64,
+    /// The rule that set the equilibration time (`output.equilibration_time = ...`, or the
+    /// default of the engine).
+    pub equilibration: String,
+    /// How errors are estimated.
+    pub method: String,
+    /// Mean and error per observable, by the column name of `timeseries.csv` (and
+    /// `compressibility_factor`).
+    pub observables: BTreeMap<String, AverageValue>,
 }
 
 /// What a finished run reports (`summary.json`).
@@ -221,6 +262,9 @@ pub struct Summary {
     /// Intruder engine: stationary averages with errors and the theory value.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub intruder: Option<IntruderSummary>,
+    /// Means and standard errors of the time series after the equilibration time.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub averages: Option<AveragesSummary>,
     /// Values resolved at build time (radius, packing fraction, contact value).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub resolved: Option<Resolved>,

@@ -516,6 +516,11 @@ pub struct OutputSpec {
     /// Collisions per grain before speeds enter the equilibrium histogram.
     #[serde(default = "equilibration")]
     pub equilibration_collisions_per_particle: f64,
+    /// Time from which the time series enters the summary's `averages` (time units);
+    /// absent: the first output after `equilibration_collisions_per_particle` collisions
+    /// per grain (many-grain engines) or after the intruder's `transient`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub equilibration_time: Option<f64>,
     /// Collisions per grain between two pooled samples of the equilibrium histogram
     /// (appendix C.2 of the seed: many collisions apart so samples are independent).
     #[serde(default = "sample_spacing")]
@@ -626,6 +631,7 @@ impl Default for OutputSpec {
             histogram_bins: bins(),
             histogram_max_speed: hist_max(),
             equilibration_collisions_per_particle: equilibration(),
+            equilibration_time: None,
             histogram_sample_spacing: sample_spacing(),
             checkpoint_seconds: checkpoint(),
             impact_histograms: false,

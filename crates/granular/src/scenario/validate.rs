@@ -310,6 +310,13 @@ pub(super) fn output(sc: &Scenario) -> Result<(), ScenarioError> {
         ));
     }
     trajectory(sc)?;
+    if let Some(t) = o.equilibration_time {
+        non_negative(
+            "output.equilibration_time",
+            t,
+            "the time before the time series enters the summary's averages",
+        )?;
+    }
     if sc.engine == EngineKind::Intruder {
         return Ok(());
     }

@@ -12,10 +12,12 @@
 //! | [`SpeedStatistics`] | `speed_histograms.csv`, `velocity_histograms.csv`; the Maxwell-Boltzmann fit and per-species averages of the summary |
 //! | [`ImpactParameter`] | `impact_parameter.csv` |
 //! | [`SpatialObservables`] | `impact_histograms.npz`, `structure_factor.npz`, `density_maps.npz` |
+//! | [`Averages`] | the `averages` block of the summary (means and blocking errors) |
 //! | [`Crater`] | the `crater` block of the summary |
 //! | [`IntruderStatistics`] | `intruder_histograms.csv`, `.npz`; the `intruder` block |
 //! | [`Trajectory`] | `trajectory/` (opt-in, `output.trajectory`): `trajectory.xyz`, `.lammpstrj`, `.gsd`, `.pvd` + `vtp/` |
 
+mod averages;
 mod crater;
 mod impact;
 mod intruder;
@@ -26,6 +28,7 @@ mod speeds;
 mod timeseries;
 mod trajectory;
 
+pub use averages::Averages;
 pub use crater::Crater;
 pub use impact::ImpactParameter;
 pub use intruder::IntruderStatistics;
@@ -76,6 +79,7 @@ pub struct StandardOutputs {
     intruder: Option<IntruderStatistics>,
     #[serde(default)]
     trajectory: Option<Trajectory>,
+    averages: Averages,
 }
 
 impl StandardOutputs {
@@ -98,6 +102,7 @@ impl StandardOutputs {
                 .then(|| IntruderStatistics::new(dir)),
             trajectory: (grains && !o.trajectory.is_empty())
                 .then(|| Trajectory::new(dir, &o.trajectory, o.snapshot_every)),
+            averages: Averages::new(),
         }
     }
 
@@ -151,6 +156,7 @@ impl StandardOutputs {
         if let Some(i) = &mut self.intruder {
             out.push(i);
         }
+        out.push(&mut self.averages);
         out
     }
 }

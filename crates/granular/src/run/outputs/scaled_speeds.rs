@@ -103,6 +103,7 @@ impl ScaledSpeeds {
             a2: d / (d + 2.0) * m4 / (m2 * m2) - 1.0,
             temperature_min: self.t_min[s],
             temperature_max: self.t_max[s],
+            theory_a2: None,
         }
     }
 

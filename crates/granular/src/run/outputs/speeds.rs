@@ -318,7 +318,8 @@ impl Output for SpeedStatistics {
         let mut any_scaled = false;
         for (s, fit) in fits.into_iter().enumerate() {
             if self.samples > 0 && !self.steady(s) {
-                let scaled = self.scaled.summary(d, s, self.samples);
+                let mut scaled = self.scaled.summary(d, s, self.samples);
+                scaled.theory_a2 = cooling_theory_a2(simulation.scenario());
                 summary.warnings.push(format!(
                     "species `{}`: the pooled snapshots' temperatures range from {:.4e} to {:.4e}, \
                      beyond {}% of their mean: the gas is not in a steady state, so no \
@@ -349,4 +350,22 @@ impl Output for SpeedStatistics {
         }
         Ok(())
     }
+}
+
+/// The homogeneous cooling state's `a2` (van Noije and Ernst 1998, both estimates) where it
+/// applies: one species, a periodic box, no gravity, no TC model.
+fn cooling_theory_a2(scenario: &crate::scenario::Scenario) -> Option<[f64; 2]> {
+    use crate::boundary::AxisKind;
+    use crate::theory::sonine;
+    let homogeneous = scenario.species.len() == 1
+        && scenario.axes().iter().all(|a| *a == AxisKind::Periodic)
+        && scenario.gravity.iter().all(|g| *g == 0.0)
+        && scenario.collisions.contact_duration == 0.0;
+    let (d, e) = (scenario.dimension, scenario.collisions.restitution);
+    homogeneous.then(|| {
+        [
+            sonine::cooling_a2_first(d, e),
+            sonine::cooling_a2_second(d, e),
+        ]
+    })
 }
