@@ -74,7 +74,9 @@ pub mod scenario;
 pub mod setup;
 pub mod simulation;
 pub mod stats;
+pub mod structure;
 pub mod theory;
+pub mod transport;
 pub mod vector;
 
 pub use boundary::{AxisKind, SimulationBox};

@@ -505,6 +505,33 @@ pub struct OutputSpec {
     /// empty: every output.
     #[serde(default)]
     pub observable_times: Vec<f64>,
+    /// Record the pair correlation `g(r)` at observation times (`pair_correlation.csv`,
+    /// the contact value in `summary.json`; event-driven engine).
+    #[serde(default)]
+    pub pair_correlation: bool,
+    /// Bins of `g(r)` over `[0, r_max)`.
+    #[serde(default = "pair_correlation_bins")]
+    pub pair_correlation_bins: usize,
+    /// `r_max` of `g(r)` in units of the largest contact distance `2 R_max`.
+    #[serde(default = "pair_correlation_range")]
+    pub pair_correlation_range: f64,
+    /// Record the mean-square displacement and velocity autocorrelation at every output
+    /// (`mean_square_displacement.csv`, `velocity_autocorrelation.csv`, the diffusion
+    /// coefficient in `summary.json`).
+    #[serde(default)]
+    pub msd: bool,
+    /// Lag window `[from, to]` (time units) of the diffusion coefficient's fit; empty:
+    /// from 10 % to 50 % of the observed time span.
+    #[serde(default)]
+    pub msd_fit: Vec<f64>,
+}
+
+fn pair_correlation_bins() -> usize {
+    200
+}
+
+fn pair_correlation_range() -> f64 {
+    5.0
 }
 
 fn sk_max_index() -> usize {
@@ -545,6 +572,11 @@ impl Default for OutputSpec {
             structure_factor_max_index: sk_max_index(),
             density_map: Vec::new(),
             observable_times: Vec::new(),
+            pair_correlation: false,
+            pair_correlation_bins: pair_correlation_bins(),
+            pair_correlation_range: pair_correlation_range(),
+            msd: false,
+            msd_fit: Vec::new(),
         }
     }
 }

@@ -5,3 +5,4 @@
 
 pub mod equilibrium;
 pub mod haff;
+pub mod transport;

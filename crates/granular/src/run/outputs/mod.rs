@@ -14,23 +14,29 @@
 //! | [`SpatialObservables`] | `impact_histograms.npz`, `structure_factor.npz`, `density_maps.npz` |
 //! | [`Crater`] | the `crater` block of the summary |
 //! | [`IntruderStatistics`] | `intruder_histograms.csv`, `.npz`; the `intruder` block |
+//! | [`PairCorrelationOutput`] | `pair_correlation.csv`; `final.contact_value` |
+//! | [`TransportOutput`] | `mean_square_displacement.csv`, `velocity_autocorrelation.csv`; `final.diffusion_coefficient` |
 
 mod crater;
 mod impact;
 mod intruder;
+mod pair_correlation;
 mod scaled_speeds;
 mod snapshots;
 mod spatial;
 mod speeds;
 mod timeseries;
+mod transport;
 
 pub use crater::Crater;
 pub use impact::ImpactParameter;
 pub use intruder::IntruderStatistics;
+pub use pair_correlation::PairCorrelationOutput;
 pub use snapshots::Snapshots;
 pub use spatial::SpatialObservables;
 pub use speeds::SpeedStatistics;
 pub use timeseries::TimeSeries;
+pub use transport::TransportOutput;
 
 use super::{RunError, Summary};
 use crate::observation::Observation;
@@ -71,6 +77,10 @@ pub struct StandardOutputs {
     impact: ImpactParameter,
     crater: Option<Crater>,
     intruder: Option<IntruderStatistics>,
+    #[serde(default)]
+    pair_correlation: Option<PairCorrelationOutput>,
+    #[serde(default)]
+    transport: Option<TransportOutput>,
 }
 
 impl StandardOutputs {
@@ -91,6 +101,9 @@ impl StandardOutputs {
                 .intruder
                 .is_some()
                 .then(|| IntruderStatistics::new(dir)),
+            pair_correlation: (grains && o.pair_correlation)
+                .then(|| PairCorrelationOutput::new(dir)),
+            transport: (grains && o.msd).then(|| TransportOutput::new(dir)),
         }
     }
 
@@ -108,6 +121,12 @@ impl StandardOutputs {
         self.impact.relocate(dir);
         if let Some(i) = &mut self.intruder {
             i.relocate(dir);
+        }
+        if let Some(g) = &mut self.pair_correlation {
+            g.relocate(dir);
+        }
+        if let Some(t) = &mut self.transport {
+            t.relocate(dir);
         }
     }
 
@@ -133,6 +152,12 @@ impl StandardOutputs {
         }
         if let Some(i) = &mut self.intruder {
             out.push(i);
+        }
+        if let Some(g) = &mut self.pair_correlation {
+            out.push(g);
+        }
+        if let Some(t) = &mut self.transport {
+            out.push(t);
         }
         out
     }
@@ -160,4 +185,25 @@ impl Output for StandardOutputs {
             .into_iter()
             .try_for_each(|o| o.finish(simulation, summary))
     }
+}
+
+/// Writes a CSV table with a header row (numbers in full precision, NaN as `NaN`), as
+/// NumPy's `genfromtxt(names=True, delimiter=",")` and pandas read it.
+pub(super) fn write_table(
+    path: &Path,
+    header: &[String],
+    rows: &[Vec<f64>],
+) -> Result<(), RunError> {
+    let csv_err = |e: csv::Error| RunError::Io {
+        path: path.to_path_buf(),
+        source: std::io::Error::other(e.to_string()),
+    };
+    let mut writer = csv::Writer::from_path(path).map_err(csv_err)?;
+    writer.write_record(header).map_err(csv_err)?;
+    for row in rows {
+        writer
+            .write_record(row.iter().map(|x| format!("{x}")))
+            .map_err(csv_err)?;
+    }
+    writer.flush().map_err(super::io_err(path))
 }
