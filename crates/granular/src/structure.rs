@@ -107,7 +107,7 @@ impl PairGeometry {
                 .map(|k| access[k])
                 .product();
             let p = (d + s) as i32;
-            let sign = if s % 2 == 0 { 1.0 } else { -1.0 };
+            let sign = if s.is_multiple_of(2) { 1.0 } else { -1.0 };
             integral += sign * mean_abs[s] * rest * (r2.powi(p) - r1.powi(p)) / p as f64;
         }
         let pairs = if a == b {
@@ -285,7 +285,7 @@ impl PairCorrelation {
 /// `exp(α)` of the weighted least-squares line `ln g = α + β x` through points
 /// `(x, ln g, weight)`; `None` when a bin is empty.
 fn exp_extrapolation(points: &[(f64, f64, f64)]) -> Option<f64> {
-    if points.len() < 2 || points.iter().any(|&(_, y, w)| !(w > 0.0) || !y.is_finite()) {
+    if points.len() < 2 || points.iter().any(|&(_, y, w)| w <= 0.0 || !y.is_finite()) {
         return None;
     }
     let sw: f64 = points.iter().map(|p| p.2).sum();

@@ -220,7 +220,7 @@ impl LogLagCorrelator {
         let count = self.samples;
         self.samples += 1;
         for k in 0..MAX_LEVELS {
-            if count % (1u64 << k) != 0 {
+            if !count.is_multiple_of(1u64 << k) {
                 break;
             }
             if self.levels.len() <= k {

@@ -14,3 +14,4 @@ mod problems;
 mod scenario_errors;
 mod simulation;
 mod spine;
+mod structure_transport;

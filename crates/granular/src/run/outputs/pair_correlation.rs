@@ -73,6 +73,11 @@ impl Output for PairCorrelationOutput {
         if !observation_due(&mut self.next_time, out, simulation.time(), first) {
             return Ok(());
         }
+        // With listed times after t = 0, the initial placement (not an equilibrium state)
+        // is left out.
+        if first && out.observable_times.first().is_some_and(|&t| t > 0.0) {
+            return Ok(());
+        }
         let Some(snap) = simulation.snapshot() else {
             return Ok(());
         };
