@@ -27,7 +27,7 @@
 //! [`CONTACT_FIT_BINS`] bins above contact: a weighted least-squares straight line through
 //! `ln g` at the bin centres (weights the bin counts, the inverse Poisson variance of
 //! `ln g`), evaluated at `σ_ab`. Its error comes from blocks of consecutive samples
-//! ([`contact_value`]). For one species the pressure follows from the contact theorem,
+//! ([`PairCorrelation::contact_value`]). For one species the pressure follows from the contact theorem,
 //! `Z = P / (n T) = 1 + 2^(D-1) φ g(σ) (N - 1) / N` (the factor `(N - 1)/N` because `g` is
 //! normalised by the `N (N - 1) / 2` pairs of a finite box).
 
