@@ -356,53 +356,62 @@ pub fn pair_histogram(
             )
             .reduce(|| vec![0u64; npairs * bins], add_counts)
     } else {
-        let cell_of = |i: usize| -> Vec<usize> {
-            (0..d)
-                .map(|k| {
-                    let x = positions[i * d + k] / geometry.lengths[k];
-                    ((x.rem_euclid(1.0) * cells[k] as f64) as usize).min(cells[k] - 1)
-                })
-                .collect()
-        };
-        let index = |c: &[usize]| -> usize {
+        // Cell of each grain (axis 0 fastest), then the grains sorted by cell.
+        let cell_of = |i: usize| -> usize {
             let mut f = 0;
             for k in (0..d).rev() {
-                f = f * cells[k] + c[k];
+                let x = (positions[i * d + k] / geometry.lengths[k]).rem_euclid(1.0);
+                f = f * cells[k] + ((x * cells[k] as f64) as usize).min(cells[k] - 1);
             }
             f
         };
         let total: usize = cells.iter().product();
-        let mut members: Vec<Vec<usize>> = vec![Vec::new(); total];
-        for i in 0..n {
-            members[index(&cell_of(i))].push(i);
+        let cell: Vec<usize> = (0..n).map(cell_of).collect();
+        let mut start = vec![0usize; total + 1];
+        for &c in &cell {
+            start[c + 1] += 1;
         }
-        let offsets: Vec<Vec<i64>> = (0..3usize.pow(d as u32))
-            .map(|f| {
-                (0..d)
-                    .map(|k| (f / 3usize.pow(k as u32) % 3) as i64 - 1)
-                    .collect()
-            })
-            .collect();
+        for c in 0..total {
+            start[c + 1] += start[c];
+        }
+        let mut fill = start.clone();
+        let mut order = vec![0usize; n];
+        for (i, &c) in cell.iter().enumerate() {
+            order[fill[c]] = i;
+            fill[c] += 1;
+        }
+        let neighbours = 3usize.pow(d as u32);
         (0..n)
             .into_par_iter()
+            .with_min_len(4096)
             .fold(
                 || vec![0u64; npairs * bins],
                 |mut h, i| {
-                    let c = cell_of(i);
-                    'offsets: for off in &offsets {
-                        let mut nc = vec![0usize; d];
+                    let mut c = [0i64; 3];
+                    let mut rest = cell[i];
+                    for k in 0..d {
+                        c[k] = (rest % cells[k]) as i64;
+                        rest /= cells[k];
+                    }
+                    'offsets: for f in 0..neighbours {
+                        let mut flat = 0usize;
+                        let mut code = f;
+                        let mut stride = 1usize;
                         for k in 0..d {
                             let m = cells[k] as i64;
-                            let v = c[k] as i64 + off[k];
-                            nc[k] = if geometry.periodic[k] {
-                                v.rem_euclid(m) as usize
+                            let v = c[k] + (code % 3) as i64 - 1;
+                            code /= 3;
+                            let v = if geometry.periodic[k] {
+                                v.rem_euclid(m)
                             } else if (0..m).contains(&v) {
-                                v as usize
+                                v
                             } else {
                                 continue 'offsets;
                             };
+                            flat += v as usize * stride;
+                            stride *= cells[k];
                         }
-                        for &j in &members[index(&nc)] {
+                        for &j in &order[start[flat]..start[flat + 1]] {
                             if j > i {
                                 record(&mut h, i, j);
                             }
