@@ -76,8 +76,10 @@ pub mod scenario;
 pub mod setup;
 pub mod simulation;
 pub mod stats;
+pub mod structure;
 pub mod theory;
 pub mod trajectory;
+pub mod transport;
 pub mod vector;
 
 pub use boundary::{AxisKind, SimulationBox};

@@ -18,3 +18,4 @@ mod simulation;
 mod spine;
 mod sweeps;
 mod trajectory;
+mod structure_transport;

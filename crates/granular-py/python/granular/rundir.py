@@ -28,6 +28,11 @@ _CSV_HISTOGRAMS = {
     "impact_parameter": "impact_parameter.csv",
     "intruder": "intruder_histograms.csv",
 }
+_CSV_CORRELATIONS = {
+    "pair_correlation": "pair_correlation.csv",
+    "mean_square_displacement": "mean_square_displacement.csv",
+    "velocity_autocorrelation": "velocity_autocorrelation.csv",
+}
 
 
 def _pandas(frame: Optional[bool]) -> Any:
@@ -142,6 +147,10 @@ class RunData:
     scenario_toml: Optional[str]
     #: The snapshot files, in output order.
     snapshot_paths: list[Path]
+    #: The opt-in correlation tables present (docs/output.md): ``pair_correlation`` (``r``,
+    #: ``g.<a>.<b>``), ``mean_square_displacement`` (``lag``, ``origins``, ``msd.<s>``,
+    #: ``msd_error.<s>``), ``velocity_autocorrelation`` (``lag``, ``origins``, ``vacf.<s>``, ...).
+    correlations: dict[str, Table] = field(default_factory=dict)
 
     def snapshot(self, index: int = -1) -> Snapshot:
         """Snapshot number ``index`` in output order (default: the last), read from its file."""
@@ -188,6 +197,7 @@ def load_run(path: Union[str, Path], frame: Optional[bool] = None) -> RunData:
         arrays=arrays,
         scenario_toml=scenario.read_text() if scenario.exists() else None,
         snapshot_paths=sorted((d / "snapshots").glob("snapshot_*.npz")),
+        correlations={k: read_table(d / f, frame) for k, f in _CSV_CORRELATIONS.items() if (d / f).exists()},
     )
 
 

@@ -105,6 +105,14 @@ pub enum RunError {
         /// What is wrong and what to do.
         message: String,
     },
+    /// An output cannot record this run as configured (checked when the output starts).
+    #[error("`{key}` {message}")]
+    Output {
+        /// The scenario key to change.
+        key: String,
+        /// Its value, what is wrong and the fix.
+        message: String,
+    },
     /// The run was interrupted on request (Ctrl-C, SIGTERM); a checkpoint was written.
     #[error(
         "interrupted at t = {time}; state saved in {}. Continue with `granular resume {}`",

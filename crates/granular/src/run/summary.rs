@@ -296,4 +296,22 @@ impl Summary {
         }
         self.final_observables.get(name).copied()
     }
+
+    /// `final.contact_value` with its error: `g(σ)` of a one-species run with
+    /// `output.pair_correlation` (`crate::structure`); `None` without it.
+    pub fn contact_value(&self) -> Option<(f64, f64)> {
+        self.value_with_error("contact_value")
+    }
+
+    /// `final.diffusion_coefficient` with its error (length²/time, from the MSD of a
+    /// one-species run with `output.msd`, `crate::transport`); `None` without it.
+    pub fn diffusion_coefficient(&self) -> Option<(f64, f64)> {
+        self.value_with_error("diffusion_coefficient")
+    }
+
+    /// `final.<name>` and `final.<name>_error`.
+    fn value_with_error(&self, name: &str) -> Option<(f64, f64)> {
+        let f = &self.final_observables;
+        Some((*f.get(name)?, *f.get(&format!("{name}_error"))?))
+    }
 }

@@ -556,7 +556,27 @@ pub struct OutputSpec {
     /// Outputs per decade of time with `spacing = "log"`.
     #[serde(default = "per_decade")]
     pub per_decade: u32,
+    /// Record the pair correlation `g(r)` at observation times (`pair_correlation.csv`,
+    /// the contact value in `summary.json`; event-driven engine).
+    #[serde(default)]
+    pub pair_correlation: bool,
+    /// Bins of `g(r)` over `[0, r_max)`.
+    #[serde(default = "pair_correlation_bins")]
+    pub pair_correlation_bins: usize,
+    /// `r_max` of `g(r)` in units of the largest contact distance `2 R_max`.
+    #[serde(default = "pair_correlation_range")]
+    pub pair_correlation_range: f64,
+    /// Record the mean-square displacement and velocity autocorrelation at every output
+    /// (`mean_square_displacement.csv`, `velocity_autocorrelation.csv`, the diffusion
+    /// coefficient in `summary.json`).
+    #[serde(default)]
+    pub msd: bool,
+    /// Lag window `[from, to]` (time units) of the diffusion coefficient's fit; empty:
+    /// from 10 % to 50 % of the observed time span.
+    #[serde(default)]
+    pub msd_fit: Vec<f64>,
 }
+
 
 /// `output.spacing`: how the output times are laid out.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -598,6 +618,16 @@ impl OutputSpec {
 
 fn per_decade() -> u32 {
     10
+
+}
+
+
+fn pair_correlation_bins() -> usize {
+    200
+}
+
+fn pair_correlation_range() -> f64 {
+    5.0
 }
 
 fn sk_max_index() -> usize {
@@ -642,6 +672,11 @@ impl Default for OutputSpec {
             trajectory: Vec::new(),
             spacing: OutputSpacing::Linear,
             per_decade: per_decade(),
+            pair_correlation: false,
+            pair_correlation_bins: pair_correlation_bins(),
+            pair_correlation_range: pair_correlation_range(),
+            msd: false,
+            msd_fit: Vec::new(),
         }
     }
 }

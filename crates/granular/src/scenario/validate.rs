@@ -345,7 +345,8 @@ pub(super) fn output(sc: &Scenario) -> Result<(), ScenarioError> {
         o.histogram_sample_spacing,
         "the collisions per grain between histogram samples",
     )?;
-    o.validate_observables(sc.dimension)
+    o.validate_observables(sc.dimension)?;
+    super::observables::validate_structure_and_transport(sc)
 }
 
 /// `[dsmc]`: positive, finite step and cell (their size against the gas is checked by

@@ -6,3 +6,4 @@
 pub mod equilibrium;
 pub mod haff;
 pub mod sonine;
+pub mod transport;

@@ -16,27 +16,33 @@
 //! | [`Crater`] | the `crater` block of the summary |
 //! | [`IntruderStatistics`] | `intruder_histograms.csv`, `.npz`; the `intruder` block |
 //! | [`Trajectory`] | `trajectory/` (opt-in, `output.trajectory`): `trajectory.xyz`, `.lammpstrj`, `.gsd`, `.pvd` + `vtp/` |
+//! | [`PairCorrelationOutput`] | `pair_correlation.csv`; `final.contact_value` |
+//! | [`TransportOutput`] | `mean_square_displacement.csv`, `velocity_autocorrelation.csv`; `final.diffusion_coefficient` |
 
 mod averages;
 mod crater;
 mod impact;
 mod intruder;
+mod pair_correlation;
 mod scaled_speeds;
 mod snapshots;
 mod spatial;
 mod speeds;
 mod timeseries;
 mod trajectory;
+mod transport;
 
 pub use averages::Averages;
 pub use crater::Crater;
 pub use impact::ImpactParameter;
 pub use intruder::IntruderStatistics;
+pub use pair_correlation::PairCorrelationOutput;
 pub use snapshots::Snapshots;
 pub use spatial::SpatialObservables;
 pub use speeds::SpeedStatistics;
 pub use timeseries::TimeSeries;
 pub use trajectory::Trajectory;
+pub use transport::TransportOutput;
 
 use super::{RunError, Summary};
 use crate::observation::Observation;
@@ -80,6 +86,9 @@ pub struct StandardOutputs {
     #[serde(default)]
     trajectory: Option<Trajectory>,
     averages: Averages,
+    pair_correlation: Option<PairCorrelationOutput>,
+    #[serde(default)]
+    transport: Option<TransportOutput>,
 }
 
 impl StandardOutputs {
@@ -103,6 +112,9 @@ impl StandardOutputs {
             trajectory: (grains && !o.trajectory.is_empty())
                 .then(|| Trajectory::new(dir, &o.trajectory, o.snapshot_every)),
             averages: Averages::new(),
+            pair_correlation: (grains && o.pair_correlation)
+                .then(|| PairCorrelationOutput::new(dir)),
+            transport: (grains && o.msd).then(|| TransportOutput::new(dir)),
         }
     }
 
@@ -122,6 +134,12 @@ impl StandardOutputs {
             i.relocate(dir);
         }
         if let Some(t) = &mut self.trajectory {
+            t.relocate(dir);
+        }
+        if let Some(g) = &mut self.pair_correlation {
+            g.relocate(dir);
+        }
+        if let Some(t) = &mut self.transport {
             t.relocate(dir);
         }
     }
@@ -157,6 +175,12 @@ impl StandardOutputs {
             out.push(i);
         }
         out.push(&mut self.averages);
+        if let Some(g) = &mut self.pair_correlation {
+            out.push(g);
+        }
+        if let Some(t) = &mut self.transport {
+            out.push(t);
+        }
         out
     }
 }
@@ -183,4 +207,25 @@ impl Output for StandardOutputs {
             .into_iter()
             .try_for_each(|o| o.finish(simulation, summary))
     }
+}
+
+/// Writes a CSV table with a header row (numbers in full precision, NaN as `NaN`), as
+/// NumPy's `genfromtxt(names=True, delimiter=",")` and pandas read it.
+pub(super) fn write_table(
+    path: &Path,
+    header: &[String],
+    rows: &[Vec<f64>],
+) -> Result<(), RunError> {
+    let csv_err = |e: csv::Error| RunError::Io {
+        path: path.to_path_buf(),
+        source: std::io::Error::other(e.to_string()),
+    };
+    let mut writer = csv::Writer::from_path(path).map_err(csv_err)?;
+    writer.write_record(header).map_err(csv_err)?;
+    for row in rows {
+        writer
+            .write_record(row.iter().map(|x| format!("{x}")))
+            .map_err(csv_err)?;
+    }
+    writer.flush().map_err(super::io_err(path))
 }

@@ -69,24 +69,6 @@ impl SpatialObservables {
         self.dir = dir.to_path_buf();
     }
 
-    /// Whether the output at `now` is an observation time: every output when
-    /// `observable_times` is empty, else `t = 0` and the first output at or after each
-    /// listed time.
-    fn observation_due(&mut self, out: &OutputSpec, now: f64, first: bool) -> bool {
-        let times = &out.observable_times;
-        if first || times.is_empty() {
-            return true;
-        }
-        let mut due = false;
-        // Tolerance for output times that land on a listed time up to round-off.
-        let eps = 1e-9 * out.interval;
-        while self.next_time < times.len() && times[self.next_time] <= now + eps {
-            self.next_time += 1;
-            due = true;
-        }
-        due
-    }
-
     /// Writes the files of the recorded observables (all rows so far).
     fn write_files(&self, out: &OutputSpec, lengths: &[f64]) -> Result<(), RunError> {
         let st = self;
@@ -162,13 +144,36 @@ impl SpatialObservables {
     }
 }
 
+/// Whether the output at `now` is an observation time: every output when
+/// `observable_times` is empty, else `t = 0` and the first output at or after each listed
+/// time (`next_time`: the index of the next listed time to wait for).
+pub(super) fn observation_due(
+    next_time: &mut usize,
+    out: &OutputSpec,
+    now: f64,
+    first: bool,
+) -> bool {
+    let times = &out.observable_times;
+    if first || times.is_empty() {
+        return true;
+    }
+    let mut due = false;
+    // Tolerance for output times that land on a listed time up to round-off.
+    let eps = 1e-9 * out.interval;
+    while *next_time < times.len() && times[*next_time] <= now + eps {
+        *next_time += 1;
+        due = true;
+    }
+    due
+}
+
 impl Output for SpatialObservables {
     /// Records the observables at an observation time and rewrites their files.
     fn observe(&mut self, simulation: &Simulation, _: &Observation) -> Result<(), RunError> {
         let first = simulation.outputs_done() == 0;
         let out = &simulation.scenario().output;
         let now = simulation.time();
-        if !self.observation_due(out, now, first) {
+        if !observation_due(&mut self.next_time, out, now, first) {
             return Ok(());
         }
         let lengths = simulation.scenario().lengths();
