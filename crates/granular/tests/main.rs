@@ -2,6 +2,7 @@
 
 mod collision_law;
 mod common;
+mod decomposed;
 mod dsmc;
 mod edmd;
 mod edmd_reference;

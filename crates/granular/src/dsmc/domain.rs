@@ -232,7 +232,7 @@ impl Domain {
         // Words: [continuation length, its raw values..., then one accumulator per piece
         // that starts a chunk].
         let cont = match pieces.first() {
-            Some(&(s, e)) if (offset + s) % SUM_CHUNK != 0 => e - s,
+            Some(&(s, e)) if !(offset + s).is_multiple_of(SUM_CHUNK) => e - s,
             _ => 0,
         };
         let folded: Vec<[f64; A]> = pieces
