@@ -9,6 +9,8 @@ mod bench;
 mod error;
 mod interrupt;
 mod intruder_summary;
+#[cfg(feature = "mpi")]
+mod ranks;
 mod sweep;
 
 use clap::{Parser, Subcommand};
@@ -342,8 +344,9 @@ fn dispatch(cli: Cli) -> Result<(), CliError> {
                     dir.display()
                 )));
             }
-            let run = Run::create(&dir, sc).map_err(|e| e.to_string())?;
-            finish(run, &dir, quiet)
+            launch(&dir, quiet, |mine, _| {
+                Run::create(mine, sc).map_err(|e| e.to_string())
+            })
         }
         Command::Export { run, format } => {
             let mut formats = format;
@@ -393,10 +396,12 @@ fn dispatch(cli: Cli) -> Result<(), CliError> {
             }
             Ok(())
         }
-        Command::Resume { dir, quiet } => {
-            let run = Run::resume(&dir).map_err(|e| e.to_string())?;
-            finish(run, &dir, quiet)
-        }
+        Command::Resume { dir, quiet } => launch(&dir, quiet, |mine, rank| {
+            if rank != 0 {
+                ranks_copy(&dir, mine)?;
+            }
+            Run::resume(mine).map_err(|e| e.to_string())
+        }),
         Command::Bench { engine } => Ok(bench::run(engine)?),
         Command::Compare { dirs, out } => {
             let files = granular_report::compare(&dirs, &out)?;
@@ -465,7 +470,100 @@ fn parse_shard(text: &str) -> Result<granular::run::sweep::Shard, String> {
     text.parse()
 }
 
-fn finish(mut run: Run, dir: &Path, quiet: bool) -> Result<(), CliError> {
+/// Opens the run with `open(directory of this rank, rank)` and runs it to the end: as it
+/// is without the `mpi` feature; with it, on every rank of `mpirun` (one rank without),
+/// the DSMC engine split over the ranks (see `ranks`).
+#[cfg(not(feature = "mpi"))]
+fn launch(
+    dir: &Path,
+    quiet: bool,
+    open: impl FnOnce(&Path, usize) -> Result<Run, String>,
+) -> Result<(), CliError> {
+    let run = open(dir, 0)?;
+    finish_after(run, dir, quiet, None)
+}
+
+#[cfg(not(feature = "mpi"))]
+fn ranks_copy(_dir: &Path, _mine: &Path) -> Result<(), String> {
+    Ok(())
+}
+
+#[cfg(feature = "mpi")]
+fn ranks_copy(dir: &Path, mine: &Path) -> Result<(), String> {
+    ranks::copy_run_files(dir, mine)
+}
+
+#[cfg(feature = "mpi")]
+fn launch(
+    dir: &Path,
+    quiet: bool,
+    open: impl FnOnce(&Path, usize) -> Result<Run, String>,
+) -> Result<(), CliError> {
+    let ranks = ranks::Ranks::start();
+    let mine = ranks.directory(dir);
+    let rank = ranks.rank();
+    let result = (|| {
+        let mut run = ranks.agree(open(&mine, rank))?;
+        let wall = run.scenario().stop.wall_seconds.is_some() && ranks.size() > 1;
+        ranks.agree(if wall {
+            Err(
+                "stop.wall_seconds: a run split over several ranks cannot stop on the wall \
+                 clock (each rank reads its own); use stop.time, stop.collisions or \
+                 stop.collisions_per_particle, and the scheduler's time limit (the run \
+                 checkpoints on SIGTERM)"
+                    .to_string(),
+            )
+        } else {
+            Ok(())
+        })?;
+        if ranks.size() > 1 {
+            // One rank (also without mpirun) runs the threaded engine as it is.
+            ranks.agree(
+                run.decompose(ranks.communicator())
+                    .map_err(|e| e.to_string()),
+            )?;
+            run.agree_with(Box::new(ranks::any_rank));
+        }
+        // A test hook (scripts/test-mpi): stop as if killed after this many outputs,
+        // leaving the checkpoint, to resume it on another number of ranks.
+        let stop_after = std::env::var("GRANULAR_TEST_STOP_AFTER_OUTPUTS")
+            .ok()
+            .and_then(|s| s.parse().ok());
+        if rank != 0 {
+            // The same run as rank 0's: its warnings and report once, from rank 0.
+            return run_silently(run, stop_after);
+        }
+        finish_after(run, dir, quiet, stop_after)
+    })();
+    ranks.clean(dir);
+    result
+}
+
+/// Runs `run` to the end without a word (ranks other than 0); errors are rank 0's to
+/// report, this rank's exit status follows them.
+#[cfg(feature = "mpi")]
+fn run_silently(run: Run, stop_after: Option<u64>) -> Result<(), CliError> {
+    let interrupt = interrupt::Interrupt::install();
+    let mut run = run;
+    run.interrupt_when(interrupt.check());
+    match run.run_to_end(&mut |_| {}, stop_after) {
+        Ok(_) => Ok(()),
+        Err(RunError::Interrupted { .. }) => Err(CliError::Interrupted {
+            status: interrupt.exit_status(),
+            message: String::new(),
+        }),
+        Err(e) => Err(CliError::Message(e.to_string())),
+    }
+}
+
+/// Runs `run` to the end with a progress bar and reports; stops as if killed after
+/// `stop_after` outputs when given (a test hook).
+fn finish_after(
+    mut run: Run,
+    dir: &Path,
+    quiet: bool,
+    stop_after: Option<u64>,
+) -> Result<(), CliError> {
     let interrupt = interrupt::Interrupt::install();
     run.interrupt_when(interrupt.check());
     let elastic = run.scenario().collisions.law().is_elastic();
@@ -494,7 +592,7 @@ fn finish(mut run: Run, dir: &Path, quiet: bool) -> Result<(), CliError> {
             ));
         }
     };
-    let result = run.run_to_end(&mut on_progress, None);
+    let result = run.run_to_end(&mut on_progress, stop_after);
     if let Some(bar) = &bar {
         bar.finish_and_clear();
     }

@@ -173,10 +173,22 @@ impl Simulation {
         }
     }
 
-    /// The state a checkpoint holds (the engine is cloned).
+    /// Splits the run over the ranks of `comm` (collective): every rank builds or restores
+    /// the same simulation, then keeps its slab of a DSMC engine. The trajectory, the
+    /// observations and the checkpoints stay bit-identical to the undecomposed run's
+    /// (see [`crate::dsmc::domain`]). Other engines are refused under several ranks.
+    pub fn decompose(
+        &mut self,
+        comm: std::sync::Arc<dyn crate::dsmc::Communicator>,
+    ) -> Result<(), crate::dsmc::DomainError> {
+        self.engine.decompose(comm)
+    }
+
+    /// The state a checkpoint holds (the engine is cloned; a decomposed engine is
+    /// gathered whole, collectively).
     pub(crate) fn state(&self) -> SimulationState {
         SimulationState {
-            engine: self.engine.clone(),
+            engine: self.engine.whole(),
             initial_kinetic_energy: self.initial_kinetic_energy,
             outputs_done: self.outputs_done,
             wall_seconds: self.wall_seconds(),

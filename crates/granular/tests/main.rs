@@ -3,6 +3,7 @@
 mod averages;
 mod collision_law;
 mod common;
+mod decomposed;
 mod dsmc;
 mod edmd;
 mod edmd_reference;

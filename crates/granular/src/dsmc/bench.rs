@@ -41,13 +41,24 @@ pub enum BenchError {
     /// The engine could not be built.
     #[error(transparent)]
     Engine(#[from] super::engine::DsmcError),
+    /// The engine could not be split over the ranks.
+    #[error(transparent)]
+    Domain(#[from] super::domain::DomainError),
 }
 
 /// The benchmark set-up: periodic cube of `n` grains at packing fraction 0.01, `T = m = 1`,
 /// about 10 particles per cell, time step 0.1 mean free times (each particle suffers 0.1
 /// collisions per step on average, i.e. 0.05 pair collisions per particle), elastic.
 pub fn setup<const D: usize>(n: usize, seed: u64) -> Result<DsmcEngine<D>, BenchError> {
-    let phi = 0.01;
+    setup_at::<D>(n, 0.01, seed)
+}
+
+/// [`setup`] at packing fraction `phi`.
+pub fn setup_at<const D: usize>(
+    n: usize,
+    phi: f64,
+    seed: u64,
+) -> Result<DsmcEngine<D>, BenchError> {
     let radius = 1.0;
     let v = haff::grain_volume(D, radius);
     let side = (n as f64 * v / phi).powf(1.0 / D as f64);
@@ -109,6 +120,84 @@ pub fn measure(dimension: usize, n: usize, threads: usize) -> Result<BenchResult
     match dimension {
         2 => run::<2>(n, threads),
         3 => run::<3>(n, threads),
+        d => Err(BenchError::Dimension(d)),
+    }
+}
+
+/// One strong-scaling measurement of a DSMC run split over ranks.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DecomposedResult {
+    /// 2 or 3.
+    pub dimension: usize,
+    /// Number of particles (all ranks).
+    pub n: usize,
+    /// Packing fraction.
+    pub packing_fraction: f64,
+    /// Ranks.
+    pub ranks: usize,
+    /// Worker threads per rank.
+    pub threads: usize,
+    /// Steps timed (after 2 warm-up steps).
+    pub steps: u64,
+    /// Wall time of the timed steps on the slowest rank, seconds.
+    pub seconds: f64,
+    /// `n * steps / seconds`.
+    pub particle_steps_per_second: f64,
+    /// Bytes sent to other ranks per step (migration and reductions), on the rank that
+    /// sent most.
+    pub bytes_per_rank_step: f64,
+}
+
+fn run_decomposed<const D: usize>(
+    n: usize,
+    phi: f64,
+    steps: u64,
+    comm: std::sync::Arc<dyn super::domain::Communicator>,
+) -> Result<DecomposedResult, BenchError> {
+    let ranks = comm.size();
+    let mut e = setup_at::<D>(n, phi, 1)?;
+    e.decompose(comm.clone())?;
+    let tau = e.time_step();
+    for _ in 0..2 {
+        e.step(tau);
+    }
+    let bytes0 = e.domain().map_or(0, |d| d.bytes_sent());
+    comm.all_gather(&[]);
+    let t = Instant::now();
+    for _ in 0..steps {
+        e.step(tau);
+    }
+    let seconds = t.elapsed().as_secs_f64();
+    let bytes = (e.domain().map_or(0, |d| d.bytes_sent()) - bytes0) as f64 / steps as f64;
+    let all = comm.all_gather(&[seconds, bytes]);
+    let seconds = all.iter().map(|v| v[0]).fold(0.0, f64::max);
+    let bytes = all.iter().map(|v| v[1]).fold(0.0, f64::max);
+    Ok(DecomposedResult {
+        dimension: D,
+        n,
+        packing_fraction: phi,
+        ranks,
+        threads: rayon::current_num_threads(),
+        steps,
+        seconds,
+        particle_steps_per_second: n as f64 * steps as f64 / seconds,
+        bytes_per_rank_step: bytes,
+    })
+}
+
+/// Times `steps` steps of the [`setup_at`] case (`n` grains at packing fraction `phi`)
+/// split over the ranks of `comm` (collective), after 2 warm-up steps; the slowest rank's
+/// time and the largest traffic are reported, on every rank.
+pub fn measure_decomposed(
+    dimension: usize,
+    n: usize,
+    phi: f64,
+    steps: u64,
+    comm: std::sync::Arc<dyn super::domain::Communicator>,
+) -> Result<DecomposedResult, BenchError> {
+    match dimension {
+        2 => run_decomposed::<2>(n, phi, steps, comm),
+        3 => run_decomposed::<3>(n, phi, steps, comm),
         d => Err(BenchError::Dimension(d)),
     }
 }

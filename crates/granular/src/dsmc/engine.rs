@@ -27,7 +27,7 @@ pub enum DsmcError {
 }
 
 /// Fixed chunk length of the deterministic reductions (independent of the thread count).
-const SUM_CHUNK: usize = 4096;
+pub(super) const SUM_CHUNK: usize = 4096;
 
 /// Direct Simulation Monte Carlo of `N` equal hard grains (disks for `D = 2`, spheres
 /// for `D = 3`), after Müller & Herrmann (the DSMC seed). See the module docs.
@@ -39,7 +39,7 @@ pub const STEP_FRACTION: f64 = 0.1;
 pub struct DsmcEngine<const D: usize> {
     config: DsmcConfig,
     sim_box: SimulationBox<D>,
-    grid: CellGrid<D>,
+    pub(super) grid: CellGrid<D>,
     radius: f64,
     mass: f64,
     seed: u64,
@@ -47,12 +47,12 @@ pub struct DsmcEngine<const D: usize> {
     gravity: Vector<D>,
     chi_global: f64,
     // Structure of arrays, sorted by cell (see `cells`).
-    pos: Vec<Vector<D>>,
-    vel: Vec<Vector<D>>,
-    ids: Vec<u32>,
-    last: Vec<f64>,
-    cell_of: Vec<u32>,
-    start: Vec<u32>,
+    pub(super) pos: Vec<Vector<D>>,
+    pub(super) vel: Vec<Vector<D>>,
+    pub(super) ids: Vec<u32>,
+    pub(super) last: Vec<f64>,
+    pub(super) cell_of: Vec<u32>,
+    pub(super) start: Vec<u32>,
     // Scratch buffers of the sort, kept between steps (no page faults per step); not part
     // of the state, so not written to checkpoints.
     #[serde(skip)]
@@ -65,13 +65,17 @@ pub struct DsmcEngine<const D: usize> {
     scratch_last: Vec<f64>,
     time: f64,
     steps: u64,
-    tally: Tally,
+    pub(super) tally: Tally,
     /// Name of the (single) species, for snapshots.
     #[serde(default = "default_species_name")]
     species_name: String,
     /// The validity conditions violated by the initial state (computed once at build).
     #[serde(default)]
     validity: Vec<ValidityWarning>,
+    /// This rank's share of a decomposed run (`None`: the whole system, see `domain`);
+    /// never written to checkpoints, which hold the whole system.
+    #[serde(skip)]
+    pub(super) domain: Option<super::domain::Domain>,
 }
 
 fn default_species_name() -> String {
@@ -298,6 +302,7 @@ impl<const D: usize> DsmcEngine<D> {
             steps: 0,
             species_name: default_species_name(),
             validity: Vec::new(),
+            domain: None,
         };
         engine.sort_by_cell(None);
         engine.validity = engine.check_validity();
@@ -350,7 +355,7 @@ impl<const D: usize> DsmcEngine<D> {
 
     /// Number density `N / V`.
     pub fn number_density(&self) -> f64 {
-        self.pos.len() as f64 / self.sim_box.volume()
+        self.n_global() as f64 / self.sim_box.volume()
     }
 
     /// The global Enskog factor used when `enskog` is on with a global density (1 otherwise).
@@ -402,6 +407,9 @@ impl<const D: usize> DsmcEngine<D> {
 
     /// Positions and velocities in the order of construction (ids `0 .. N`).
     pub fn state_by_id(&self) -> (Vec<Vector<D>>, Vec<Vector<D>>) {
+        if self.domain.is_some() {
+            return self.whole().state_by_id();
+        }
         let n = self.pos.len();
         let mut p = vec![Vector::zero(); n];
         let mut v = vec![Vector::zero(); n];
@@ -435,6 +443,9 @@ impl<const D: usize> DsmcEngine<D> {
 
     /// Mean velocity (deterministic chunked sum).
     pub fn mean_velocity(&self) -> Vector<D> {
+        if let Some(d) = &self.domain {
+            return self.mean_velocity_decomposed(d);
+        }
         let parts: Vec<Vector<D>> = self
             .vel
             .par_chunks(SUM_CHUNK)
@@ -446,12 +457,17 @@ impl<const D: usize> DsmcEngine<D> {
 
     /// Total momentum `m sum_i v_i`.
     pub fn momentum(&self) -> Vector<D> {
-        self.mean_velocity() * (self.mass * self.vel.len() as f64)
+        self.mean_velocity() * (self.mass * self.n_global() as f64)
     }
 
     /// Moments `(<c^2>, <c^4>)` of the peculiar velocity `c = v - u`.
     fn peculiar_moments(&self) -> (f64, f64) {
         let u = self.mean_velocity();
+        if let Some(d) = &self.domain {
+            let (s2, s4) = self.peculiar_sums_decomposed(d, u);
+            let n = d.n_global as f64;
+            return (s2 / n, s4 / n);
+        }
         let parts: Vec<(f64, f64)> = self
             .vel
             .par_chunks(SUM_CHUNK)
@@ -482,6 +498,9 @@ impl<const D: usize> DsmcEngine<D> {
 
     /// Total kinetic energy `m/2 sum_i |v_i|^2` (deterministic chunked sum).
     pub fn kinetic_energy_now(&self) -> f64 {
+        if let Some(d) = &self.domain {
+            return 0.5 * self.mass * self.speed_squares_decomposed(d);
+        }
         let parts: Vec<f64> = self
             .vel
             .par_chunks(SUM_CHUNK)
@@ -495,15 +514,20 @@ impl<const D: usize> DsmcEngine<D> {
     /// (in parallel chunks).
     pub fn first_non_finite(&self) -> Option<u32> {
         let finite = |v: &Vector<D>| v.0.iter().all(|c| c.is_finite());
-        if self.vel.par_chunks(SUM_CHUNK).all(|c| c.iter().all(finite)) {
-            return None;
+        let local = if self.vel.par_chunks(SUM_CHUNK).all(|c| c.iter().all(finite)) {
+            None
+        } else {
+            self.vel
+                .iter()
+                .zip(&self.ids)
+                .filter(|(v, _)| !finite(v))
+                .map(|(_, &id)| id)
+                .min()
+        };
+        match &self.domain {
+            Some(d) => self.first_non_finite_decomposed(d, local),
+            None => local,
         }
-        self.vel
-            .iter()
-            .zip(&self.ids)
-            .filter(|(v, _)| !finite(v))
-            .map(|(_, &id)| id)
-            .min()
     }
 
     /// The validity conditions of the DSMC seed (Sec. 2) violated by the initial state,
@@ -534,7 +558,7 @@ impl<const D: usize> DsmcEngine<D> {
             chi: self.chi_global,
             cell_edge: edge,
             time_step: self.tau,
-            particles_per_cell: self.pos.len() as f64 / self.grid.len() as f64,
+            particles_per_cell: self.n_global() as f64 / self.grid.len() as f64,
             system_size: min_len,
         })
     }
@@ -593,12 +617,19 @@ impl<const D: usize> DsmcEngine<D> {
                 .collect()
         };
         let mut counts = Vec::with_capacity(moved.len());
+        let mut step_tally = Tally::default();
         for (cnt, tc) in moved {
             counts.push(cnt);
-            self.tally.tc_elastic += tc;
+            step_tally.tc_elastic += tc;
         }
         self.time += dt;
-        self.sort_by_cell(Some((chunk, counts)));
+        if self.domain.is_some() {
+            // Decomposed: particles change rank, then the cells are recounted.
+            self.migrate();
+            self.sort_by_cell(None);
+        } else {
+            self.sort_by_cell(Some((chunk, counts)));
+        }
         // 2. Collisions.
         let global_vmax = match self.config.vmax_mode {
             super::config::VmaxMode::Global => {
@@ -612,7 +643,7 @@ impl<const D: usize> DsmcEngine<D> {
                             .fold(0.0, f64::max)
                     })
                     .reduce(|| 0.0, f64::max);
-                2.0 * m2.sqrt()
+                2.0 * self.max_over_ranks(m2).sqrt()
             }
             super::config::VmaxMode::Cell => 0.0,
         };
@@ -677,8 +708,9 @@ impl<const D: usize> DsmcEngine<D> {
             .map(|(a, bounds, p, v, l)| collide_group(&params, a, bounds, p, v, l))
             .collect();
         for t in &tallies {
-            self.tally.add(t);
+            step_tally.add(t);
         }
+        self.tally.add(&self.reduce_tally(step_tally));
         self.steps += 1;
     }
 
@@ -742,7 +774,7 @@ impl<const D: usize> Engine for DsmcEngine<D> {
     }
 
     fn particle_count(&self) -> usize {
-        self.pos.len()
+        self.n_global()
     }
 
     /// Steps of `tau` (the last one shortened to land exactly on `until`); stops after the
@@ -780,7 +812,7 @@ impl<const D: usize> Engine for DsmcEngine<D> {
 
     fn observe(&self) -> Observation {
         let (c2, c4) = self.peculiar_moments();
-        let n = self.pos.len();
+        let n = self.n_global();
         let d = D as f64;
         let kinetic = self.kinetic_energy_now();
         let volume = self.sim_box.volume();
@@ -825,6 +857,9 @@ impl<const D: usize> Engine for DsmcEngine<D> {
 
     /// The stored order is the cells' (sorted every step); scattered by grain id.
     fn state_into(&self, velocities: bool, out: &mut [f64]) -> bool {
+        if self.domain.is_some() {
+            return self.whole().state_into(velocities, out);
+        }
         let stored = if velocities { &self.vel } else { &self.pos };
         crate::particles::scatter_by_id::<D>(&self.ids, out, |s| stored[s].0);
         true

@@ -17,19 +17,24 @@
 //! random stream `(seed, [DYNAMICS, s, c])`, and all floating-point reductions are summed
 //! over fixed chunks in a fixed order, so results are bit-identical for any thread count.
 //!
-//! Generic over the dimension `D` (2: disks, 3: spheres).
+//! Generic over the dimension `D` (2: disks, 3: spheres). One run can also be split over
+//! ranks (MPI processes) by slabs of cells, bit-identical for any number of ranks: see
+//! [`domain`].
 
 #[doc(hidden)]
 pub mod bench;
 pub(crate) mod cells;
 mod collide;
 pub mod config;
+mod decomposed;
+pub mod domain;
 pub mod engine;
 mod flight;
 pub mod guards;
 pub mod observables;
 
 pub use config::{DensityScope, DsmcConfig, VmaxMode};
+pub use domain::{Communicator, Domain, DomainError};
 pub use engine::{DsmcEngine, DsmcError};
 pub use guards::{GuardKind, ValidityWarning};
 pub use observables::{DensityMap, StructureFactor};

@@ -46,6 +46,33 @@ impl AnyEngine {
     pub fn as_engine(&mut self) -> &mut dyn Engine {
         each_engine!(self, e => e)
     }
+
+    /// Splits a DSMC engine over the ranks of `comm` (collective; see
+    /// [`crate::dsmc::domain`]). Other engines cannot be split (unless there is one rank).
+    pub fn decompose(
+        &mut self,
+        comm: std::sync::Arc<dyn crate::dsmc::Communicator>,
+    ) -> Result<(), crate::dsmc::DomainError> {
+        match self {
+            AnyEngine::Dsmc2(e) => e.decompose(comm),
+            AnyEngine::Dsmc3(e) => e.decompose(comm),
+            _ if comm.size() == 1 => Ok(()),
+            other => Err(crate::dsmc::DomainError::NotDecomposable {
+                engine: other.name(),
+                ranks: comm.size(),
+            }),
+        }
+    }
+
+    /// The whole engine: a clone, gathered from all ranks for a decomposed DSMC engine
+    /// (collective then).
+    pub fn whole(&self) -> AnyEngine {
+        match self {
+            AnyEngine::Dsmc2(e) => AnyEngine::Dsmc2(e.whole()),
+            AnyEngine::Dsmc3(e) => AnyEngine::Dsmc3(e.whole()),
+            other => other.clone(),
+        }
+    }
 }
 
 impl Engine for AnyEngine {

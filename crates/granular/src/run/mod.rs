@@ -174,7 +174,13 @@ pub struct Run {
     simulation: Simulation,
     recorder: Recorder,
     interrupt: Option<Box<dyn FnMut() -> bool + Send>>,
+    /// Makes the ranks of a decomposed run take the same decision (see [`Run::agree_with`]).
+    agree: Option<Agree>,
 }
+
+/// A collective "does any rank say yes" (a decomposed run's ranks agree on when to
+/// checkpoint and on an interruption, which each sees at its own time).
+pub type Agree = Box<dyn FnMut(bool) -> bool + Send>;
 
 /// What a directory holds, for deciding whether a run may be written into it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -280,6 +286,7 @@ impl Run {
             simulation,
             recorder,
             interrupt: None,
+            agree: None,
         }
     }
 
@@ -372,6 +379,7 @@ impl Run {
             simulation,
             recorder,
             interrupt: None,
+            agree: None,
         })
     }
 
@@ -380,6 +388,25 @@ impl Run {
     /// [`RunError::Interrupted`]; `granular resume` continues it bit for bit.
     pub fn interrupt_when(&mut self, requested: impl FnMut() -> bool + Send + 'static) {
         self.interrupt = Some(Box::new(requested));
+    }
+
+    /// Splits a DSMC run over the ranks of `comm` (collective; see
+    /// [`Simulation::decompose`]). Every rank runs the same loop: give each the same
+    /// scenario, and to ranks other than 0 a directory of their own to throw away (all
+    /// outputs hold whole-system values, so rank 0's directory is the run's).
+    pub fn decompose(
+        &mut self,
+        comm: std::sync::Arc<dyn crate::dsmc::Communicator>,
+    ) -> Result<(), crate::dsmc::DomainError> {
+        self.simulation.decompose(comm)
+    }
+
+    /// `agree(local)` is called on every rank between chunks, once for an interruption
+    /// request and once for a due time-based checkpoint, and must return the same answer
+    /// on every rank (e.g. whether any rank says yes): the decisions that depend on the
+    /// wall clock or on signals are then the same on every rank of a decomposed run.
+    pub fn agree_with(&mut self, agree: Agree) {
+        self.agree = Some(agree);
     }
 
     /// The scenario.
@@ -425,6 +452,7 @@ impl Run {
             on_progress,
             interrupt_after_outputs,
             interrupt: self.interrupt.take(),
+            agree: self.agree.take(),
             checkpoint_seconds,
             last_checkpoint: Instant::now(),
         };
@@ -595,6 +623,7 @@ struct DirectoryHooks<'a> {
     on_progress: &'a mut dyn FnMut(&ProgressReport),
     interrupt_after_outputs: Option<u64>,
     interrupt: Option<Box<dyn FnMut() -> bool + Send>>,
+    agree: Option<Agree>,
     checkpoint_seconds: f64,
     last_checkpoint: Instant,
 }
@@ -609,7 +638,13 @@ impl RunHooks for DirectoryHooks<'_> {
             events: simulation.events(),
             events_per_second: simulation.events_per_second(),
         });
-        if self.interrupt.as_mut().is_some_and(|requested| requested()) {
+        let mut interrupted = self.interrupt.as_mut().is_some_and(|requested| requested());
+        let mut due = self.last_checkpoint.elapsed().as_secs_f64() >= self.checkpoint_seconds;
+        if let Some(agree) = self.agree.as_mut() {
+            interrupted = agree(interrupted);
+            due = agree(due);
+        }
+        if interrupted {
             let time = format_number(simulation.time());
             self.recorder.log(
                 simulation.wall_seconds(),
@@ -624,7 +659,7 @@ impl RunHooks for DirectoryHooks<'_> {
         // Between chunks, not only at outputs: a dense bed under gravity can spend hours
         // of events on one output interval. The state between two chunks is as complete
         // as at an output (resume continues the interval).
-        if self.last_checkpoint.elapsed().as_secs_f64() >= self.checkpoint_seconds {
+        if due {
             self.recorder.checkpoint(simulation)?;
             self.last_checkpoint = Instant::now();
         }

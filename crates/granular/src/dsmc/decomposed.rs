@@ -1,0 +1,271 @@
+//! The DSMC engine's side of a domain decomposition (see [`super::domain`] for the
+//! scheme): splitting a whole engine into slabs, migrating particles after a free
+//! flight, the reductions of the observables, and gathering the whole system back (for
+//! checkpoints and snapshots).
+
+use super::collide::Tally;
+use super::domain::{Communicator, Domain, DomainError};
+use super::engine::DsmcEngine;
+use crate::vector::Vector;
+use std::sync::Arc;
+
+impl<const D: usize> DsmcEngine<D> {
+    /// Keeps only this rank's slab of a whole engine (built or restored identically on
+    /// every rank): collective over `comm`. From then on every step migrates particles
+    /// between the ranks and every observable is reduced over them, bit-identical to the
+    /// whole engine's. Errors when there are more ranks than cell planes along the last
+    /// axis.
+    pub fn decompose(&mut self, comm: Arc<dyn Communicator>) -> Result<(), DomainError> {
+        if self.domain.is_some() {
+            return Ok(());
+        }
+        let domain = Domain::new(comm, &self.grid.dims, self.pos.len())?;
+        // The owned cells are one contiguous storage range (sorted by cell).
+        let a = self.start[domain.cells.start] as usize;
+        let b = self.start[domain.cells.end] as usize;
+        self.pos = self.pos[a..b].to_vec();
+        self.vel = self.vel[a..b].to_vec();
+        self.ids = self.ids[a..b].to_vec();
+        if !self.last.is_empty() {
+            self.last = self.last[a..b].to_vec();
+        }
+        self.cell_of = self.cell_of[a..b].to_vec();
+        for s in self.start.iter_mut() {
+            *s = (*s as usize).clamp(a, b) as u32 - a as u32;
+        }
+        self.domain = Some(domain);
+        Ok(())
+    }
+
+    /// This rank's share, when the engine is decomposed.
+    pub fn domain(&self) -> Option<&Domain> {
+        self.domain.as_ref()
+    }
+
+    /// Particles on all ranks.
+    pub(super) fn n_global(&self) -> usize {
+        self.domain.as_ref().map_or(self.pos.len(), |d| d.n_global)
+    }
+
+    /// Words per migrating particle: id, position, velocity (and the last collision time
+    /// with the TC model).
+    fn record_words(&self) -> usize {
+        1 + 2 * D + usize::from(!self.last.is_empty())
+    }
+
+    /// Sends every particle whose cell (`cell_of`, from the free flight) belongs to another
+    /// rank to that rank, and takes in the arrivals: in the order of the source ranks, this
+    /// rank's own particles at its own place, so that the ranks' arrays put end to end stay
+    /// in the whole engine's order. `cell_of` must be recomputed afterwards (the sort does).
+    pub(super) fn migrate(&mut self) {
+        let Some(domain) = self.domain.as_ref() else {
+            return;
+        };
+        let (me, k) = (domain.rank(), domain.size());
+        let tc = !self.last.is_empty();
+        let mut out: Vec<Vec<f64>> = vec![Vec::new(); k];
+        let mut kept = 0;
+        for i in 0..self.pos.len() {
+            let q = domain.owner(self.cell_of[i]);
+            if q == me {
+                self.pos[kept] = self.pos[i];
+                self.vel[kept] = self.vel[i];
+                self.ids[kept] = self.ids[i];
+                if tc {
+                    self.last[kept] = self.last[i];
+                }
+                kept += 1;
+                continue;
+            }
+            let o = &mut out[q];
+            o.push(f64::from_bits(u64::from(self.ids[i])));
+            o.extend_from_slice(&self.pos[i].0);
+            o.extend_from_slice(&self.vel[i].0);
+            if tc {
+                o.push(self.last[i]);
+            }
+        }
+        let incoming = domain.exchange(out);
+        let w = self.record_words();
+        let arrivals: usize = incoming.iter().map(|v| v.len() / w).sum();
+        let total = kept + arrivals;
+        let before: usize = incoming[..me].iter().map(|v| v.len() / w).sum();
+        // Own particles move up behind the arrivals from lower ranks.
+        let pad = Vector::<D>::zero();
+        self.pos.resize(total.max(self.pos.len()), pad);
+        self.vel.resize(total.max(self.vel.len()), pad);
+        self.ids.resize(total.max(self.ids.len()), 0);
+        self.pos.copy_within(0..kept, before);
+        self.vel.copy_within(0..kept, before);
+        self.ids.copy_within(0..kept, before);
+        if tc {
+            self.last.resize(total.max(self.last.len()), 0.0);
+            self.last.copy_within(0..kept, before);
+        }
+        let mut slot = 0;
+        for (q, words) in incoming.iter().enumerate() {
+            if q == me {
+                slot += kept;
+                continue;
+            }
+            for r in words.chunks_exact(w) {
+                self.ids[slot] = r[0].to_bits() as u32;
+                self.pos[slot] = Vector::from_slice(&r[1..1 + D]).unwrap_or_default();
+                self.vel[slot] = Vector::from_slice(&r[1 + D..1 + 2 * D]).unwrap_or_default();
+                if tc {
+                    self.last[slot] = r[1 + 2 * D];
+                }
+                slot += 1;
+            }
+        }
+        self.pos.truncate(total);
+        self.vel.truncate(total);
+        self.ids.truncate(total);
+        if tc {
+            self.last.truncate(total);
+        }
+        self.cell_of.resize(total, 0);
+    }
+
+    /// The counters of one step summed over the ranks (exact: integers).
+    pub(super) fn reduce_tally(&self, local: Tally) -> Tally {
+        let Some(domain) = self.domain.as_ref() else {
+            return local;
+        };
+        let mut words = vec![
+            local.collisions,
+            local.candidates,
+            local.vmax_exceeded,
+            local.tc_elastic,
+        ];
+        words.extend_from_slice(&local.impact);
+        let s = domain.sum_u64(&words);
+        Tally {
+            collisions: s[0],
+            candidates: s[1],
+            vmax_exceeded: s[2],
+            tc_elastic: s[3],
+            impact: s[4..].to_vec(),
+        }
+    }
+
+    /// The mean velocity over all ranks, bit-identical to the whole engine's chunked sum.
+    pub(super) fn mean_velocity_decomposed(&self, domain: &Domain) -> Vector<D> {
+        let vel = &self.vel;
+        let s = domain.ordered_fold::<D, D>(
+            vel.len(),
+            |i| vel[i].0,
+            |a, v| *a = (Vector(*a) + Vector(*v)).0,
+            |a, v| *a = (Vector(*a) + Vector(*v)).0,
+        );
+        Vector(s) * (1.0 / domain.n_global as f64)
+    }
+
+    /// `(sum c^2, sum c^4)` of the peculiar velocity over all ranks, as the whole engine.
+    pub(super) fn peculiar_sums_decomposed(&self, domain: &Domain, u: Vector<D>) -> (f64, f64) {
+        let vel = &self.vel;
+        let [s2, s4] = domain.ordered_fold::<1, 2>(
+            vel.len(),
+            |i| [(vel[i] - u).norm_squared()],
+            |a, &[c2]| *a = [a[0] + c2, a[1] + c2 * c2],
+            |a, x| *a = [a[0] + x[0], a[1] + x[1]],
+        );
+        (s2, s4)
+    }
+
+    /// `sum |v|^2` over all ranks, as the whole engine.
+    pub(super) fn speed_squares_decomposed(&self, domain: &Domain) -> f64 {
+        let vel = &self.vel;
+        domain.ordered_fold::<1, 1>(
+            vel.len(),
+            |i| [vel[i].norm_squared()],
+            |a, x| a[0] += x[0],
+            |a, x| a[0] += x[0],
+        )[0]
+    }
+
+    /// The smallest id of a particle with a non-finite velocity on any rank.
+    pub(super) fn first_non_finite_decomposed(
+        &self,
+        domain: &Domain,
+        local: Option<u32>,
+    ) -> Option<u32> {
+        let word = f64::from_bits(local.map_or(u64::MAX, u64::from));
+        domain
+            .all_gather(&[word])
+            .iter()
+            .map(|v| v[0].to_bits())
+            .min()
+            .filter(|&m| m != u64::MAX)
+            .map(|m| m as u32)
+    }
+
+    /// The largest of every rank's `local` value (the global `v_max` bound).
+    pub(super) fn max_over_ranks(&self, local: f64) -> f64 {
+        match self.domain.as_ref() {
+            Some(d) => d.max_f64(local),
+            None => local,
+        }
+    }
+
+    /// The whole system as one undecomposed engine, on every rank (collective): the
+    /// ranks' arrays put end to end, which is the whole engine's storage order. A plain
+    /// clone when the engine is not decomposed. Checkpoints and snapshots hold this, so a
+    /// run resumes on any number of ranks (or threads).
+    pub fn whole(&self) -> DsmcEngine<D> {
+        let Some(domain) = self.domain.as_ref() else {
+            return self.clone();
+        };
+        let tc = !self.last.is_empty();
+        let w = self.record_words();
+        let mut words = Vec::with_capacity(self.pos.len() * w);
+        for i in 0..self.pos.len() {
+            words.push(f64::from_bits(u64::from(self.ids[i])));
+            words.extend_from_slice(&self.pos[i].0);
+            words.extend_from_slice(&self.vel[i].0);
+            if tc {
+                words.push(self.last[i]);
+            }
+        }
+        let parts = domain.all_gather(&words);
+        let mut whole = self.clone();
+        whole.domain = None;
+        let n = domain.n_global;
+        whole.pos = Vec::with_capacity(n);
+        whole.vel = Vec::with_capacity(n);
+        whole.ids = Vec::with_capacity(n);
+        whole.last = Vec::with_capacity(if tc { n } else { 0 });
+        for r in parts.iter().flat_map(|p| p.chunks_exact(w)) {
+            whole.ids.push(r[0].to_bits() as u32);
+            whole
+                .pos
+                .push(Vector::from_slice(&r[1..1 + D]).unwrap_or_default());
+            whole
+                .vel
+                .push(Vector::from_slice(&r[1 + D..1 + 2 * D]).unwrap_or_default());
+            if tc {
+                whole.last.push(r[1 + 2 * D]);
+            }
+        }
+        whole.cell_of = vec![0; n];
+        // The cells' storage ranges of the last sort: each rank's owned cells, shifted by
+        // the particles of the ranks before it (positions may have left their cell since,
+        // with consistent-Boltzmann advection, so they are not re-sorted).
+        let bounds = domain.all_gather(
+            &self.start[domain.cells.clone()]
+                .iter()
+                .map(|&s| s as f64)
+                .collect::<Vec<_>>(),
+        );
+        let counts: Vec<usize> = parts.iter().map(|p| p.len() / w).collect();
+        let mut start = Vec::with_capacity(self.grid.len() + 1);
+        let mut offset = 0;
+        for (b, c) in bounds.iter().zip(&counts) {
+            start.extend(b.iter().map(|&s| (offset + s as usize) as u32));
+            offset += c;
+        }
+        start.push(n as u32);
+        whole.start = start;
+        whole
+    }
+}

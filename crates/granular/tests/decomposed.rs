@@ -1,0 +1,239 @@
+//! The DSMC decomposition over ranks without MPI: K ranks as K threads of this process
+//! (an in-process `Communicator`), each with its slab of the same engine, against the
+//! undecomposed engine. The trajectory must be bit-identical for every K (the MPI build's
+//! own test, over `mpirun`, is `scripts/test-mpi`). Short runs (a few dozen steps): every
+//! step is some ten collectives, and a thread barrier is slow on a loaded machine.
+
+use granular::collision_law::CollisionLaw;
+use granular::dsmc::{Communicator, DensityScope, DsmcConfig, DsmcEngine, VmaxMode};
+use granular::engine::Engine;
+use granular::{AxisKind, SimulationBox, Vector};
+use std::sync::{Arc, Barrier, Mutex};
+
+/// K ranks as threads: every collective writes its part into shared slots, waits for the
+/// others, reads, and waits again before the slots are reused.
+#[derive(Debug)]
+struct Threads {
+    rank: usize,
+    shared: Arc<Shared>,
+}
+
+#[derive(Debug)]
+struct Shared {
+    size: usize,
+    barrier: Barrier,
+    /// `slots[from][to]`.
+    slots: Mutex<Vec<Vec<Vec<f64>>>>,
+}
+
+impl Threads {
+    fn world(size: usize) -> Vec<Threads> {
+        let shared = Arc::new(Shared {
+            size,
+            barrier: Barrier::new(size),
+            slots: Mutex::new(vec![vec![Vec::new(); size]; size]),
+        });
+        (0..size)
+            .map(|rank| Threads {
+                rank,
+                shared: shared.clone(),
+            })
+            .collect()
+    }
+
+    fn lock(&self) -> std::sync::MutexGuard<'_, Vec<Vec<Vec<f64>>>> {
+        self.shared
+            .slots
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+    }
+}
+
+impl Communicator for Threads {
+    fn rank(&self) -> usize {
+        self.rank
+    }
+
+    fn size(&self) -> usize {
+        self.shared.size
+    }
+
+    fn all_gather(&self, local: &[f64]) -> Vec<Vec<f64>> {
+        self.exchange(vec![local.to_vec(); self.size()])
+    }
+
+    fn exchange(&self, outgoing: Vec<Vec<f64>>) -> Vec<Vec<f64>> {
+        self.lock()[self.rank] = outgoing;
+        self.shared.barrier.wait();
+        let received = self
+            .lock()
+            .iter()
+            .map(|row| row[self.rank].clone())
+            .collect();
+        self.shared.barrier.wait();
+        received
+    }
+}
+
+/// Walls across the cut with gravity along it, the TC model, Enskog with the cell's
+/// density, free volume, consistent-Boltzmann advection, global `v_max`.
+fn walled_2d() -> (DsmcConfig, SimulationBox<2>) {
+    let config = DsmcConfig {
+        law: CollisionLaw {
+            restitution: 0.8,
+            wall_restitution: 0.9,
+            contact_duration: 1e-4,
+            ..CollisionLaw::default()
+        },
+        gravity: vec![0.0, -2.0],
+        enskog: true,
+        density_scope: DensityScope::Cell,
+        free_volume: true,
+        consistent_boltzmann: true,
+        vmax_mode: VmaxMode::Global,
+        ..DsmcConfig::default()
+    };
+    let mut bx = SimulationBox::uniform(Vector([1.0, 1.0]), AxisKind::Wall);
+    bx.axes[0] = AxisKind::Periodic;
+    (config, bx)
+}
+
+fn periodic_3d() -> (DsmcConfig, SimulationBox<3>) {
+    let config = DsmcConfig {
+        law: CollisionLaw {
+            restitution: 0.9,
+            ..CollisionLaw::default()
+        },
+        enskog: true,
+        consistent_boltzmann: true,
+        ..DsmcConfig::default()
+    };
+    (
+        config,
+        SimulationBox::uniform(Vector([1.0, 1.0, 1.0]), AxisKind::Periodic),
+    )
+}
+
+/// The observables and the whole state of `engine` after advancing it to each of `times`
+/// (the state gathered from all ranks when decomposed).
+fn history<const D: usize>(engine: &mut DsmcEngine<D>, times: &[f64]) -> Vec<Vec<u64>> {
+    let mut out = Vec::new();
+    for &t in times {
+        engine.advance(t, u64::MAX).expect("the run goes on");
+        let o = engine.observe();
+        let whole = engine.whole();
+        let mut bits: Vec<u64> = [o.kinetic_energy, o.temperature, o.a2.unwrap_or(0.0)]
+            .iter()
+            .map(|x| x.to_bits())
+            .collect();
+        bits.extend([o.collisions, o.events, engine.vmax_exceeded()]);
+        bits.extend(engine.impact_histogram().counts.iter().copied());
+        for (x, v) in whole.positions().iter().zip(whole.velocities()) {
+            bits.extend(x.0.iter().chain(&v.0).map(|c| c.to_bits()));
+        }
+        bits.extend(whole.ids().iter().map(|&i| u64::from(i)));
+        out.push(bits);
+    }
+    out
+}
+
+fn check_rank_counts<const D: usize>(build: impl Fn() -> DsmcEngine<D> + Sync, times: &[f64]) {
+    let reference = history(&mut build(), times);
+    for k in 1..=4 {
+        let results: Vec<Vec<Vec<u64>>> = std::thread::scope(|s| {
+            let handles: Vec<_> = Threads::world(k)
+                .into_iter()
+                .map(|comm| {
+                    let build = &build;
+                    s.spawn(move || {
+                        let mut e = build();
+                        e.decompose(Arc::new(comm)).expect("enough cell planes");
+                        history(&mut e, times)
+                    })
+                })
+                .collect();
+            handles
+                .into_iter()
+                .map(|h| h.join().expect("a rank panicked"))
+                .collect()
+        });
+        for (rank, r) in results.iter().enumerate() {
+            assert!(
+                r == &reference,
+                "{D}D, {k} ranks: rank {rank} differs from the undecomposed engine"
+            );
+        }
+    }
+}
+
+#[test]
+fn decomposed_walled_2d_is_bit_identical_for_1_to_4_ranks() {
+    let (config, bx) = walled_2d();
+    check_rank_counts(
+        || DsmcEngine::<2>::new(config.clone(), bx.clone(), 3000, 0.004, 1.0, 1.0, 5).unwrap(),
+        &[0.004, 0.01, 0.02],
+    );
+}
+
+#[test]
+fn decomposed_periodic_3d_is_bit_identical_for_1_to_4_ranks() {
+    let (config, bx) = periodic_3d();
+    check_rank_counts(
+        || DsmcEngine::<3>::new(config.clone(), bx.clone(), 3000, 0.01, 1.0, 1.0, 9).unwrap(),
+        &[0.01, 0.02],
+    );
+}
+
+/// A checkpoint holds the whole engine: restored from `whole()` of 3 ranks and split over
+/// 2, the run continues exactly as the undecomposed one.
+#[test]
+fn decomposed_state_moves_to_another_rank_count() {
+    let (config, bx) = walled_2d();
+    let build = || DsmcEngine::<2>::new(config.clone(), bx.clone(), 3000, 0.004, 1.0, 1.0, 5);
+    let mut plain = build().unwrap();
+    let reference = history(&mut plain, &[0.006, 0.015]);
+    let middle: DsmcEngine<2> = std::thread::scope(|s| {
+        let handles: Vec<_> = Threads::world(3)
+            .into_iter()
+            .map(|comm| {
+                s.spawn(move || {
+                    let mut e = build().unwrap();
+                    e.decompose(Arc::new(comm)).unwrap();
+                    e.advance(0.006, u64::MAX).unwrap();
+                    e.whole()
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| h.join().unwrap())
+            .next()
+            .unwrap()
+    });
+    let resumed: Vec<Vec<Vec<u64>>> = std::thread::scope(|s| {
+        let handles: Vec<_> = Threads::world(2)
+            .into_iter()
+            .map(|comm| {
+                let mut e = middle.clone();
+                s.spawn(move || {
+                    e.decompose(Arc::new(comm)).unwrap();
+                    history(&mut e, &[0.015])
+                })
+            })
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    });
+    for r in &resumed {
+        assert!(r[0] == reference[1], "resumed on 2 ranks differs");
+    }
+}
+
+#[test]
+fn more_ranks_than_cell_planes_is_an_error_naming_both() {
+    let (mut config, bx) = walled_2d();
+    config.cell_size = Some(0.5);
+    let comm = Threads::world(3).into_iter().next().unwrap();
+    let mut e = DsmcEngine::<2>::new(config, bx, 100, 0.004, 1.0, 1.0, 5).unwrap();
+    let err = e.decompose(Arc::new(comm)).unwrap_err().to_string();
+    assert!(err.contains("3 ranks but only 2 cell planes"), "{err}");
+}
