@@ -55,11 +55,11 @@
     c.width = Math.round(cssW * dpr); c.height = Math.round(cssH * dpr);
     c.style.width = cssW + 'px'; c.style.height = cssH + 'px';
   }
-  var cssW = Math.max(300, Math.min(720, window.innerWidth - 560)), cssH = cssW;
+  var cssW = Math.max(300, Math.min(640, window.innerWidth - 620)), cssH = cssW;
   if (D === 2) {
     var aspect = L[1] / L[0];
     cssH = cssW * aspect;
-    if (cssH > 720) { cssH = 720; cssW = cssH / aspect; }
+    if (cssH > 640) { cssH = 640; cssW = cssH / aspect; }
   }
   size(canvas, Math.round(cssW), Math.round(cssH));
   size(hist, 440, 320);
@@ -246,6 +246,8 @@
   document.getElementById('player-caption').textContent = D === 2
     ? data.grains_shown + ' disks at true size, box ' + L.join(' × ') + (periodic.some(Boolean) ? ' (periodic images drawn at the edges)' : '') + '.'
     : data.grains_shown + ' spheres at true size in orthographic projection, far ones first; drag to rotate.';
-  show(0);
+  // The first frame shown: 0, or `#frame=N` / `#frame=last` in the page's address.
+  var wanted = /frame=(\d+|last)/.exec(location.hash), lastFrame = data.frames.length - 1;
+  show(wanted ? (wanted[1] === 'last' ? lastFrame : Math.min(lastFrame, +wanted[1])) : 0);
   canvas.dataset.ready = '1';
 })();
