@@ -103,6 +103,12 @@ enum Command {
         #[arg(long)]
         animate: bool,
     },
+    /// Write a self-contained HTML page of a finished run or sweep (DIR/report.html):
+    /// scenario, summary against theory, figures and a snapshot player.
+    Report {
+        /// Run or sweep directory.
+        dir: PathBuf,
+    },
     /// Overlay finished runs (e.g. EDMD and DSMC of one scenario): energy with Haff's law,
     /// impact-parameter histograms, S(k), density maps.
     Compare {
@@ -425,6 +431,14 @@ fn dispatch(cli: Cli) -> Result<(), CliError> {
                 }
                 eprintln!("{}: {:.1} s{quick}", done.name, done.seconds);
             })?;
+            Ok(())
+        }
+        Command::Report { dir } => {
+            let pages = granular_report::report(&dir)?;
+            for p in &pages {
+                println!("{}", p.display());
+            }
+            eprintln!("{}: {} report pages", dir.display(), pages.len());
             Ok(())
         }
         Command::Plot { dir, animate } => {

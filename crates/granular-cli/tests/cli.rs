@@ -3,6 +3,8 @@
 use std::path::PathBuf;
 use std::process::Command;
 
+#[path = "cli/report.rs"]
+mod report;
 #[path = "cli/robust.rs"]
 mod robust;
 #[path = "cli/shards.rs"]

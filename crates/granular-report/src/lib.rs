@@ -4,6 +4,8 @@
 //! * [`compare`]: several `edmd` / `dsmc` runs overlaid, with Haff's law
 //!   (`granular compare`);
 //! * [`reproduce`]: the figures of the Gillespie intruder paper (`granular reproduce`);
+//! * [`report`]: one self-contained HTML page per run or sweep (`granular report`), with
+//!   the summary against theory, the figures and a snapshot player;
 //! * [`plot`]: the plotting types underneath (line plots, histograms, heat maps, snapshot
 //!   pictures, animations), which take numbers and know nothing of runs.
 //!
@@ -12,6 +14,7 @@
 
 mod compare;
 mod figures;
+pub mod html;
 mod intruder_plots;
 mod observable_plots;
 pub mod plot;
@@ -60,4 +63,11 @@ pub fn plot_dir(dir: &Path, animate: bool) -> Result<Vec<PathBuf>, ReportError> 
 /// `t0`); returns the files written, `comparison.json` last.
 pub fn compare(dirs: &[PathBuf], out: &Path) -> Result<Vec<PathBuf>, ReportError> {
     Ok(compare::compare(dirs, out)?)
+}
+
+/// Writes the self-contained HTML report of a run (`DIR/report.html`) or of a sweep (the
+/// sweep's page and one per member); draws the figures of [`plot_dir`] first. Returns the
+/// pages written (a sweep's own page last).
+pub fn report(dir: &Path) -> Result<Vec<PathBuf>, ReportError> {
+    Ok(html::report(dir)?)
 }

@@ -19,6 +19,7 @@ Names:
 * :class:`Simulation` — a simulation in memory: ``advance``, ``run``, ``observe``, NumPy state;
 * :func:`load_run`, :func:`load_sweep` — read run and sweep directories;
 * :func:`run_sweep` — a scenario's ``[sweep]`` on all cores; :func:`run_shard`, :func:`merge_sweep`;
+* :func:`report` — the self-contained HTML page of a run or sweep (``granular report``);
 * :mod:`granular.theory` — the exact theory on NumPy arrays;
 * :class:`ScenarioError`, :class:`SimulationError` — the exceptions, with the command line's messages;
 * :func:`main` — the command line (``python -m granular ...`` is ``granular ...``).
@@ -49,6 +50,7 @@ __all__ = [
     "run_sweep",
     "merge_sweep",
     "run_shard",
+    "report",
     "theory",
     "main",
     "__version__",
@@ -92,6 +94,17 @@ def merge_sweep(out: Union[str, Path], allow_missing: bool = False, frame: Optio
     SimulationError naming them, unless ``allow_missing`` (then they are listed in ``SweepData.missing``)."""
     _core.merge_sweep(Path(out), allow_missing)
     return load_sweep(out, frame)
+
+
+def report(run_dir: Union[str, Path]) -> Path:
+    """Writes the self-contained HTML report of a finished run or sweep directory, exactly as
+    ``granular report run_dir`` (which also prints the pages it wrote), and returns the path of its page
+    ``run_dir/report.html``. Raises SimulationError when the report cannot be written (the command
+    line's message is on stderr)."""
+    status = main(["report", str(run_dir)])
+    if status != 0:
+        raise SimulationError(f"granular report {run_dir} failed (exit status {status}); its message is above")
+    return Path(run_dir) / "report.html"
 
 
 def main(argv: Optional[list[str]] = None) -> int:
