@@ -17,6 +17,6 @@ mod problems;
 mod scenario_errors;
 mod simulation;
 mod spine;
+mod structure_transport;
 mod sweeps;
 mod trajectory;
-mod structure_transport;

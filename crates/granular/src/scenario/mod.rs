@@ -577,7 +577,6 @@ pub struct OutputSpec {
     pub msd_fit: Vec<f64>,
 }
 
-
 /// `output.spacing`: how the output times are laid out.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -618,9 +617,7 @@ impl OutputSpec {
 
 fn per_decade() -> u32 {
     10
-
 }
-
 
 fn pair_correlation_bins() -> usize {
     200
