@@ -7,7 +7,7 @@
 //! The cell grid is cut into `K` slabs of whole cell planes along the **last axis**
 //! (`y` in 2D, `z` in 3D): rank `r` owns the planes `floor(r P / K) .. floor((r + 1) P / K)`
 //! of the `P` planes. The last axis is the slowest of the linear cell index
-//! ([`CellGrid::index`](super::cells::CellGrid::index)), so a slab is one contiguous range
+//! (`CellGrid::index`), so a slab is one contiguous range
 //! of cell indices and the particles of rank 0, 1, ..., `K - 1` in their storage order,
 //! put one after the other, are exactly the storage order of the threaded engine. Every
 //! step keeps this true:
@@ -23,11 +23,11 @@
 //!
 //! # Reductions
 //!
-//! The threaded engine sums over fixed chunks of [`SUM_CHUNK`] particles of the global
+//! The threaded engine sums over fixed chunks of `SUM_CHUNK` particles of the global
 //! storage order, then over the chunks in order. Here each rank folds the parts of chunks
 //! that *start* on it, and hands on the raw values of a chunk that started on an earlier
 //! rank; every rank then finishes the same folds in the same order
-//! ([`Domain::ordered_fold`]). Counters are integers (exact in any order) and maxima are
+//! (`Domain::ordered_fold`). Counters are integers (exact in any order) and maxima are
 //! order-free. So the time step, the observables and the trajectory are bit for bit those
 //! of the threaded engine, for any number of ranks.
 //!
