@@ -354,9 +354,12 @@ mod tests {
         assert_eq!(u64_at(&bytes, 0), MAGIC);
         let (index, capacity) = (u64_at(&bytes, 8) as usize, u64_at(&bytes, 16));
         assert_eq!(capacity, 256);
-        assert_eq!(&bytes[48..52], &version(2, 0).to_le_bytes());
-        assert_eq!(&bytes[44..48], &version(1, 4).to_le_bytes());
-        assert_eq!(&bytes[52 + 64..52 + 69], b"hoomd");
+        // magic, index and name-list locations and sizes (5 x 8 bytes), then the schema
+        // version, the file-layer version, the application name and the schema name.
+        assert_eq!(&bytes[40..44], &version(1, 4).to_le_bytes());
+        assert_eq!(&bytes[44..48], &version(2, 0).to_le_bytes());
+        assert_eq!(&bytes[48..56], b"granular");
+        assert_eq!(&bytes[112..117], b"hoomd");
         let entry = |k: usize| &bytes[index + 32 * k..index + 32 * (k + 1)];
         let count = (0..capacity as usize)
             .take_while(|&k| u64_at(entry(k), 16) != 0)
