@@ -79,7 +79,7 @@ fn compressibility_factor_z_scores_are_standard_normal() {
 fn averages_survive_checkpoint_and_resume() {
     let scenario = Scenario::from_toml(
         &disks(9, 0.2, 1000.0).to_toml(),
-        &["output.checkpoint_seconds=0".into()],
+        &["output.checkpoint_seconds=1e-9".into()],
     )
     .expect("scenario");
     let (whole, dir) = crate::common::run("averages-whole", scenario.clone());

@@ -389,11 +389,11 @@ fn checkpoint_of_another_format_is_named_as_such() {
     assert_eq!(bytes[8] as u32, granular::run::CHECKPOINT_FORMAT);
     assert_eq!(&bytes[24..32], b"\x84\xa6format");
     let mut newer = bytes.clone();
-    newer[8] = 0x09;
+    newer[8] = 0x63;
     // Formats up to 7 had no header: the bare payload with its format number.
     let mut legacy = bytes[24..].to_vec();
     legacy[8] = 0x07;
-    for (damaged, format) in [(newer, "format 9"), (legacy, "format 7")] {
+    for (damaged, format) in [(newer, "format 99"), (legacy, "format 7")] {
         std::fs::write(&path, &damaged).expect("write");
         let Err(e) = Run::resume(&dir) else {
             panic!("a checkpoint of another format must not resume");

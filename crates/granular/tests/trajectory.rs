@@ -31,7 +31,7 @@ collisions_per_particle = 10.0
 [output]
 interval = 0.01
 snapshot_every = 3
-checkpoint_seconds = 0.0
+checkpoint_seconds = 1e-9
 trajectory = ["xyz", "lammps", "gsd", "vtk"]
 "#;
 

@@ -752,9 +752,7 @@ impl Scenario {
     /// Errors carry the key (from the parser's span of the value or key at fault), the
     /// line in `source` when the key is written there, and the fix.
     pub fn from_toml(source: &str, overrides: &[String]) -> Result<Scenario, ScenarioError> {
-        let scenario = Self::from_toml_insisting(source, overrides)?;
-        scenario.cost().check_limits().map_err(|e| e.at(source))?;
-        Ok(scenario)
+        Self::load(source, overrides, true)
     }
 
     /// [`Scenario::from_toml`] without the cost limits ([`Cost::check_limits`]: outputs,
@@ -763,10 +761,19 @@ impl Scenario {
         source: &str,
         overrides: &[String],
     ) -> Result<Scenario, ScenarioError> {
+        Self::load(source, overrides, false)
+    }
+
+    /// Parses, applies the overrides and validates; with `limits`, also the cost limits,
+    /// of the scenario and of every point of its sweep.
+    fn load(source: &str, overrides: &[String], limits: bool) -> Result<Scenario, ScenarioError> {
         let scenario = Self::parse(source, overrides)?;
         scenario.validate().map_err(|e| e.at(source))?;
+        if limits {
+            scenario.cost().check_limits().map_err(|e| e.at(source))?;
+        }
         if let Some(sw) = &scenario.sweep {
-            sweep::check_members(source, overrides, sw)?;
+            sweep::check_members(source, overrides, sw, limits)?;
         }
         Ok(scenario)
     }

@@ -70,6 +70,7 @@ const NEEDLE: &[&str] = &[
 
 /// The observables a sweep of `sc` can plot: the columns of its `timeseries.csv` (the
 /// final row is `summary.json`'s `final`) and `crater_size` with a `[crater]` table.
+/// `a2.<name>` is the event-driven engine's, per species of a mixture.
 pub fn sweep_observables(sc: &Scenario) -> Vec<String> {
     let mut out: Vec<String> = Vec::new();
     let mut add = |names: &[&str]| out.extend(names.iter().map(|s| s.to_string()));
@@ -79,6 +80,9 @@ pub fn sweep_observables(sc: &Scenario) -> Vec<String> {
             for sp in &sc.species {
                 out.push(format!("kinetic_energy_per_grain.{}", sp.name));
                 out.push(format!("temperature.{}", sp.name));
+                if sc.engine == EngineKind::Edmd && sc.species.len() > 1 {
+                    out.push(format!("a2.{}", sp.name));
+                }
             }
         }
         (EngineKind::Intruder, Some(super::IntruderSpec::Needle(_))) => add(NEEDLE),
@@ -284,12 +288,16 @@ fn member(
     source: &str,
     overrides: &[String],
     set: &[(&str, &toml::Value)],
+    limits: bool,
 ) -> Result<Scenario, ScenarioError> {
     let mut o = overrides.to_vec();
     o.extend(set.iter().map(|(k, v)| format!("{k}={v}")));
     let mut s = Scenario::parse(source, &o)?;
     s.sweep = None;
     s.validate().map_err(|e| e.at(source))?;
+    if limits {
+        s.cost().check_limits().map_err(|e| e.at(source))?;
+    }
     Ok(s)
 }
 
@@ -297,7 +305,7 @@ fn member(
 /// the member's seed among them), validated, without its `[sweep]` table (so that a
 /// member directory is a plain run, and building one member does not check every other).
 pub(crate) fn sweep_member(source: &str, overrides: &[String]) -> Result<Scenario, ScenarioError> {
-    member(source, overrides, &[])
+    member(source, overrides, &[], false)
 }
 
 /// Every value of every key, set alone on the scenario, must give a valid scenario (the
@@ -307,11 +315,12 @@ pub(super) fn check_members(
     source: &str,
     overrides: &[String],
     sw: &SweepSpec,
+    limits: bool,
 ) -> Result<(), ScenarioError> {
     let axes = sw.axes();
     for (k, a) in axes.iter().enumerate() {
         for (i, v) in a.values.iter().enumerate() {
-            if let Err(e) = member(source, overrides, &[(&a.key, v)]) {
+            if let Err(e) = member(source, overrides, &[(&a.key, v)], limits) {
                 let last = a.key.rsplit(['.', '[']).next().unwrap_or_default();
                 let unknown = e.message.contains(&format!("unknown field `{last}`"));
                 let (key, what) = if unknown {
@@ -339,7 +348,7 @@ pub(super) fn check_members(
         for (p, point) in sw.points().iter().enumerate() {
             let set: Vec<(&str, &toml::Value)> =
                 axes.iter().map(|a| a.key.as_str()).zip(point).collect();
-            if let Err(e) = member(source, overrides, &set) {
+            if let Err(e) = member(source, overrides, &set, limits) {
                 let at: Vec<String> = set.iter().map(|(k, v)| format!("{k} = {v}")).collect();
                 return Err(ScenarioError::new(
                     "sweep.vary",
