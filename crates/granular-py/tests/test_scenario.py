@@ -113,7 +113,10 @@ def test_check_output_is_the_cli_output(tmp_path: Path) -> None:
     result = cli("check", str(path), "--set", "collisions.restitution=0.5")
     sc.set("collisions.restitution", 0.5)
     assert result.stdout == sc.to_toml()
-    assert result.stderr.strip() == f"{path}: {sc.check()}"
+    # The cost estimate first (lines "estimate: ..."), then the verdict, as check() gives it.
+    lines = result.stderr.strip().splitlines()
+    assert lines[-1] == f"{path}: {sc.check()}"
+    assert [line for line in lines[:-1] if not line.startswith("estimate: ")] == []
 
 
 def test_missing_file() -> None:

@@ -364,7 +364,8 @@ impl Cost {
             })
     }
 
-    /// The estimate as lines for the terminal.
+    /// The estimate as lines for the terminal (counts below 10^6 as whole numbers, larger
+    /// ones as `2.35e7`).
     pub fn lines(&self) -> Vec<String> {
         let mut out = vec![format!(
             "stops by {} at t ~ {}{}",
@@ -377,14 +378,14 @@ impl Cost {
             }
         )];
         out.push(format!(
-            "{:.3e} outputs, {:.3e} snapshots, about {} written",
-            self.outputs,
-            self.snapshots,
+            "{} outputs, {} snapshots, about {} written",
+            count(self.outputs),
+            count(self.snapshots),
             human_bytes(self.bytes)
         ));
-        let mut work = format!("{:.3e} collisions", self.collisions);
+        let mut work = format!("{} collisions", count(self.collisions));
         if let Some((steps, what)) = self.steps {
-            work.push_str(&format!(", {steps:.3e} {what}"));
+            work.push_str(&format!(", {} {what}", count(steps)));
         }
         out.push(work);
         out
@@ -649,5 +650,15 @@ fn intruder_cost(sc: &Scenario) -> Cost {
             0.0
         },
         output_key: "output.interval",
+    }
+}
+
+/// An estimated count for the terminal: whole below 10^6 (rounded up), else three
+/// significant digits in exponent notation.
+fn count(x: f64) -> String {
+    if x.is_finite() && (0.0..1e6).contains(&x) {
+        format!("{}", x.ceil() as u64)
+    } else {
+        format!("{x:.2e}")
     }
 }
