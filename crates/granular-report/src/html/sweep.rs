@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 
 /// The table of a sweep as the report shows it.
 pub(crate) struct SweepTable {
-    /// The swept keys (`sweep.json`, through the library's reader).
+    /// The swept keys (the columns between `point` and `members`).
     pub keys: Vec<String>,
     /// The header of `sweep.csv`.
     pub header: Vec<String>,
@@ -17,16 +17,17 @@ pub(crate) struct SweepTable {
     pub rows: Vec<Vec<String>>,
 }
 
-/// Reads `sweep.csv` as it is (one header row) and the swept keys from the library's
-/// typed reader of the table and its sidecar `sweep.json`.
+/// Reads `sweep.csv` as it is: one header row, `point`, a column per swept key, then
+/// `members` and the observables (`granular::run::sweep::table`).
 pub(crate) fn read_sweep_table(dir: &Path) -> Result<SweepTable, String> {
-    let typed = granular::run::sweep::SweepTable::read(dir).map_err(|e| e.to_string())?;
     let (header, rows) = crate::table::read_csv(&dir.join("sweep.csv"))?;
-    Ok(SweepTable {
-        keys: typed.keys,
-        header,
-        rows,
-    })
+    let keys = header
+        .iter()
+        .skip(1)
+        .take_while(|c| c.as_str() != "members")
+        .cloned()
+        .collect();
+    Ok(SweepTable { keys, header, rows })
 }
 
 /// The member run directories `DIR/point_*/seed_*`, sorted.

@@ -364,8 +364,8 @@ impl Cost {
             })
     }
 
-    /// The estimate as lines for the terminal (counts below 10^6 as whole numbers, larger
-    /// ones as `2.35e7`).
+    /// The estimate as lines for the terminal (counts whole, to three significant digits:
+    /// `163`, `2.35e7`).
     pub fn lines(&self) -> Vec<String> {
         let mut out = vec![format!(
             "stops by {} at t ~ {}{}",
@@ -379,13 +379,13 @@ impl Cost {
         )];
         out.push(format!(
             "{} outputs, {} snapshots, about {} written",
-            count(self.outputs),
-            count(self.snapshots),
+            sig(self.outputs.ceil()),
+            sig(self.snapshots.ceil()),
             human_bytes(self.bytes)
         ));
-        let mut work = format!("{} collisions", count(self.collisions));
+        let mut work = format!("{} collisions", sig(self.collisions.ceil()));
         if let Some((steps, what)) = self.steps {
-            work.push_str(&format!(", {} {what}", count(steps)));
+            work.push_str(&format!(", {} {what}", sig(steps.ceil())));
         }
         out.push(work);
         out
@@ -650,15 +650,5 @@ fn intruder_cost(sc: &Scenario) -> Cost {
             0.0
         },
         output_key: "output.interval",
-    }
-}
-
-/// An estimated count for the terminal: whole below 10^6 (rounded up), else three
-/// significant digits in exponent notation.
-fn count(x: f64) -> String {
-    if x.is_finite() && (0.0..1e6).contains(&x) {
-        format!("{}", x.ceil() as u64)
-    } else {
-        format!("{x:.2e}")
     }
 }
