@@ -36,8 +36,8 @@
 
 use super::engine::SUM_CHUNK;
 use rayon::prelude::*;
-use std::sync::Arc;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::Instant;
 
 /// The collective operations a decomposed engine needs. Every rank calls each of them in
 /// the same order (they are collective); payloads are `f64` words (integers travel as
@@ -67,8 +67,52 @@ pub struct Domain {
     pub(crate) cells: std::ops::Range<usize>,
     /// Particles on all ranks (constant).
     pub(crate) n_global: usize,
-    /// Words sent to other ranks so far (migration and reductions), for benchmarks.
-    words_sent: Arc<AtomicU64>,
+    /// What this rank has communicated so far, for the benchmarks.
+    traffic: Arc<Mutex<Traffic>>,
+}
+
+/// What one rank has communicated so far, by purpose: **migration** (the point-to-point
+/// exchange after every free flight) and **reductions** (every gather over the ranks:
+/// counters, maxima, the chunked sums of the observables and of the adaptive time step).
+/// Counted at the [`Communicator`] calls; the time is the wall time spent inside them, so
+/// it includes waiting for the slowest rank (load imbalance shows up as communication).
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Traffic {
+    /// Bytes sent to other ranks by migrations (8 per word).
+    pub migration_bytes_sent: u64,
+    /// Bytes received from other ranks by migrations.
+    pub migration_bytes_received: u64,
+    /// Migration calls ([`Communicator::exchange`]).
+    pub migration_calls: u64,
+    /// Seconds spent inside migration calls.
+    pub migration_seconds: f64,
+    /// Bytes sent to other ranks by reductions (a gathered word counts once per other
+    /// rank it reaches).
+    pub reduction_bytes_sent: u64,
+    /// Bytes received from other ranks by reductions.
+    pub reduction_bytes_received: u64,
+    /// Reduction calls ([`Communicator::all_gather`]).
+    pub reduction_calls: u64,
+    /// Seconds spent inside reduction calls.
+    pub reduction_seconds: f64,
+}
+
+impl Traffic {
+    /// The counters accumulated since `earlier` (`self - earlier`, field by field).
+    pub fn since(&self, earlier: &Traffic) -> Traffic {
+        Traffic {
+            migration_bytes_sent: self.migration_bytes_sent - earlier.migration_bytes_sent,
+            migration_bytes_received: self.migration_bytes_received
+                - earlier.migration_bytes_received,
+            migration_calls: self.migration_calls - earlier.migration_calls,
+            migration_seconds: self.migration_seconds - earlier.migration_seconds,
+            reduction_bytes_sent: self.reduction_bytes_sent - earlier.reduction_bytes_sent,
+            reduction_bytes_received: self.reduction_bytes_received
+                - earlier.reduction_bytes_received,
+            reduction_calls: self.reduction_calls - earlier.reduction_calls,
+            reduction_seconds: self.reduction_seconds - earlier.reduction_seconds,
+        }
+    }
 }
 
 /// Why a decomposition is impossible.
@@ -127,7 +171,7 @@ impl Domain {
             plane_owner,
             stride,
             n_global,
-            words_sent: Arc::default(),
+            traffic: Arc::default(),
         })
     }
 
@@ -144,11 +188,17 @@ impl Domain {
     /// Bytes this rank has sent to the others so far (8 per word; migration and
     /// reductions), for the benchmarks.
     pub fn bytes_sent(&self) -> u64 {
-        8 * self.words_sent.load(Ordering::Relaxed)
+        let t = self.traffic();
+        t.migration_bytes_sent + t.reduction_bytes_sent
     }
 
-    fn count_words(&self, words: u64) {
-        self.words_sent.fetch_add(words, Ordering::Relaxed);
+    /// What this rank has communicated so far (see [`Traffic`]).
+    pub fn traffic(&self) -> Traffic {
+        *self.traffic.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    fn record(&self, add: impl FnOnce(&mut Traffic)) {
+        add(&mut self.traffic.lock().unwrap_or_else(|e| e.into_inner()));
     }
 
     /// The largest of every rank's `local` (order-free, so exact).
@@ -165,24 +215,50 @@ impl Domain {
         self.plane_owner[cell as usize / self.stride] as usize
     }
 
-    /// Every rank's `local` (collective), counting the words sent.
+    /// Every rank's `local` (collective), counting the words and the time.
     pub(crate) fn all_gather(&self, local: &[f64]) -> Vec<Vec<f64>> {
-        self.count_words((local.len() * (self.size() - 1)) as u64);
-        self.comm.all_gather(local)
+        let t = Instant::now();
+        let parts = self.comm.all_gather(local);
+        let seconds = t.elapsed().as_secs_f64();
+        let me = self.rank();
+        let received: usize = parts
+            .iter()
+            .enumerate()
+            .filter(|&(q, _)| q != me)
+            .map(|(_, v)| v.len())
+            .sum();
+        self.record(|c| {
+            c.reduction_bytes_sent += 8 * (local.len() * (self.size() - 1)) as u64;
+            c.reduction_bytes_received += 8 * received as u64;
+            c.reduction_calls += 1;
+            c.reduction_seconds += seconds;
+        });
+        parts
     }
 
-    /// Point-to-point exchange (collective), counting the words sent.
+    /// Point-to-point exchange (collective), counting the words and the time.
     pub(crate) fn exchange(&self, outgoing: Vec<Vec<f64>>) -> Vec<Vec<f64>> {
         let me = self.rank();
-        self.count_words(
-            outgoing
+        let others = |parts: &[Vec<f64>]| -> u64 {
+            parts
                 .iter()
                 .enumerate()
                 .filter(|&(q, _)| q != me)
                 .map(|(_, v)| v.len() as u64)
-                .sum::<u64>(),
-        );
-        self.comm.exchange(outgoing)
+                .sum()
+        };
+        let sent = others(&outgoing);
+        let t = Instant::now();
+        let incoming = self.comm.exchange(outgoing);
+        let seconds = t.elapsed().as_secs_f64();
+        let received = others(&incoming);
+        self.record(|c| {
+            c.migration_bytes_sent += 8 * sent;
+            c.migration_bytes_received += 8 * received;
+            c.migration_calls += 1;
+            c.migration_seconds += seconds;
+        });
+        incoming
     }
 
     /// The sum of integer counters over all ranks (exact).

@@ -34,7 +34,7 @@ pub mod guards;
 pub mod observables;
 
 pub use config::{DensityScope, DsmcConfig, VmaxMode};
-pub use domain::{Communicator, Domain, DomainError};
+pub use domain::{Communicator, Domain, DomainError, Traffic};
 pub use engine::{DsmcEngine, DsmcError};
 pub use guards::{GuardKind, ValidityWarning};
 pub use observables::{DensityMap, StructureFactor};
