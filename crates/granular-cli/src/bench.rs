@@ -34,27 +34,13 @@ pub enum BenchCommand {
         #[arg(long)]
         json: bool,
     },
-    /// DSMC split over the ranks of `mpirun` (the `mpi` build): particle-steps per second
-    /// and bytes sent per rank per step; by default the DSMC seed's Fig. 1 case (2D,
-    /// N = 500 000, packing fraction 0.1, periodic, about 10 grains per cell).
+    /// DSMC split over the ranks of `mpirun` (the `mpi` build): strong scaling (fixed N,
+    /// by default the DSMC seed's Fig. 1 case: 2D, N = 500 000, packing fraction 0.1,
+    /// periodic, about 10 grains per cell) or weak scaling (`--n-per-rank`), with every
+    /// rank's particle-steps per second, compute and communication time, bytes and calls
+    /// per step.
     #[cfg(feature = "mpi")]
-    DsmcRanks {
-        /// Dimension (2 or 3).
-        #[arg(long, default_value_t = 2)]
-        dimension: usize,
-        /// Number of particles (`1e6` is read as 1000000).
-        #[arg(long, value_parser = parse_count, default_value = "500000")]
-        n: usize,
-        /// Packing fraction.
-        #[arg(long, default_value_t = 0.1)]
-        packing_fraction: f64,
-        /// Steps to time (after 2 warm-up steps).
-        #[arg(long, default_value_t = 20)]
-        steps: u64,
-        /// One JSON object on standard output.
-        #[arg(long)]
-        json: bool,
-    },
+    DsmcRanks(crate::bench_ranks::DsmcRanksArgs),
     /// Event-driven engine: elastic grains in a periodic box (or walls, inelastic
     /// collisions, two kinds of grains), collisions per CPU second.
     Edmd {
@@ -105,7 +91,7 @@ const CASES: &[(usize, usize, f64, f64)] = &[
 ];
 
 /// `--n`: a whole number, also written as `1e6`.
-fn parse_count(s: &str) -> Result<usize, String> {
+pub(crate) fn parse_count(s: &str) -> Result<usize, String> {
     if let Ok(n) = s.trim().parse::<usize>() {
         return Ok(n);
     }
@@ -119,7 +105,7 @@ fn parse_count(s: &str) -> Result<usize, String> {
 
 /// Fewest grains of a bench case: fewer give too few collisions to measure (one grain
 /// in a periodic box never collides).
-const MIN_GRAINS: usize = 16;
+pub(crate) const MIN_GRAINS: usize = 16;
 
 /// Peak bytes per grain of the event-driven bench (set-up included; about 300 measured
 /// for 10^5 grains in 3D), for the memory check before allocating.
@@ -137,7 +123,7 @@ fn available_memory() -> Option<f64> {
 }
 
 /// Refuses `--n n` when `n` grains at `bytes_per` bytes each would not fit in memory.
-fn check_memory(n: usize, bytes_per: f64) -> Result<(), String> {
+pub(crate) fn check_memory(n: usize, bytes_per: f64) -> Result<(), String> {
     let need = n as f64 * bytes_per;
     if let Some(have) = available_memory()
         && need > 0.8 * have
@@ -287,55 +273,7 @@ pub fn run(cmd: BenchCommand) -> Result<(), String> {
             Ok(())
         }
         #[cfg(feature = "mpi")]
-        BenchCommand::DsmcRanks {
-            dimension,
-            n,
-            packing_fraction,
-            steps,
-            json,
-        } => {
-            if !(dimension == 2 || dimension == 3) {
-                return Err(format!("--dimension {dimension}: use 2 or 3"));
-            }
-            if !(packing_fraction > 0.0 && packing_fraction < 0.5) {
-                return Err(format!(
-                    "--packing-fraction {packing_fraction}: give a value in (0, 0.5)"
-                ));
-            }
-            if n < MIN_GRAINS || steps == 0 {
-                return Err(format!(
-                    "--n {n} --steps {steps}: give at least {MIN_GRAINS} particles and 1 step"
-                ));
-            }
-            check_memory(n, DSMC_BYTES_PER_PARTICLE)?;
-            let ranks = crate::ranks::Ranks::start();
-            let r = granular::dsmc::bench::measure_decomposed(
-                dimension,
-                n,
-                packing_fraction,
-                steps,
-                ranks.communicator(),
-            )
-            .map_err(|e| e.to_string())?;
-            if ranks.rank() != 0 {
-                return Ok(());
-            }
-            if json {
-                println!("{}", serde_json::to_string(&r).unwrap_or_default());
-            } else {
-                println!(
-                    "dsmc {}D N = {} phi = {} ranks = {} threads/rank = {}: {:.3e} particle-steps/s, {:.0} bytes sent per rank per step",
-                    r.dimension,
-                    r.n,
-                    r.packing_fraction,
-                    r.ranks,
-                    r.threads,
-                    r.particle_steps_per_second,
-                    r.bytes_per_rank_step
-                );
-            }
-            Ok(())
-        }
+        BenchCommand::DsmcRanks(args) => crate::bench_ranks::run(args),
         BenchCommand::Edmd {
             dimension,
             n,

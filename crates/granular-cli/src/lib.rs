@@ -6,6 +6,8 @@
 //! the library, the figures in `granular-report`.
 
 mod bench;
+#[cfg(feature = "mpi")]
+mod bench_ranks;
 mod error;
 mod interrupt;
 mod intruder_summary;
@@ -118,6 +120,26 @@ enum Command {
         /// Directory for the figures (PNG and SVG).
         #[arg(long)]
         out: PathBuf,
+    },
+    /// The speed-up of decomposed DSMC, measured (`mpirun -n K granular bench dsmc-ranks
+    /// --csv FILE`) and modelled up to 1024 ranks: a figure like the DSMC seed's Fig. 1 and
+    /// the model's tables (see docs/performance.md).
+    Scaling {
+        /// The benchmark's CSV (strong-scaling rows on 1 and 2 ranks at least).
+        bench: PathBuf,
+        /// Directory for dsmc_speedup.png/.svg, scaling_model.csv and scaling_model.json.
+        #[arg(long)]
+        out: PathBuf,
+        /// Assumed network latency per message, microseconds.
+        #[arg(long, default_value_t = 2.0)]
+        latency_us: f64,
+        /// Assumed network bandwidth per rank, GB/s (10^9 bytes per second).
+        #[arg(long, default_value_t = 1.0)]
+        bandwidth_gbs: f64,
+        /// Compute nanoseconds per particle-step instead of the measured one (for a
+        /// prediction on another machine).
+        #[arg(long)]
+        compute_ns: Option<f64>,
     },
     /// Write the snapshots of a run directory as trajectories for OVITO, ParaView, ASE,
     /// LAMMPS and HOOMD tools (into RUN/trajectory/).
@@ -431,6 +453,40 @@ fn dispatch(cli: Cli) -> Result<(), CliError> {
                 }
                 eprintln!("{}: {:.1} s{quick}", done.name, done.seconds);
             })?;
+            Ok(())
+        }
+        Command::Scaling {
+            bench,
+            out,
+            latency_us,
+            bandwidth_gbs,
+            compute_ns,
+        } => {
+            if let Some(c) = compute_ns
+                && !(c.is_finite() && c > 0.0)
+            {
+                return Err(format!("--compute-ns {c}: give a number > 0, e.g. 30").into());
+            }
+            if !(latency_us.is_finite() && latency_us >= 0.0) {
+                return Err(
+                    format!("--latency-us {latency_us}: give a number >= 0, e.g. 2").into(),
+                );
+            }
+            if !(bandwidth_gbs.is_finite() && bandwidth_gbs > 0.0) {
+                return Err(
+                    format!("--bandwidth-gbs {bandwidth_gbs}: give a number > 0, e.g. 1").into(),
+                );
+            }
+            let net = granular_report::scaling::model::Network {
+                latency: latency_us * 1e-6,
+                bandwidth: bandwidth_gbs * 1e9,
+            };
+            let (files, summary) =
+                granular_report::scaling::scaling(&bench, &out, net, compute_ns.map(|c| c * 1e-9))?;
+            print!("{summary}");
+            for f in &files {
+                println!("{}", f.display());
+            }
             Ok(())
         }
         Command::Report { dir } => {

@@ -7,6 +7,8 @@ use std::process::Command;
 mod report;
 #[path = "cli/robust.rs"]
 mod robust;
+#[path = "cli/scaling.rs"]
+mod scaling;
 #[path = "cli/shards.rs"]
 mod shards;
 

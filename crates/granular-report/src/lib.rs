@@ -6,6 +6,8 @@
 //! * [`reproduce`]: the figures of the Gillespie intruder paper (`granular reproduce`);
 //! * [`report`]: one self-contained HTML page per run or sweep (`granular report`), with
 //!   the summary against theory, the figures and a snapshot player;
+//! * [`scaling`]: the measured and modelled speed-up of decomposed DSMC (`granular
+//!   scaling`);
 //! * [`plot`]: the plotting types underneath (line plots, histograms, heat maps, snapshot
 //!   pictures, animations), which take numbers and know nothing of runs.
 //!
@@ -20,6 +22,7 @@ mod observable_plots;
 pub mod plot;
 pub mod reproduce;
 mod run_files;
+pub mod scaling;
 mod sweep_plots;
 mod table;
 
