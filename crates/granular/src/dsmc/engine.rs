@@ -1,6 +1,6 @@
 //! The DSMC engine: operator splitting of free flight and stochastic collisions.
 
-use super::cells::{CellGrid, Permutation, counting_sort, gather};
+use super::cells::{CellGrid, Permutation, cell_starts, counting_sort, gather, scatter1, scatter3};
 use super::collide::{StepParams, Tally, collide_group};
 use super::config::{DensityScope, DsmcConfig};
 use super::flight::{Flight, check_law};
@@ -59,6 +59,8 @@ pub struct DsmcEngine<const D: usize> {
     perm: Permutation,
     #[serde(skip)]
     scratch_vec: Vec<Vector<D>>,
+    #[serde(skip)]
+    scratch_vel: Vec<Vector<D>>,
     #[serde(skip)]
     scratch_ids: Vec<u32>,
     #[serde(skip)]
@@ -296,6 +298,7 @@ impl<const D: usize> DsmcEngine<D> {
             start: Vec::new(),
             perm: Permutation::default(),
             scratch_vec: vec![Vector::zero(); n],
+            scratch_vel: Vec::new(),
             scratch_ids: vec![0; n],
             scratch_last: Vec::new(),
             time: 0.0,
@@ -730,10 +733,35 @@ impl<const D: usize> DsmcEngine<D> {
                 (n, vec![cnt])
             }
         };
-        let start = counting_sort(&self.cell_of, chunk, counts, cells, &mut self.perm);
         // Scratch buffers are empty after a checkpoint restore.
         self.scratch_vec.resize(n, Vector::zero());
         self.scratch_ids.resize(n, 0);
+        if counts.len() == 1 {
+            // One chunk (one thread, construction, a rank's re-sort): scatter directly.
+            let start = cell_starts(&counts[0]);
+            self.scratch_vel.resize(n, Vector::zero());
+            scatter3(
+                &self.cell_of,
+                &start,
+                (&self.pos, &self.vel, &self.ids),
+                (
+                    &mut self.scratch_vec,
+                    &mut self.scratch_vel,
+                    &mut self.scratch_ids,
+                ),
+            );
+            std::mem::swap(&mut self.pos, &mut self.scratch_vec);
+            std::mem::swap(&mut self.vel, &mut self.scratch_vel);
+            std::mem::swap(&mut self.ids, &mut self.scratch_ids);
+            if !self.last.is_empty() {
+                self.scratch_last.resize(n, 0.0);
+                scatter1(&self.cell_of, &start, &self.last, &mut self.scratch_last);
+                std::mem::swap(&mut self.last, &mut self.scratch_last);
+            }
+            self.start = start;
+            return;
+        }
+        let start = counting_sort(&self.cell_of, chunk, counts, cells, &mut self.perm);
         let perm = &self.perm.0;
         gather(&self.pos, perm, &mut self.scratch_vec);
         std::mem::swap(&mut self.pos, &mut self.scratch_vec);
