@@ -4,9 +4,10 @@
 
 use super::config::VmaxMode;
 use crate::collision_law::{CollisionLaw, normal_velocity_change};
-use crate::random::{DYNAMICS, RngExt, Stream, stream};
+use crate::random::{
+    DYNAMICS, RngExt, Stream, derive_key, extend_key, std_normal, stream_from_key,
+};
 use crate::vector::Vector;
-use rand_distr::{Distribution, StandardNormal};
 
 /// Everything a cell needs to know that is the same for all cells of a step.
 #[derive(Clone, Debug)]
@@ -79,6 +80,8 @@ pub(crate) fn collide_group<const D: usize>(
         ..Tally::default()
     };
     let base = bounds[0] as usize;
+    // The streams' common prefix `[DYNAMICS, step]`, hashed once per group.
+    let step_key = derive_key(p.seed, &[DYNAMICS, p.step]);
     for k in 0..bounds.len() - 1 {
         let s = bounds[k] as usize - base;
         let e = bounds[k + 1] as usize - base;
@@ -86,7 +89,8 @@ pub(crate) fn collide_group<const D: usize>(
             continue;
         }
         let cell = (first_cell + k) as u64;
-        let mut rng = stream(p.seed, &[DYNAMICS, p.step, cell]);
+        // The cell's stream, `stream(seed, &[DYNAMICS, step, cell])`.
+        let mut rng = stream_from_key(extend_key(step_key, cell));
         let last_c = if last.is_empty() {
             &mut [][..]
         } else {
@@ -231,7 +235,8 @@ fn impact<const D: usize>(rng: &mut Stream, ghat: &Vector<D>) -> (f64, Vector<D>
         loop {
             let mut w = Vector::<D>::zero();
             for k in 0..D {
-                w[k] = StandardNormal.sample(rng);
+                // The crate's ziggurat: bit for bit `rand_distr::StandardNormal`.
+                w[k] = std_normal(rng);
             }
             let w = w.add_scaled(-w.dot(ghat), ghat);
             let wn = w.norm();
