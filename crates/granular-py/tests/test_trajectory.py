@@ -99,10 +99,17 @@ def test_extended_xyz_reads_back_exactly_with_ase(which: str, request: pytest.Fi
     run = request.getfixturevalue(which)
     shots = snapshots(run)
     lengths, periodic = box(run)
-    frames = ase_io.read(run / "trajectory" / "trajectory.xyz", index=":", format="extxyz")
+    path = run / "trajectory" / "trajectory.xyz"
+    frames = ase_io.read(path, index=":", format="extxyz")
     assert len(frames) == len(shots)
-    for atoms, shot in zip(frames, shots):
+    steps = [int(p.stem.split("_")[1]) for p in sorted((run / "snapshots").glob("snapshot_*.npz"))]
+    properties = "Properties=type:S:1:pos:R:3:velo:R:3:radius:R:1:mass:R:1:id:I:1"
+    assert path.read_text().count(properties) == len(shots)
+    for atoms, shot, step in zip(frames, shots, steps):
         assert atoms.info["Time"] == shot.time
+        assert atoms.info["Step"] == step
+        # The Lattice: the box's edges along the axes (2D: a thin slab along z).
+        np.testing.assert_array_equal(atoms.cell[:], np.diag(np.diag(atoms.cell[:])))
         np.testing.assert_array_equal(atoms.positions, padded(shot.positions))
         np.testing.assert_array_equal(atoms.arrays["velo"], padded(shot.velocities))
         np.testing.assert_array_equal(atoms.arrays["radius"], shot.radii)
