@@ -16,8 +16,9 @@ documented check of docs/output.md ("Checked with OVITO"). Not a CI test (it nee
 It prints one Markdown table row per format (what OVITO read) and writes FOLDER/ovito-xyz.png,
 ovito-lammps.png, ovito-gsd.png, ovito-vtp.png and report-player.png (400 x 400; FOLDER defaults
 to docs/figures/trajectory; quantised to 64 colours where Pillow is installed). The grains are
-coloured by species with the report's colours in every picture. The report's screenshot needs the `playwright` package and Debian's
-`chromium`; without them it is left out and the script says so.
+coloured by species with the report's colours in every picture. The report's screenshot needs
+the `playwright` package and Debian's `chromium`; without them it is left out and the script
+says so.
 
 Rendering needs a Vulkan driver, even for the software ray tracer (on Debian: libvulkan1 and
 mesa-vulkan-drivers); without one the check still opens every format and says why it did not
