@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import shutil
+import time
 from pathlib import Path
 from typing import Any
 
@@ -17,7 +18,7 @@ import numpy as np
 import pytest
 
 import granular
-from conftest import EDMD_3D, cli
+from conftest import DSMC_2D, EDMD_3D, cli
 
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 try:
@@ -71,8 +72,11 @@ class Browser:
         self.page.on("console", lambda m: self.errors.append(m.text) if m.type == "error" else None)
         self.page.on("pageerror", lambda e: self.errors.append(str(e)))
         self.url = url
+        start = time.perf_counter()
         self.page.goto(url)
         self.page.wait_for_selector("#grains[data-ready='1']", timeout=20000)
+        # From the request of the page to the first frame drawn (printed by the large-run test).
+        self.load_seconds = time.perf_counter() - start
 
     def canvas(self) -> dict[str, str]:
         return self.page.eval_on_selector("#grains", "c => Object.assign({}, c.dataset)")
@@ -181,3 +185,51 @@ def test_player_of_a_3d_run(tmp_path: Path) -> None:
             b.close()
         assert [r for r in b.requests if r != url] == []
         assert b.errors == []
+
+
+# The player's documented limits (docs/output.md, crates/granular-report/src/html/player.rs).
+MAX_GRAINS = 20_000
+
+
+def test_player_of_a_run_of_100000_grains_subsamples_and_says_so(tmp_path: Path) -> None:
+    """10^5 disks (a DSMC run of 4 snapshots): the page loads, says it draws every 5th grain, draws
+    that many, follows the slider and logs no error. The time to the first frame is printed, not
+    asserted (docs/output.md records it)."""
+    n = 100_000
+    text = (
+        DSMC_2D.replace("count = 2000", f"count = {n}")
+        .replace("collisions_per_particle = 10.0", "time = 0.03")
+        .replace("snapshot_every = 5", "snapshot_every = 1")
+    )
+    run = tmp_path / "run"
+    granular.Simulation(granular.Scenario.from_toml(text)).run(out=run)
+    page = granular.report(run)
+    snapshots = sorted((run / "snapshots").glob("*.npz"))
+    assert len(snapshots) == 4
+    stride = -(-n // MAX_GRAINS)  # one grain in ceil(N / 20 000)
+    shown = -(-n // stride)
+    url = page.resolve().as_uri()
+    with sync_playwright() as pw:
+        b = Browser(pw, url)
+        try:
+            notice = b.page.inner_text("#subsample-notice")
+            assert f"drawing {shown} of {n} grains (one grain in {stride}," in notice
+            assert f"and {len(snapshots)} of {len(snapshots)} snapshots" in notice
+            c = b.canvas()
+            assert (c["frame"], int(c["drawn"])) == ("0", shown)
+            hist = b.page.eval_on_selector("#histogram", "c => Object.assign({}, c.dataset)")
+            assert int(hist["total"]) == n, "the histogram counts every grain, not only those drawn"
+            b.page.focus("#frame")
+            b.page.keyboard.press("End")
+            c = b.canvas()
+            assert c["frame"] == str(len(snapshots) - 1)
+            assert float(c["time"]) == float(np.load(snapshots[-1])["time"])
+            assert int(c["drawn"]) == shown
+        finally:
+            b.close()
+        assert [r for r in b.requests if r != url] == []
+        assert b.errors == []
+    print(
+        f"\n{n} grains, {len(snapshots)} frames: report.html {page.stat().st_size / 1e6:.2f} MB, "
+        f"first frame drawn {b.load_seconds:.2f} s after the page was requested"
+    )

@@ -1,12 +1,13 @@
 """Trajectories (``[output] trajectory``, ``granular export``) read back with the reference readers
 of each format and compared with the run's ``.npz`` snapshots: ``gsd`` (GSD, HOOMD schema), ASE
-(extended XYZ, LAMMPS dump) and VTK's own XML reader (``.vtp``, only where the ``vtk`` wheel is
-installed: it is 140 MB, so the test command does not install it)."""
+(extended XYZ, LAMMPS dump) and VTK's own XML reader (``.vtp``, from the ``vtk`` wheel; meshio reads
+only the UnstructuredGrid ``.vtu``, not PolyData). The test command installs all three."""
 
 from __future__ import annotations
 
 import re
 import sys
+import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import numpy as np
@@ -68,7 +69,7 @@ def box(run: Path) -> tuple[np.ndarray, np.ndarray]:
 def test_gsd_reads_back_in_single_precision(which: str, request: pytest.FixtureRequest) -> None:
     run = request.getfixturevalue(which)
     shots = snapshots(run)
-    lengths, _ = box(run)
+    lengths, periodic = box(run)
     dim = len(lengths)
     with gsd_hoomd.open(run / "trajectory" / "trajectory.gsd") as traj:
         assert len(traj) == len(shots)
@@ -88,6 +89,9 @@ def test_gsd_reads_back_in_single_precision(which: str, request: pytest.FixtureR
             np.testing.assert_array_equal(frame.particles.mass, shot.masses.astype(np.float32))
             np.testing.assert_array_equal(frame.particles.diameter, (2 * shot.radii).astype(np.float32))
             assert frame.log["time"][0] == shot.time
+            # Walls and ids, which the HOOMD schema lacks, in its free log namespace.
+            np.testing.assert_array_equal(frame.log["box/periodic"], np.pad(periodic, (0, 3 - dim)).astype(np.uint8))
+            np.testing.assert_array_equal(frame.log["particles/id"], np.arange(len(shot.radii), dtype=np.uint64))
     steps = gsd_hoomd.read_log(run / "trajectory" / "trajectory.gsd")["configuration/step"]
     names = sorted((run / "snapshots").glob("snapshot_*.npz"))
     assert [int(s) for s in steps] == [int(p.stem.split("_")[1]) for p in names]
@@ -98,10 +102,17 @@ def test_extended_xyz_reads_back_exactly_with_ase(which: str, request: pytest.Fi
     run = request.getfixturevalue(which)
     shots = snapshots(run)
     lengths, periodic = box(run)
-    frames = ase_io.read(run / "trajectory" / "trajectory.xyz", index=":", format="extxyz")
+    path = run / "trajectory" / "trajectory.xyz"
+    frames = ase_io.read(path, index=":", format="extxyz")
     assert len(frames) == len(shots)
-    for atoms, shot in zip(frames, shots):
+    steps = [int(p.stem.split("_")[1]) for p in sorted((run / "snapshots").glob("snapshot_*.npz"))]
+    properties = "Properties=type:S:1:pos:R:3:velo:R:3:radius:R:1:mass:R:1:id:I:1"
+    assert path.read_text().count(properties) == len(shots)
+    for atoms, shot, step in zip(frames, shots, steps):
         assert atoms.info["Time"] == shot.time
+        assert atoms.info["Step"] == step
+        # The Lattice: the box's edges along the axes (2D: a thin slab along z).
+        np.testing.assert_array_equal(atoms.cell[:], np.diag(np.diag(atoms.cell[:])))
         np.testing.assert_array_equal(atoms.positions, padded(shot.positions))
         np.testing.assert_array_equal(atoms.arrays["velo"], padded(shot.velocities))
         np.testing.assert_array_equal(atoms.arrays["radius"], shot.radii)
@@ -127,48 +138,67 @@ def test_lammps_dump_reads_back_exactly_with_ase(which: str, request: pytest.Fix
     text = path.read_text()
     times = [float(t) for t in re.findall(r"ITEM: TIME\n(\S+)", text)]
     blocks = text.split("ITEM: ATOMS id type x y z vx vy vz radius mass\n")[1:]
-    for atoms, shot, time, block in zip(frames, shots, times, blocks):
+    steps = [int(t) for t in re.findall(r"ITEM: TIMESTEP\n(\S+)", text)]
+    assert steps == [int(p.stem.split("_")[1]) for p in sorted((run / "snapshots").glob("snapshot_*.npz"))]
+    flags = " ".join("pp" if p else "ff" for p in np.pad(periodic, (0, 3 - len(periodic))))
+    assert text.count(f"ITEM: BOX BOUNDS {flags}\n") == len(shots)
+    for atoms, shot, time, step, block in zip(frames, shots, times, steps, blocks):
         assert time == shot.time
-        order = np.argsort(atoms.arrays["id"]) if "id" in atoms.arrays else np.arange(len(atoms))
+        assert atoms.info["timestep"] == step
+        # ASE sorts the atoms by the id column (which it drops; the ids are read from the text below).
+        order = np.arange(len(atoms))
         np.testing.assert_array_equal(atoms.positions[order], padded(shot.positions))
         np.testing.assert_allclose(atoms.get_velocities()[order] / to_ase, padded(shot.velocities), rtol=1e-15)
         np.testing.assert_array_equal(atoms.arrays["type"][order], shot.species + 1)
         np.testing.assert_array_equal(np.diag(atoms.cell)[: len(lengths)], lengths)
         assert list(atoms.pbc) == list(np.pad(periodic, (0, 3 - len(periodic))))
         rows = np.array([line.split() for line in block.splitlines()[: len(shot.radii)]], dtype=float)
+        np.testing.assert_array_equal(rows[:, 0], np.arange(1, len(shot.radii) + 1))
         np.testing.assert_array_equal(rows[:, 8], shot.radii)
         np.testing.assert_array_equal(rows[:, 9], shot.masses)
 
 
 @pytest.mark.parametrize("which", ["run_2d", "run_3d"])
 def test_vtk_polydata_reads_back_exactly_with_vtk(which: str, request: pytest.FixtureRequest) -> None:
-    vtk = pytest.importorskip("vtk", reason="the vtk wheel (140 MB) is not installed by the test command")
-    from vtk.util.numpy_support import vtk_to_numpy
+    vtk_xml = pytest.importorskip("vtkmodules.vtkIOXML", reason="the vtk wheel is missing (scripts/test installs it)")
+    from vtkmodules.util.numpy_support import vtk_to_numpy
 
     run = request.getfixturevalue(which)
     shots = snapshots(run)
     lengths, periodic = box(run)
-    index = (run / "trajectory" / "trajectory.pvd").read_text()
-    entries = re.findall(r'timestep="([^"]+)" group="" part="0" file="([^"]+)"', index)
-    assert [float(t) for t, _ in entries] == [s.time for s in shots]
-    for (_, file), shot in zip(entries, shots):
-        reader = vtk.vtkXMLPolyDataReader()
-        reader.SetFileName(str(run / "trajectory" / file))
+    dim = len(lengths)
+    # The .pvd index (plain XML): one DataSet per snapshot, its time and its file named as the .npz.
+    root = ET.parse(run / "trajectory" / "trajectory.pvd").getroot()
+    assert root.tag == "VTKFile" and root.attrib["type"] == "Collection"
+    entries = root.findall("./Collection/DataSet")
+    names = sorted((run / "snapshots").glob("snapshot_*.npz"))
+    assert [e.attrib["file"] for e in entries] == [f"vtp/{p.stem}.vtp" for p in names]
+    assert [float(e.attrib["timestep"]) for e in entries] == [s.time for s in shots]
+    for entry, shot, name in zip(entries, shots, names):
+        reader = vtk_xml.vtkXMLPolyDataReader()
+        reader.SetFileName(str(run / "trajectory" / entry.attrib["file"]))
         reader.Update()
+        assert reader.GetErrorCode() == 0
         data = reader.GetOutput()
         n = len(shot.radii)
         assert data.GetNumberOfPoints() == n and data.GetNumberOfVerts() == n
         field = data.GetFieldData()
         assert field.GetArray("TimeValue").GetValue(0) == shot.time
-        np.testing.assert_array_equal(vtk_to_numpy(field.GetArray("BoxLengths"))[: len(lengths)], lengths)
-        np.testing.assert_array_equal(vtk_to_numpy(field.GetArray("Periodic"))[: len(lengths)], periodic)
+        assert field.GetArray("Step").GetValue(0) == int(name.stem.split("_")[1])
+        np.testing.assert_array_equal(vtk_to_numpy(field.GetArray("BoxLengths")), np.pad(lengths, (0, 3 - dim)))
+        np.testing.assert_array_equal(vtk_to_numpy(field.GetArray("Periodic")), np.pad(periodic, (0, 3 - dim)))
         points = data.GetPointData()
+        arrays = {points.GetArrayName(k) for k in range(points.GetNumberOfArrays())}
+        assert arrays == {"id", "species", "v", "radius", "mass"}
         np.testing.assert_array_equal(vtk_to_numpy(data.GetPoints().GetData()), padded(shot.positions))
         np.testing.assert_array_equal(vtk_to_numpy(points.GetArray("v")), padded(shot.velocities))
         np.testing.assert_array_equal(vtk_to_numpy(points.GetArray("radius")), shot.radii)
         np.testing.assert_array_equal(vtk_to_numpy(points.GetArray("mass")), shot.masses)
         np.testing.assert_array_equal(vtk_to_numpy(points.GetArray("species")), shot.species)
         np.testing.assert_array_equal(vtk_to_numpy(points.GetArray("id")), np.arange(n))
+        # Every vertex cell is one grain, in order.
+        verts = vtk_to_numpy(data.GetVerts().GetConnectivityArray())
+        np.testing.assert_array_equal(verts, np.arange(n))
 
 
 def test_export_rewrites_what_the_run_wrote(run_2d: Path, tmp_path: Path) -> None:

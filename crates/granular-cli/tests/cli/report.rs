@@ -116,6 +116,10 @@ fn report_of_an_intruder_sweep_links_every_member() {
     assert_self_contained(&html);
     assert!(html.contains("<th>temperature_ratio_mean</th>"));
     assert!(html.contains("<svg class=\"figure\""), "the sweep's figure");
+    // The figures plot each observable's mean over the seeds with its standard error as bars,
+    // and the table has both columns.
+    assert!(html.contains("mean ± standard error over seeds"));
+    assert!(html.contains("<th>temperature_ratio_stderr</th>"));
     for p in 0..2 {
         for s in 0..2 {
             let member = format!("point_{p:03}/seed_{s:03}");

@@ -23,12 +23,14 @@
 //! `configuration/box` (6 x f32: `Lx Ly Lz xy xz yz`, `Lz = 0` in 2D), `particles/N`
 //! (u32), `particles/types` (the species names, zero-padded bytes), `particles/typeid`
 //! (u32, the species index), `particles/mass`, `particles/diameter` (f32),
-//! `particles/position`, `particles/velocity` (N x 3 f32; `z = 0` in 2D) and `log/time`
-//! (f64: the simulation time). HOOMD's box is centred on the origin: positions are the
-//! run's minus `L/2` per axis. The schema has no walls (a HOOMD box is periodic on every
-//! axis), so a walled axis is not marked; the particle id is the place in the frame
-//! (ids from 0, as in the snapshots). Positions and velocities are single precision, as
-//! the schema 1.x requires.
+//! `particles/position`, `particles/velocity` (N x 3 f32; `z = 0` in 2D), and in the
+//! schema's free `log/` namespace `log/time` (f64: the simulation time),
+//! `log/box/periodic` (3 x u8: 1 periodic, 0 hard walls; 0 along z in 2D) and
+//! `log/particles/id` (N x u64: the grain's id, from 0, as in the snapshots). HOOMD's box
+//! is centred on the origin: positions are the run's minus `L/2` per axis. The schema has
+//! no walls (a HOOMD box is periodic on every axis), hence `log/box/periodic`; readers
+//! that know only the schema (OVITO, HOOMD-blue) see a periodic box. Positions and
+//! velocities are single precision, as the schema 1.x requires.
 
 use super::Frame;
 use serde::{Deserialize, Serialize};
@@ -229,7 +231,7 @@ impl GsdFile {
 }
 
 /// The chunk names of the HOOMD frames, in id order.
-pub const HOOMD_NAMES: [&str; 11] = [
+pub const HOOMD_NAMES: [&str; 13] = [
     "configuration/step",
     "configuration/dimensions",
     "configuration/box",
@@ -241,6 +243,8 @@ pub const HOOMD_NAMES: [&str; 11] = [
     "particles/position",
     "particles/velocity",
     "log/time",
+    "log/box/periodic",
+    "log/particles/id",
 ];
 
 /// A GSD file with the HOOMD schema (version 1.4) and the names of [`HOOMD_NAMES`].
@@ -323,6 +327,20 @@ pub fn frame_chunks(frame: &Frame) -> Vec<Chunk> {
             vector(&|i| frame.velocity(i), false),
         ),
         chunk(10, ChunkType::F64, 1, 1, s.time.to_le_bytes().to_vec()),
+        chunk(
+            11,
+            ChunkType::U8,
+            3,
+            1,
+            frame.periodic3().iter().map(|&p| u8::from(p)).collect(),
+        ),
+        chunk(
+            12,
+            ChunkType::U64,
+            n,
+            1,
+            (0..n as u64).flat_map(u64::to_le_bytes).collect(),
+        ),
     ]
 }
 
@@ -364,7 +382,7 @@ mod tests {
         let count = (0..capacity as usize)
             .take_while(|&k| u64_at(entry(k), 16) != 0)
             .count();
-        assert_eq!(count, 11 * frames as usize);
+        assert_eq!(count, HOOMD_NAMES.len() * frames as usize);
         let keys: Vec<(u64, u16)> = (0..count)
             .map(|k| {
                 let e = entry(k);
@@ -373,7 +391,7 @@ mod tests {
             .collect();
         assert!(keys.windows(2).all(|w| w[0] < w[1]), "sorted by frame, id");
         // The last frame's time chunk holds the snapshot's time.
-        let time = entry(count - 1);
+        let time = entry(count - HOOMD_NAMES.len() + 10);
         let at = u64_at(time, 16) as usize;
         assert_eq!(time[30], ChunkType::F64 as u8);
         assert_eq!(
