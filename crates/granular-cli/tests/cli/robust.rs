@@ -638,7 +638,9 @@ fn sweep_refuses_a_point_above_the_limits_unless_insist() {
         assert!(
             refused.status.code() == Some(2)
                 && err.contains("sweep.values[1]")
-                && err.contains("stop.time = 10000000000000.0 gives an invalid scenario: `stop.time`")
+                && err.contains(
+                    "stop.time = 10000000000000.0 gives an invalid scenario: `stop.time`"
+                )
                 && err.contains("pair collisions")
                 && err.contains("--insist"),
             "{extra:?}: {err}"
