@@ -37,7 +37,7 @@ pub struct DensityMap {
 /// `max_k |n_k| <= max_index`, `n != 0`, one of each pair `+-n`; bins of width
 /// `2 pi / max_k L_k` in `|k|`. Deterministic: partial sums over fixed chunks of
 /// particles are added in order. Cost `O(N (2 max_index + 1)^D / 2)` products, done as a
-/// blocked outer product (see [`chunk_sums`]): the same numbers as the plain loop over
+/// blocked outer product (see `chunk_sums`): the same numbers as the plain loop over
 /// particles and wave vectors, several times faster.
 pub fn structure_factor<const D: usize>(
     pos: &[Vector<D>],
@@ -431,8 +431,8 @@ mod tests {
         (0..n)
             .map(|_| {
                 let mut v = Vector::zero();
-                for d in 0..D {
-                    v.0[d] = next() * lengths[d];
+                for (c, l) in v.0.iter_mut().zip(lengths) {
+                    *c = next() * l;
                 }
                 v
             })
