@@ -86,6 +86,10 @@ enum Command {
         /// a Slurm job array's SLURM_ARRAY_TASK_ID/COUNT, else all); then `granular merge DIR`.
         #[arg(long, value_name = "I/N", value_parser = parse_shard)]
         shard: Option<granular::run::sweep::Shard>,
+        /// Run even when the scenario or a point of its sweep is above the pre-flight cost
+        /// limits (as `run --insist`; docs/scenario.md, "Limits").
+        #[arg(long)]
+        insist: bool,
     },
     /// Build sweep.csv and sweep.json of a sweep directory from its finished members
     /// (after the shards of `granular sweep --shard I/N`).
@@ -288,10 +292,6 @@ fn default_dir(scenario: &Path) -> PathBuf {
             .file_stem()
             .map_or("run".into(), |s| s.to_string_lossy().to_string()),
     )
-}
-
-fn load(path: &Path, seed: Option<u64>, set: &[String]) -> Result<Scenario, CliError> {
-    load_with(path, seed, set, false)
 }
 
 /// The scenario at `path` with its overrides; `insist`: without the cost limits.
@@ -511,13 +511,14 @@ fn dispatch(cli: Cli) -> Result<(), CliError> {
             threads,
             set,
             shard,
+            insist,
         } => {
             let threads = worker_threads(threads)?;
             let text = std::fs::read_to_string(&scenario)
                 .map_err(|e| format!("{}: {e}", scenario.display()))?;
             let dir = out.unwrap_or_else(|| default_dir(&scenario));
             let mut set = set;
-            let base = load(&scenario, None, &set)?;
+            let base = load_with(&scenario, None, &set, insist)?;
             if let Some(o) = bath_file_override(&scenario, &base) {
                 set.push(o);
             }
@@ -528,6 +529,7 @@ fn dispatch(cli: Cli) -> Result<(), CliError> {
                 set: &set,
                 threads,
                 shard,
+                insist,
                 observable: base.sweep.map(|s| s.observable).unwrap_or_default(),
             })
         }

@@ -12,6 +12,7 @@ pub(crate) struct SweepArgs<'a> {
     pub set: &'a [String],
     pub threads: usize,
     pub shard: Option<Shard>,
+    pub insist: bool,
     pub observable: String,
 }
 
@@ -37,7 +38,12 @@ pub(crate) fn sweep(a: &SweepArgs) -> Result<(), CliError> {
         );
     };
     let fail = |e: sweep::SweepError| format!("{}: {e}", a.scenario.display());
-    let done = sweep::run_shard(a.dir, a.text, a.set, a.threads, shard, &report).map_err(fail)?;
+    let options = sweep::SweepOptions {
+        threads: a.threads,
+        shard,
+        insist: a.insist,
+    };
+    let done = sweep::run_shard_with(a.dir, a.text, a.set, &options, &report).map_err(fail)?;
     if shard.count > 1 {
         eprintln!(
             "{}: shard {shard}: {} of {} members ({} run now) in {:.1} s; when every shard has \

@@ -26,21 +26,23 @@ pub struct PyScenario {
 }
 
 impl PyScenario {
-    /// Parses and validates `source` with `overrides`.
+    /// Parses and validates `source` with `overrides`: every check but the pre-flight cost
+    /// limits, which [`PyScenario::within_limits`] applies where a run starts (check(),
+    /// Simulation(), run_sweep()) unless `insist=True`.
     pub fn build(
         py: Python<'_>,
         source: String,
         mut overrides: Vec<String>,
         origin: Option<String>,
     ) -> PyResult<Self> {
-        let mut resolved = Scenario::from_toml(&source, &overrides)
+        let mut resolved = Scenario::from_toml_insisting(&source, &overrides)
             .map_err(|e| scenario_error(py, &e, origin.as_deref()))?;
         if let Some(o) = origin
             .as_deref()
             .and_then(|p| bath_file_override(Path::new(p), &resolved))
         {
             overrides.push(o);
-            resolved = Scenario::from_toml(&source, &overrides)
+            resolved = Scenario::from_toml_insisting(&source, &overrides)
                 .map_err(|e| scenario_error(py, &e, origin.as_deref()))?;
         }
         Ok(Self {
@@ -55,7 +57,7 @@ impl PyScenario {
     pub fn with_overrides(&self, py: Python<'_>, more: &[String]) -> PyResult<Self> {
         let mut o = self.overrides.clone();
         o.extend_from_slice(more);
-        let resolved = Scenario::from_toml(&self.source, &o)
+        let resolved = Scenario::from_toml_insisting(&self.source, &o)
             .map_err(|e| scenario_error(py, &e, self.origin.as_deref()))?;
         Ok(Self {
             source: self.source.clone(),
@@ -63,6 +65,18 @@ impl PyScenario {
             origin: self.origin.clone(),
             resolved,
         })
+    }
+
+    /// The pre-flight cost limits (outputs, collisions, bytes written; of the scenario and
+    /// of every point of its sweep), unless `insist`: the ScenarioError of `granular run`
+    /// (the key to change and `--insist`, which is `insist=True` here).
+    pub fn within_limits(&self, py: Python<'_>, insist: bool) -> PyResult<()> {
+        if insist {
+            return Ok(());
+        }
+        Scenario::from_toml(&self.source, &self.overrides)
+            .map(|_| ())
+            .map_err(|e| scenario_error(py, &e, self.origin.as_deref()))
     }
 }
 
@@ -180,13 +194,16 @@ impl PyScenario {
         convert::table_to_dict(py, &table)
     }
 
-    /// check() -> str
+    /// check(insist=False) -> str
     ///
-    /// Validates again and returns the line `granular check` prints, e.g.
-    /// "valid (10000 grains, 1 species)"; raises ScenarioError when invalid.
-    fn check(&self, py: Python<'_>) -> PyResult<String> {
-        let sc = Scenario::from_toml(&self.source, &self.overrides)
-            .map_err(|e| scenario_error(py, &e, self.origin.as_deref()))?;
+    /// Validates again, with the pre-flight cost limits of `granular check` (outputs,
+    /// collisions, bytes written; docs/scenario.md, "Limits"), and returns the line
+    /// `granular check` prints, e.g. "valid (10000 grains, 1 species)"; raises ScenarioError
+    /// when invalid or above a limit. `insist=True` lifts the limits (`check --insist`).
+    #[pyo3(signature = (insist = false))]
+    fn check(&self, py: Python<'_>, insist: bool) -> PyResult<String> {
+        self.within_limits(py, insist)?;
+        let sc = &self.resolved;
         Ok(match &sc.intruder {
             Some(i) => format!("valid (intruder engine, model {})", i.model()),
             None => format!(

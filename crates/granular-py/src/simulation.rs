@@ -210,8 +210,13 @@ observe() for the intruder's velocity and statistics",
 #[pymethods]
 impl PySimulation {
     #[new]
-    #[pyo3(signature = (scenario, seed = None))]
-    fn new(py: Python<'_>, scenario: &Bound<'_, PyAny>, seed: Option<u64>) -> PyResult<Self> {
+    #[pyo3(signature = (scenario, seed = None, insist = false))]
+    fn new(
+        py: Python<'_>,
+        scenario: &Bound<'_, PyAny>,
+        seed: Option<u64>,
+        insist: bool,
+    ) -> PyResult<Self> {
         let base: PyScenario = match scenario.cast::<PyScenario>() {
             Ok(s) => s.borrow().clone(),
             Err(_) => {
@@ -230,6 +235,7 @@ impl PySimulation {
             Some(s) => base.with_overrides(py, &[format!("seed={s}")])?,
             None => base,
         };
+        scenario.within_limits(py, insist)?;
         let resolved = scenario.resolved.clone();
         let origin = scenario.origin.clone();
         let built = py.detach(|| guard("Simulation()", || Ok(Simulation::new(resolved))))?;

@@ -11,21 +11,24 @@ use std::path::PathBuf;
 /// `(observable, mean, standard error)` per observable.
 type Row = (usize, Vec<String>, Vec<(String, f64, f64)>);
 
-/// run_sweep(scenario, out, threads=0, shard=None) -> list[tuple[int, list[str], list[tuple[str, float, float]]]]
+/// run_sweep(scenario, out, threads=0, shard=None, insist=False) -> list[tuple[int, list[str], list[tuple[str, float, float]]]]
 ///
 /// Runs the scenario's [sweep] into the directory `out` (the files of `granular sweep`),
 /// returning the rows `(point, values, [(observable, mean, stderr)])`. Members already
 /// finished in `out` are kept. With `shard = "I/N"` only that share of the members runs
 /// and nothing is merged (the result is empty): `merge_sweep(out)` once every shard has
-/// finished. `granular.run_sweep` wraps this and returns `load_sweep(out)`.
+/// finished. A scenario or a sweep point above the pre-flight cost limits raises
+/// ScenarioError unless `insist` (`granular sweep --insist`). `granular.run_sweep` wraps
+/// this and returns `load_sweep(out)`.
 #[pyfunction]
-#[pyo3(signature = (scenario, out, threads = 0, shard = None))]
+#[pyo3(signature = (scenario, out, threads = 0, shard = None, insist = false))]
 pub fn run_sweep(
     py: Python<'_>,
     scenario: &PyScenario,
     out: PathBuf,
     threads: usize,
     shard: Option<String>,
+    insist: bool,
 ) -> PyResult<Vec<Row>> {
     let shard = match shard {
         None => Shard::ALL,
@@ -33,6 +36,7 @@ pub fn run_sweep(
             .parse::<Shard>()
             .map_err(|e| value_error(format!("shard={s:?}: {e}")))?,
     };
+    scenario.within_limits(py, insist)?;
     let (text, overrides) = (scenario.source.clone(), scenario.overrides.clone());
     let origin = scenario.origin.clone();
     let fail = move |e: sweep::SweepError| match &origin {
@@ -41,7 +45,12 @@ pub fn run_sweep(
     };
     let rows = py.detach(move || {
         guard("run_sweep", || {
-            sweep::run_shard(&out, &text, &overrides, threads, shard, &|_, _| {}).map_err(&fail)?;
+            let options = sweep::SweepOptions {
+                threads,
+                shard,
+                insist,
+            };
+            sweep::run_shard_with(&out, &text, &overrides, &options, &|_, _| {}).map_err(&fail)?;
             if shard.count > 1 {
                 return Ok(Vec::new());
             }

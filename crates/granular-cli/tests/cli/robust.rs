@@ -579,6 +579,104 @@ fn check_prints_the_estimate_and_insist_lifts_the_limits() {
     );
 }
 
+/// A cooling gas of 200 disks with the TC model (`contact_duration`), stopped when half its
+/// energy is gone (a few collisions per grain), swept over `stop.time`. With the TC model
+/// the estimate does not use Haff's law, and `stop.energy_fraction` gives no lower bound
+/// on the end time, so the estimate takes `stop.time` as the end: at `1e13` about 10^16
+/// collisions, above the limit of 10^12, although the energy rule ends the run early.
+const SWEEP_OVER_A_LIMIT: &str = r#"engine = "edmd"
+dimension = 2
+seed = 7
+[box]
+lengths = [1.0, 1.0]
+boundary = "periodic"
+[[species]]
+name = "disk"
+count = 200
+radius = 0.01
+velocity = { distribution = "maxwell_boltzmann", temperature = 1.0 }
+[collisions]
+restitution = 0.8
+contact_duration = 1e-6
+[stop]
+time = 10.0
+energy_fraction = 0.5
+[output]
+interval = 0.01
+[sweep]
+key = "stop.time"
+values = [10.0, 1e13]
+seeds = 1
+observable = "temperature"
+"#;
+
+/// `granular sweep`: a point above a cost limit is refused before anything runs, naming
+/// the point, the key and `--insist`; with `--insist` every point runs (and stops by its
+/// energy rule, far below the estimate).
+#[test]
+fn sweep_refuses_a_point_above_the_limits_unless_insist() {
+    let dir = tmp("sweep-insist");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scenario = dir.join("sweep.toml");
+    std::fs::write(&scenario, SWEEP_OVER_A_LIMIT).unwrap();
+    let sweep = |out: &str, extra: &[&str]| {
+        granular()
+            .arg("sweep")
+            .arg(&scenario)
+            .arg("--out")
+            .arg(dir.join(out))
+            .args(["--threads", "1"])
+            .args(extra)
+            .env_remove("SLURM_ARRAY_TASK_ID")
+            .env_remove("GRANULAR_SHARD")
+            .output()
+            .unwrap()
+    };
+    for (out, extra) in [("refused", &[][..]), ("shard", &["--shard", "2/2"][..])] {
+        let refused = sweep(out, extra);
+        let err = stderr(&refused);
+        assert!(
+            refused.status.code() == Some(2)
+                && err.contains("sweep.values[1]")
+                && err.contains(
+                    "stop.time = 10000000000000.0 gives an invalid scenario: `stop.time`"
+                )
+                && err.contains("pair collisions")
+                && err.contains("--insist"),
+            "{extra:?}: {err}"
+        );
+        assert!(
+            !dir.join(out).join("point_000").exists(),
+            "{extra:?}: nothing runs"
+        );
+    }
+    let ran = sweep("insisted", &["--insist"]);
+    let err = stderr(&ran);
+    assert!(ran.status.success(), "{err}");
+    for p in ["point_000", "point_001"] {
+        let summary =
+            std::fs::read_to_string(dir.join("insisted").join(p).join("seed_000/summary.json"))
+                .unwrap();
+        let summary: serde_json::Value = serde_json::from_str(&summary).unwrap();
+        assert_eq!(summary["stop_reason"], "energy_fraction", "{p}: {summary}");
+    }
+    // The sharded sweep takes --insist too, and `merge` reads its members.
+    for i in ["1/2", "2/2"] {
+        let shard = sweep("sharded", &["--insist", "--shard", i]);
+        assert!(shard.status.success(), "{i}: {}", stderr(&shard));
+    }
+    let merged = granular()
+        .arg("merge")
+        .arg(dir.join("sharded"))
+        .output()
+        .unwrap();
+    assert!(merged.status.success(), "{}", stderr(&merged));
+    assert_eq!(
+        std::fs::read(dir.join("sharded/sweep.csv")).unwrap(),
+        std::fs::read(dir.join("insisted/sweep.csv")).unwrap()
+    );
+}
+
 /// The corpus of bad command lines (`tests/bad_command_lines/cases.txt`): each exits with
 /// status 2 and shows its expected text.
 #[test]

@@ -62,14 +62,17 @@ def run_sweep(
     out: Union[str, Path],
     threads: int = 0,
     frame: Optional[bool] = None,
+    insist: bool = False,
 ) -> SweepData:
     """Runs a scenario's ``[sweep]`` (every point of its key or keys, several seeds each) on ``threads``
     worker threads (0: all cores) into the directory ``out``, exactly as ``granular sweep``, and returns it
     read by :func:`load_sweep`. Members already finished in ``out`` are kept. The interpreter lock is
-    released while the members run. Raises ScenarioError or SimulationError."""
+    released while the members run. Raises ScenarioError or SimulationError; ScenarioError also when the
+    scenario or a point of its sweep is above the pre-flight cost limits, unless ``insist=True``
+    (``granular sweep --insist``)."""
     if not isinstance(scenario, Scenario):
         scenario = Scenario.load(scenario)
-    _core.run_sweep(scenario, Path(out), threads)
+    _core.run_sweep(scenario, Path(out), threads, None, insist)
     return load_sweep(out, frame)
 
 
@@ -78,14 +81,16 @@ def run_shard(
     out: Union[str, Path],
     shard: str,
     threads: int = 0,
+    insist: bool = False,
 ) -> None:
     """Runs share ``shard = "I/N"`` of the members of a scenario's ``[sweep]`` into ``out``, as
     ``granular sweep --shard I/N`` does (member ``m``, numbered point by point, seed by seed, belongs to
     shard ``m mod N + 1``); :func:`merge_sweep` builds the table once every shard has finished. Raises
-    ValueError for a bad ``shard``, ScenarioError or SimulationError."""
+    ValueError for a bad ``shard``, ScenarioError or SimulationError; ``insist=True`` lifts the pre-flight
+    cost limits as in :func:`run_sweep`."""
     if not isinstance(scenario, Scenario):
         scenario = Scenario.load(scenario)
-    _core.run_sweep(scenario, Path(out), threads, shard)
+    _core.run_sweep(scenario, Path(out), threads, shard, insist)
 
 
 def merge_sweep(out: Union[str, Path], allow_missing: bool = False, frame: Optional[bool] = None) -> SweepData:

@@ -182,6 +182,31 @@ pub(crate) fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), SweepErr
     std::fs::rename(&tmp, path).map_err(io)
 }
 
+/// How a sweep (or one shard of it) runs: [`run_shard_with`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SweepOptions {
+    /// Worker threads (0: all cores).
+    pub threads: usize,
+    /// The share of the members to run ([`Shard::ALL`]: all of them).
+    pub shard: Shard,
+    /// Run even above the pre-flight cost limits (what `granular sweep --insist` asks
+    /// for): the scenario and every point are read with
+    /// [`Scenario::from_toml_insisting`] instead of [`Scenario::from_toml`]. Every other
+    /// check stays.
+    pub insist: bool,
+}
+
+impl Default for SweepOptions {
+    /// All cores, all members, within the limits.
+    fn default() -> Self {
+        SweepOptions {
+            threads: 0,
+            shard: Shard::ALL,
+            insist: false,
+        }
+    }
+}
+
 /// Runs the whole sweep of `scenario_text` in `dir` with `threads` worker threads (0: all
 /// cores) and merges its table. `on_member` is called (from worker threads) as members
 /// finish.
@@ -192,19 +217,17 @@ pub fn run_sweep(
     threads: usize,
     on_member: &(dyn Fn(&str, &Summary) + Sync),
 ) -> Result<Vec<SweepRow>, SweepError> {
-    run_shard(
-        dir,
-        scenario_text,
-        overrides,
+    let options = SweepOptions {
         threads,
-        Shard::ALL,
-        on_member,
-    )?;
+        ..SweepOptions::default()
+    };
+    run_shard_with(dir, scenario_text, overrides, &options, on_member)?;
     Ok(merge(dir, false)?.rows)
 }
 
-/// Runs the members of `shard` (see [`Shard::owns`]) into `dir`; the table is left to
-/// [`merge`].
+/// Runs the members of `shard` (see [`Shard::owns`]) into `dir` within the pre-flight
+/// cost limits; the table is left to [`merge`]. [`run_shard_with`] with
+/// `SweepOptions { threads, shard, insist: false }`.
 pub fn run_shard(
     dir: &Path,
     scenario_text: &str,
@@ -213,7 +236,34 @@ pub fn run_shard(
     shard: Shard,
     on_member: &(dyn Fn(&str, &Summary) + Sync),
 ) -> Result<ShardRun, SweepError> {
-    let base = Scenario::from_toml(scenario_text, overrides)?;
+    let options = SweepOptions {
+        threads,
+        shard,
+        insist: false,
+    };
+    run_shard_with(dir, scenario_text, overrides, &options, on_member)
+}
+
+/// Runs the members of `options.shard` (see [`Shard::owns`]) into `dir` on
+/// `options.threads` worker threads, above the cost limits when `options.insist`; the
+/// table is left to [`merge`] (which reads the members whatever their cost).
+pub fn run_shard_with(
+    dir: &Path,
+    scenario_text: &str,
+    overrides: &[String],
+    options: &SweepOptions,
+    on_member: &(dyn Fn(&str, &Summary) + Sync),
+) -> Result<ShardRun, SweepError> {
+    let SweepOptions {
+        threads,
+        shard,
+        insist,
+    } = *options;
+    let base = if insist {
+        Scenario::from_toml_insisting(scenario_text, overrides)?
+    } else {
+        Scenario::from_toml(scenario_text, overrides)?
+    };
     let plan = SweepPlan::new(&base)?;
     let io = |source| SweepError::Io {
         path: dir.to_path_buf(),
