@@ -258,7 +258,9 @@ fn automatic_values(sc: &Scenario) -> Vec<(String, f64)> {
     match sc.engine {
         EngineKind::Intruder => granular::run::intruder::automatic_values(sc),
         EngineKind::Dsmc
-            if (sc.dsmc.time_step.is_none() || sc.dsmc.cell_size.is_none())
+            if (sc.dsmc.time_step.is_none()
+                || sc.dsmc.cell_size.is_none()
+                || sc.driving.is_some())
                 && sc.particle_count() <= 1_000_000 =>
         {
             let Ok(sim) = granular::prelude::Simulation::new(sc.clone()) else {
@@ -279,10 +281,78 @@ fn automatic_values(sc: &Scenario) -> Vec<(String, f64)> {
             if sc.dsmc.cell_size.is_none() {
                 out.push(("dsmc.cell_size (cell edge along x)".to_string(), cell));
             }
+            out.extend(driving_values(sc, &sim));
             out
         }
         _ => Vec::new(),
     }
+}
+
+/// `[driving]`: the rescaling temperature left to its default, and the steady state's
+/// Sonine `a2` and temperature (van Noije and Ernst 1998; `granular::driving`).
+fn driving_values(sc: &Scenario, sim: &granular::prelude::Simulation) -> Vec<(String, f64)> {
+    use granular::driving::{Driving, GasTheory};
+    use granular::run::AnyEngine;
+    let gas = |d: usize, e: f64, n: f64, r: f64, m: f64, chi: f64, p: usize| GasTheory {
+        dimension: d,
+        restitution: e,
+        number_density: n,
+        radius: r,
+        mass: m,
+        chi,
+        particles: p,
+    };
+    let (driving, theory) = match sim.engine() {
+        AnyEngine::Dsmc2(e) => (
+            e.driving().map(|s| s.driving.clone()),
+            gas(
+                2,
+                e.config().law.restitution,
+                e.number_density(),
+                e.radius(),
+                e.mass(),
+                e.enskog_factor(),
+                sc.particle_count(),
+            ),
+        ),
+        AnyEngine::Dsmc3(e) => (
+            e.driving().map(|s| s.driving.clone()),
+            gas(
+                3,
+                e.config().law.restitution,
+                e.number_density(),
+                e.radius(),
+                e.mass(),
+                e.enskog_factor(),
+                sc.particle_count(),
+            ),
+        ),
+        _ => return Vec::new(),
+    };
+    let Some(driving) = driving else {
+        return Vec::new();
+    };
+    let a2 = theory.a2(&driving);
+    let mut out = Vec::new();
+    match driving {
+        Driving::Rescale { temperature } => {
+            if sc.driving.as_ref().is_some_and(|d| d.temperature.is_none()) {
+                out.push((
+                    "driving.temperature (the initial temperature)".into(),
+                    temperature,
+                ));
+            }
+            out.push(("steady a2 (Sonine, HCS second estimate)".into(), a2));
+        }
+        Driving::WhiteNoise { strength } => {
+            out.push(("steady a2 (Sonine, heated gas)".into(), a2));
+            out.push((
+                "steady temperature (energy balance, Sonine loss rate)".into(),
+                theory.white_noise_temperature(strength, a2),
+            ));
+        }
+    }
+    out
 }
 
 /// `runs/<scenario file stem>`.

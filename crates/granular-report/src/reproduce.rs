@@ -16,7 +16,8 @@ use granular::intruder::theory::{GAUSSIAN_KURTOSIS, martin_piasecki_ratio};
 use granular::random::derive_key;
 
 use crate::ReportError;
-use crate::plot::{HistogramPlot, LinePlot, PALETTE, Panels, PlotError, Series};
+use crate::figures::{binned_cdf, chi_square_of_bins};
+use crate::plot::{HistogramPlot, LinePlot, PALETTE, Panels, PlotError, Series, fit_text};
 
 /// The figures that can be reproduced (Fig. 6 of the paper is a sketch of the needle).
 pub const FIGURES: [&str; 7] = ["fig1", "fig2", "fig3", "fig4", "fig5", "fig7", "fig8"];
@@ -340,6 +341,19 @@ fn plot_fig5(t: &Table) -> Panels<LinePlot, LinePlot> {
     );
     let (x, y) = positive(&col(t, "eq19_exact_alpha0.5"));
     right = right.series(Series::theory("Eq. 19 (α = 0.5)", x, y).dashed(true));
+    // Pearson's test of the α = 0.5 histogram against Eq. 19 over the binned range.
+    if let Some(fit) = equal_bin_edges(&v).and_then(|edges| {
+        chi_square_of_bins(
+            &edges,
+            &col(t, "count_alpha0.5"),
+            binned_cdf(&edges, &col(t, "eq19_exact_alpha0.5")),
+        )
+    }) {
+        left = left.note(format!(
+            "α = 0.5 vs Eq. 19: {}",
+            fit_text(fit.statistic, fit.degrees_of_freedom, fit.p_value)
+        ));
+    }
     let (x, y) = positive(&col(t, "tail_v^-4"));
     let (x, y): (Vec<f64>, Vec<f64>) = x.into_iter().zip(y).filter(|(x, _)| *x > 1.5).unzip();
     right = right.series(Series::theory("√2/(π v⁴)", x, y).dashed(false));
@@ -416,7 +430,16 @@ fn histogram(t: &Table, log: bool, title: &str) -> HistogramPlot {
     };
     let mut edges: Vec<f64> = centres[lo..hi].iter().map(|c| c - 0.5 * w).collect();
     edges.push(centres[hi - 1] + 0.5 * w);
-    HistogramPlot::new(title, edges, dens[lo..hi].to_vec())
+    // Pearson's test against the Gaussian whose width was measured from the same
+    // samples: one degree of freedom fewer.
+    let counts = col(t, "count_omega");
+    let gof = chi_square_of_bins(
+        &edges,
+        counts.get(lo..hi).unwrap_or(&[]),
+        binned_cdf(&edges, &fit[lo..hi]),
+    )
+    .map(|f| f.with_fitted_parameters(1));
+    let plot = HistogramPlot::new(title, edges, dens[lo..hi].to_vec())
         .size(HALF.0, HALF.1)
         .x_label("angular velocity ω [√(T_B/m)/L]")
         .y_label("probability density p(ω) [L√(m/T_B)]")
@@ -425,7 +448,19 @@ fn histogram(t: &Table, log: bool, title: &str) -> HistogramPlot {
             "best-fit Gaussian",
             centres[lo..hi].to_vec(),
             fit[lo..hi].to_vec(),
-        )
+        );
+    match gof {
+        Some(f) => plot.goodness_of_fit(f.statistic, f.degrees_of_freedom, f.p_value),
+        None => plot,
+    }
+}
+
+/// The edges of equal bins given by their centres (`None` for fewer than two).
+fn equal_bin_edges(centres: &[f64]) -> Option<Vec<f64>> {
+    let w = centres.get(1)? - centres.first()?;
+    let mut edges: Vec<f64> = centres.iter().map(|c| c - 0.5 * w).collect();
+    edges.push(centres.last()? + 0.5 * w);
+    Some(edges)
 }
 
 fn plot_fig8(t: &Table) -> Panels<HistogramPlot, HistogramPlot> {

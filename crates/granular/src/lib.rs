@@ -60,6 +60,7 @@
 pub mod averaging;
 pub mod boundary;
 pub mod collision_law;
+pub mod driving;
 pub mod dsmc;
 pub mod edmd;
 pub mod engine;

@@ -103,6 +103,14 @@ pub struct Rates {
     pub pressure: f64,
     /// Momentum transferred to the walls per unit area and time (NaN without walls).
     pub wall_pressure: f64,
+    /// Energy put in by a steady-state driving per unit time, `Δ injected_energy / Δt`
+    /// (NaN without a driving, [`crate::driving`]).
+    #[serde(default)]
+    pub driving_power: f64,
+    /// Energy lost in collisions per unit time, `Δ dissipated_energy / Δt` (NaN without a
+    /// driving).
+    #[serde(default)]
+    pub dissipation_rate: f64,
 }
 
 impl Rates {
@@ -114,6 +122,8 @@ impl Rates {
             mean_free_time: f64::NAN,
             pressure: f64::NAN,
             wall_pressure: f64::NAN,
+            driving_power: f64::NAN,
+            dissipation_rate: f64::NAN,
         }
     }
 }
@@ -140,12 +150,29 @@ impl Observation {
             (Some(j1), Some(j0)) if self.wall_area > 0.0 => (j1 - j0) / (self.wall_area * dt),
             _ => f64::NAN,
         };
+        // Driven gases only (the event-driven engine's own dissipated energy stays out of
+        // its columns).
+        let driven = |o: &Observation| o.specific("injected_energy").is_some();
+        let (driving_power, dissipation_rate) = if driven(self) && driven(earlier) {
+            let change = |f: &dyn Fn(&Observation) -> Option<f64>| match (f(self), f(earlier)) {
+                (Some(a), Some(b)) => (a - b) / dt,
+                _ => f64::NAN,
+            };
+            (
+                change(&|o| o.specific("injected_energy")),
+                change(&|o| o.dissipated_energy),
+            )
+        } else {
+            (f64::NAN, f64::NAN)
+        };
         Rates {
             interval: dt,
             collision_frequency: rate,
             mean_free_time: if rate > 0.0 { 1.0 / rate } else { f64::NAN },
             pressure,
             wall_pressure,
+            driving_power,
+            dissipation_rate,
         }
     }
 
@@ -202,7 +229,25 @@ impl Observation {
             out.push(("tc_elastic_collisions".into(), tc as f64));
         }
         out.extend(self.engine_specific.iter().cloned());
+        if self.specific("injected_energy").is_some() {
+            // A driven gas: the window's power in and loss, and the cooling rate
+            // `zeta = 2 (loss rate) / (D N T)` (`crate::driving`).
+            let nan = Rates::undefined(f64::NAN);
+            let r = rates.unwrap_or(&nan);
+            let dnt = self.dimension as f64 * self.particles as f64 * self.temperature;
+            out.push(("driving_power".into(), r.driving_power));
+            out.push(("dissipation_rate".into(), r.dissipation_rate));
+            out.push(("cooling_rate".into(), 2.0 * r.dissipation_rate / dnt));
+        }
         out
+    }
+
+    /// An engine-specific quantity by name ([`Observation::engine_specific`]).
+    pub fn specific(&self, name: &str) -> Option<f64> {
+        self.engine_specific
+            .iter()
+            .find(|(k, _)| k == name)
+            .map(|(_, v)| *v)
     }
 
     /// The value of one column by name (see [`Observation::columns`]), without rates.

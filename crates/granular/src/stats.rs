@@ -154,6 +154,24 @@ pub struct ChiSquare {
     pub p_value: f64,
 }
 
+impl ChiSquare {
+    /// The same test when `fitted` parameters of the model were estimated from the same
+    /// counts: that many degrees of freedom fewer (at least one), and the p-value for them.
+    pub fn with_fitted_parameters(&self, fitted: usize) -> ChiSquare {
+        let dof = self.degrees_of_freedom.saturating_sub(fitted).max(1);
+        let p_value = if self.statistic.is_finite() {
+            puruspe::gammq(dof as f64 / 2.0, self.statistic / 2.0)
+        } else {
+            0.0
+        };
+        ChiSquare {
+            statistic: self.statistic,
+            degrees_of_freedom: dof,
+            p_value,
+        }
+    }
+}
+
 /// Pearson's chi-square test of a histogram against a model given by its cumulative
 /// distribution function. Neighbouring bins are pooled until each expects at least five
 /// counts (the usual validity condition), the tails outside the histogram included.

@@ -17,6 +17,7 @@ mod problems;
 mod scenario_errors;
 mod simulation;
 mod spine;
+mod steady;
 mod structure_transport;
 mod sweeps;
 mod trajectory;

@@ -42,7 +42,7 @@ pub struct DsmcEngine<const D: usize> {
     pub(super) grid: CellGrid<D>,
     radius: f64,
     mass: f64,
-    seed: u64,
+    pub(super) seed: u64,
     tau: f64,
     gravity: Vector<D>,
     chi_global: f64,
@@ -78,6 +78,10 @@ pub struct DsmcEngine<const D: usize> {
     /// never written to checkpoints, which hold the whole system.
     #[serde(skip)]
     pub(super) domain: Option<super::domain::Domain>,
+    /// The steady-state driving ([`crate::driving`]) and its tally, applied after every
+    /// step; `None`: a free (cooling) gas.
+    #[serde(default)]
+    pub(super) driving: Option<crate::driving::DrivingState>,
 }
 
 fn default_species_name() -> String {
@@ -306,6 +310,7 @@ impl<const D: usize> DsmcEngine<D> {
             species_name: default_species_name(),
             validity: Vec::new(),
             domain: None,
+            driving: None,
         };
         engine.sort_by_cell(None);
         engine.validity = engine.check_validity();
@@ -808,7 +813,8 @@ impl<const D: usize> Engine for DsmcEngine<D> {
     /// Steps of `tau` (the last one shortened to land exactly on `until`); stops after the
     /// first step at which the events of this call reach `max_events`. Without an explicit
     /// `time_step`, `tau` is recomputed before every step as [`STEP_FRACTION`] of the
-    /// current mean free time (see [`DsmcEngine::follow_mean_free_time`]).
+    /// current mean free time (see [`DsmcEngine::follow_mean_free_time`]). A steady-state
+    /// driving ([`DsmcEngine::set_driving`]) acts after every step.
     fn advance(&mut self, until: f64, max_events: u64) -> Result<Progress, EngineError> {
         let e0 = self.events();
         while self.time < until {
@@ -822,6 +828,7 @@ impl<const D: usize> Engine for DsmcEngine<D> {
                 self.tau
             };
             self.step(dt);
+            self.drive(dt);
             if left <= self.tau * (1.0 + 1e-9) {
                 self.time = until;
             }
@@ -860,7 +867,7 @@ impl<const D: usize> Engine for DsmcEngine<D> {
             temperature: self.mass * c2 / d,
             species: Vec::new(),
             wall_collisions: None,
-            dissipated_energy: None,
+            dissipated_energy: self.driving.as_ref().map(|s| s.dissipated(kinetic)),
             tc_elastic_collisions: Some(self.tc_elastic_collisions()),
             virial: None,
             wall_impulse: None,
@@ -871,7 +878,11 @@ impl<const D: usize> Engine for DsmcEngine<D> {
                 steps: self.steps,
                 vmax_exceeded: self.tally.vmax_exceeded,
             }),
-            engine_specific: Vec::new(),
+            engine_specific: self
+                .driving
+                .as_ref()
+                .map(|s| vec![("injected_energy".to_string(), s.injected_energy)])
+                .unwrap_or_default(),
         }
     }
 

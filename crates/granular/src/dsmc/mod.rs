@@ -28,6 +28,7 @@ mod collide;
 pub mod config;
 mod decomposed;
 pub mod domain;
+mod driving;
 pub mod engine;
 mod flight;
 pub mod guards;

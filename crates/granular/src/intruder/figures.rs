@@ -253,6 +253,18 @@ pub fn fig5_power_law_distributions(collisions: u64, seed: u64) -> Table {
     for (a, r) in alphas.iter().zip(&res) {
         t.push(format!("F_alpha{a}"), r.histogram.density());
     }
+    // The raw counts where Eq. 19 is exact (`alpha = M/m`), for Pearson's test.
+    if let Some(r) = alphas
+        .iter()
+        .zip(&res)
+        .find(|(a, _)| **a == 0.5)
+        .map(|(_, r)| r)
+    {
+        t.push(
+            "count_alpha0.5",
+            r.histogram.counts.iter().map(|&c| c as f64).collect(),
+        );
+    }
     let exact = Bath::PowerLaw(super::bath::PowerLaw::new(1.0).unwrap_or_else(|e| panic!("{e}")));
     t.push(
         "eq19_exact_alpha0.5",
@@ -333,6 +345,7 @@ pub fn fig8_angular_distribution(collisions: u64, seed: u64) -> Table {
     let mut t = Table::new("Fig. 8: needle angular velocity distribution, M/m = 0.1, alpha = 0.1");
     t.push("omega", w.clone());
     t.push("P_omega", h.density());
+    t.push("count_omega", h.counts.iter().map(|&c| c as f64).collect());
     t.push(
         "gaussian_fit_omega",
         w.iter().map(|&x| gauss(x, r.omega_sigma)).collect(),

@@ -341,5 +341,13 @@ fn build_dsmc<const D: usize>(scenario: &Scenario) -> Result<DsmcEngine<D>, Buil
             .unwrap_or(scenario.edmd.impact_bins),
     };
     let seed = crate::random::derive_key(scenario.seed, &[crate::random::DYNAMICS]);
-    DsmcEngine::from_particles(config, bx, set, seed).map_err(|e| BuildError::Dsmc(e.to_string()))
+    let mut engine = DsmcEngine::from_particles(config, bx, set, seed)
+        .map_err(|e| BuildError::Dsmc(e.to_string()))?;
+    // `[driving]`: a steady state (rescale defaults to the initial temperature).
+    let driving = scenario
+        .driving
+        .as_ref()
+        .map(|d| d.driving(engine.temperature()));
+    engine.set_driving(driving);
+    Ok(engine)
 }

@@ -47,7 +47,7 @@ use std::time::Instant;
 /// rate window out of the event-driven engine; 8: a header with the payload's length and
 /// CRC-32 before the MessagePack payload, [`checkpoint`]; 9: the blocking accumulators of
 /// the summary's `averages`).
-pub const CHECKPOINT_FORMAT: u32 = 9;
+pub const CHECKPOINT_FORMAT: u32 = 10;
 
 /// Why a run failed.
 #[derive(Debug, thiserror::Error)]
@@ -595,6 +595,7 @@ impl Recorder {
             crater: None,
             intruder: None,
             averages: None,
+            steady_state: None,
             resolved: Recorder::resolved(simulation),
             warnings: self.warnings.clone(),
             outputs: simulation.outputs_done(),

@@ -218,6 +218,36 @@ pub struct AveragesSummary {
     pub observables: BTreeMap<String, AverageValue>,
 }
 
+/// The steady state of a driven gas (`[driving]`, [`crate::driving`]): the run averages
+/// (the `averages` block's values, with their standard errors) beside the Sonine theory of
+/// van Noije and Ernst (1998) for one species in a periodic box.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SteadyStateSummary {
+    /// `rescale` (homogeneous cooling state) or `white_noise` (heated gas).
+    pub kind: String,
+    /// Measured `a2` after the equilibration time (`null`: no sample).
+    pub a2: Option<AverageValue>,
+    /// The Sonine `a2` of the state ([`crate::theory::sonine`]): the HCS's second
+    /// estimate (`rescale`), the heated gas's (`white_noise`).
+    pub theory_a2: f64,
+    /// `rescale`: the HCS's first estimate, for comparison.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub theory_a2_first: Option<f64>,
+    /// Measured temperature (energy units).
+    pub temperature: Option<AverageValue>,
+    /// `rescale`: the fixed temperature; `white_noise`: the temperature of the exact
+    /// energy balance with the Sonine loss rate at `theory_a2`
+    /// ([`crate::driving::GasTheory::white_noise_temperature`]).
+    pub theory_temperature: f64,
+    /// Measured cooling rate `zeta = 2 (loss rate) / (D N T)` (1 / time).
+    pub cooling_rate: Option<AverageValue>,
+    /// `zeta = (1-e²)/D omega(T) (1 + 3 a2/16)` at the measured mean temperature and
+    /// `theory_a2` ([`crate::driving::GasTheory::cooling_rate`]).
+    pub theory_cooling_rate: f64,
+    /// The contact value `chi` of the collision frequency the theory uses (1: dilute).
+    pub chi: f64,
+}
+
 /// What a finished run reports (`summary.json`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Summary {
@@ -265,6 +295,9 @@ pub struct Summary {
     /// Means and standard errors of the time series after the equilibration time.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub averages: Option<AveragesSummary>,
+    /// A driven gas (`[driving]`): its measured steady state beside kinetic theory.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub steady_state: Option<SteadyStateSummary>,
     /// Values resolved at build time (radius, packing fraction, contact value).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub resolved: Option<Resolved>,

@@ -8,6 +8,7 @@
 //! names the key, the value, the line when it comes from the file, and the fix.
 
 mod de;
+mod driving;
 mod intruder;
 mod observables;
 mod overrides;
@@ -18,6 +19,7 @@ mod sweep;
 mod tables;
 mod validate;
 
+pub use driving::{DrivingKind, DrivingSpec};
 pub use intruder::IntruderSpec;
 pub use overrides::apply_override;
 pub use preflight::{
@@ -119,6 +121,9 @@ pub struct Scenario {
     /// Parameter scan run by `granular sweep`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sweep: Option<SweepSpec>,
+    /// A steady state of the gas (`[driving]`: velocity rescaling or white noise).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub driving: Option<DrivingSpec>,
 }
 
 /// The resolved scenario as written by [`Scenario::to_toml`]: the fields of [`Scenario`]
@@ -153,6 +158,8 @@ struct Resolved<'a> {
     crater: Option<&'a CraterSpec>,
     #[serde(skip_serializing_if = "Option::is_none")]
     sweep: Option<&'a SweepSpec>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    driving: Option<&'a DrivingSpec>,
 }
 
 /// `[dsmc]`: numerical choices of the DSMC engine (see `docs/dsmc.md`).
@@ -853,6 +860,7 @@ impl Scenario {
             intruder: self.intruder.as_ref(),
             crater: self.crater.as_ref().filter(|_| grains),
             sweep: self.sweep.as_ref(),
+            driving: self.driving.as_ref(),
         };
         toml::to_string_pretty(&view)
             .unwrap_or_else(|e| format!("# could not serialise the scenario: {e}\n"))
@@ -915,6 +923,7 @@ impl Scenario {
             validate::dsmc(self)?;
             validate::edmd(self)?;
             validate::crater(self)?;
+            driving::validate(self)?;
         }
         validate::stop(self)?;
         validate::output(self)?;

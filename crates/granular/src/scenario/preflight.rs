@@ -444,7 +444,10 @@ fn grains_cost(sc: &Scenario, g: &Gas) -> Cost {
     let gravity = sc.gravity.iter().any(|&x| x != 0.0);
     let e = sc.collisions.restitution;
     let d = sc.dimension as f64;
-    let cooling = e < 1.0 && !gravity && sc.collisions.contact_duration == 0.0;
+    // A driven gas (`[driving]`) does not cool: its clock runs at the initial
+    // temperature (the rescaled one's exactly, the heated one's near its steady value).
+    let cooling =
+        e < 1.0 && !gravity && sc.collisions.contact_duration == 0.0 && sc.driving.is_none();
     let clock = Clock {
         omega: g.omega,
         haff: if cooling {

@@ -22,6 +22,7 @@ const GRAINS: &[&str] = &[
     "collisions",
     "gravity",
     "crater",
+    "driving",
 ];
 
 fn engine_name(e: EngineKind) -> &'static str {
@@ -50,6 +51,7 @@ fn owners(key: &str) -> &'static str {
         "edmd" => "engine = \"edmd\"",
         "dsmc" => "engine = \"dsmc\"",
         "intruder" => "engine = \"intruder\"",
+        "driving" => "engine = \"dsmc\"",
         _ => "engine = \"edmd\" or \"dsmc\"",
     }
 }
@@ -107,6 +109,7 @@ pub(super) fn check_fields(sc: &Scenario) -> Result<(), ScenarioError> {
         ),
         ("gravity", !sc.gravity.is_empty()),
         ("crater", sc.crater.is_some()),
+        ("driving", sc.driving.is_some()),
     ];
     match set.iter().find(|(k, present)| *present && !applies(k, e)) {
         Some((k, _)) => Err(not_applicable(k, e)),

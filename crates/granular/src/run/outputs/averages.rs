@@ -27,6 +27,9 @@ const POWER_LAW_NOTE: &str = "the power-law bath's v^2 has infinite variance: no
 /// rates of the window. Counters and `mean_free_time` (the mean of `1/ν` is not `1/⟨ν⟩`)
 /// are left out.
 const COLUMNS: [&str; 3] = ["kinetic_energy", "temperature", "a2"];
+/// The rate columns of a driven gas ([`crate::driving`]); NaN (skipped) outside the
+/// equilibrated windows.
+const DRIVEN: [&str; 3] = ["driving_power", "dissipation_rate", "cooling_rate"];
 
 /// The run averages.
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
@@ -79,7 +82,10 @@ fn samples(obs: &Observation, rates: Option<&Rates>) -> Vec<(String, f64)> {
     let mut out: Vec<(String, f64)> = columns
         .into_iter()
         .filter(|(k, _)| {
-            COLUMNS.contains(&k.as_str()) || k.starts_with("temperature.") || k.starts_with("a2.")
+            COLUMNS.contains(&k.as_str())
+                || DRIVEN.contains(&k.as_str())
+                || k.starts_with("temperature.")
+                || k.starts_with("a2.")
         })
         .collect();
     if let Some(r) = rates {
@@ -175,12 +181,14 @@ impl Output for Averages {
                 (name.clone(), value)
             })
             .collect();
-        summary.averages = Some(AveragesSummary {
+        let averages = AveragesSummary {
             start_time: self.start_time.unwrap_or(f64::NAN),
             equilibration,
             method: METHOD.to_string(),
             observables,
-        });
+        };
+        summary.steady_state = super::steady::summary(simulation, &averages);
+        summary.averages = Some(averages);
         Ok(())
     }
 }

@@ -28,6 +28,7 @@ mod scaled_speeds;
 mod snapshots;
 mod spatial;
 mod speeds;
+mod steady;
 mod timeseries;
 mod trajectory;
 mod transport;
