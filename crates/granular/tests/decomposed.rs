@@ -330,6 +330,7 @@ fn run_scenario() -> granular::scenario::Scenario {
         interval = 0.01
         snapshot_every = 2
         checkpoint_seconds = 1e-9
+        equilibration_collisions_per_particle = 1e9
         "#
     );
     granular::scenario::Scenario::from_toml(&text, &[]).expect("valid scenario")
@@ -337,7 +338,12 @@ fn run_scenario() -> granular::scenario::Scenario {
 
 /// This rank's directory: the shared run directory on rank 0, `own` elsewhere (with a
 /// copy of the shared directory's files when `copy`, as the command line's ranks do).
-fn rank_dir(rank: usize, shared: &std::path::Path, own: &std::path::Path, copy: bool) -> std::path::PathBuf {
+fn rank_dir(
+    rank: usize,
+    shared: &std::path::Path,
+    own: &std::path::Path,
+    copy: bool,
+) -> std::path::PathBuf {
     if rank == 0 {
         return shared.to_path_buf();
     }
@@ -387,7 +393,11 @@ fn decomposed_run_writes_parts_and_resumes_on_another_rank_count() {
         .flatten()
         .map(|e| e.file_name().to_string_lossy().into_owned())
         .collect();
-    assert_eq!(parts.len(), 3, "one part per rank of the last checkpoint: {parts:?}");
+    assert_eq!(
+        parts.len(),
+        3,
+        "one part per rank of the last checkpoint: {parts:?}"
+    );
     let most_resumed = on_ranks(2, |comm, most| {
         let rank = comm.rank();
         let dir = rank_dir(rank, &shared, &own, true);
@@ -395,24 +405,36 @@ fn decomposed_run_writes_parts_and_resumes_on_another_rank_count() {
         run.run_to_end(&mut |_| {}, None).unwrap();
         most.load(std::sync::atomic::Ordering::Relaxed)
     });
-    for (k, m) in [(3, &most), (2, &most_resumed)] {
-        for (rank, &w) in m.iter().enumerate() {
-            assert!(
-                w <= (RUN_GRAINS / k + 1) * 5 && w < whole,
-                "{k} ranks: rank {rank} received {w} words in one collective (all: {whole})"
-            );
-        }
+    // The most a rank receives at once while the resumed run writes its checkpoints and
+    // snapshots: its block of ids for a snapshot (N / K records), or the raw values of the
+    // reductions' shared chunk (at most N D words here, where N is below one chunk of
+    // 4096); a gather of the whole system would be `whole`. (Not the first part: the speed
+    // histograms' set-up reads the whole initial state, and they pool whole snapshots
+    // once the gas is equilibrated, which this scenario puts off.)
+    assert_eq!(most.len(), 3);
+    for (rank, &w) in most_resumed.iter().enumerate() {
+        assert!(
+            w < whole,
+            "2 ranks: rank {rank} received {w} words in one collective, as many as all \
+             particles' records ({whole})"
+        );
     }
     let read = |d: &std::path::Path, f: &str| std::fs::read(d.join(f)).unwrap();
     assert!(read(&shared, "timeseries.csv") == read(&threaded, "timeseries.csv"));
-    assert!(!shared.join("checkpoint.parts").exists(), "parts left after the end");
+    assert!(
+        !shared.join("checkpoint.parts").exists(),
+        "parts left after the end"
+    );
     let mut names: Vec<_> = std::fs::read_dir(threaded.join("snapshots"))
         .unwrap()
         .flatten()
         .map(|e| e.file_name())
         .collect();
     names.sort();
-    let ours = std::fs::read_dir(shared.join("snapshots")).unwrap().flatten().count();
+    let ours = std::fs::read_dir(shared.join("snapshots"))
+        .unwrap()
+        .flatten()
+        .count();
     assert_eq!(ours, names.len(), "snapshot files (and no block left over)");
     assert!(names.len() >= 3);
     for name in &names {
@@ -429,7 +451,10 @@ fn decomposed_run_writes_parts_and_resumes_on_another_rank_count() {
             "{name:?} differs from the threaded run's"
         );
         let f = format!("snapshots/{}", name.to_string_lossy());
-        assert!(read(&shared, &f) == read(&threaded, &f), "{f}: not the same bytes");
+        assert!(
+            read(&shared, &f) == read(&threaded, &f),
+            "{f}: not the same bytes"
+        );
     }
     for d in [threaded, shared, own] {
         let _ = std::fs::remove_dir_all(d);

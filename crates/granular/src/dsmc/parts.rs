@@ -153,8 +153,8 @@ impl<const D: usize> DsmcEngine<D> {
             }
             let at = |c: usize| part.start[c - info.first_cell] as usize;
             let (a, b) = (at(lo), at(hi));
-            for c in lo..hi {
-                start[c] = (ids.len() + at(c) - a) as u32;
+            for (c, s) in start.iter_mut().enumerate().take(hi).skip(lo) {
+                *s = (ids.len() + at(c) - a) as u32;
             }
             ids.extend_from_slice(&part.ids[a..b]);
             pos.extend_from_slice(&part.pos[a..b]);

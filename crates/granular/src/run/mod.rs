@@ -387,20 +387,9 @@ impl Run {
             .create(true)
             .open(&log_path)
             .map_err(io_err(&log_path))?;
-        let mut state = cp.simulation;
         let shared = ranks.as_ref().map_or(dir, |(s, _)| *s).to_path_buf();
-        if let Some(manifest) = &cp.parts {
-            let comm = ranks.as_ref().map(|(_, c)| c.clone());
-            parts::load(&mut state.engine, comm, &shared, manifest)?;
-        }
-        let mut simulation = Simulation::restore(scenario, state);
-        if let Some((_, comm)) = &ranks {
-            simulation
-                .decompose(comm.clone())
-                .map_err(|e| RunError::Directory {
-                    dir: dir.to_path_buf(),
-                    message: e.to_string(),
-                })?;
+        let simulation = parts::restore(dir, scenario, cp.simulation, cp.parts.as_ref(), ranks)?;
+        if simulation.engine().domain().is_some() {
             outputs.share(&shared);
         }
         let mut recorder = Recorder {
@@ -411,7 +400,7 @@ impl Run {
             _lock: lock.0,
             started: true,
             warnings: Vec::new(),
-            shared: ranks.is_some().then_some(shared),
+            shared: simulation.engine().domain().is_some().then_some(shared),
             generation: cp.parts.as_ref().map_or(0, |m| m.generation),
         };
         if let Some(note) = lock.1 {
@@ -595,53 +584,6 @@ impl Recorder {
             parts: None,
         };
         self.write_checkpoint(simulation, &cp)
-    }
-
-    /// A decomposed run's checkpoint (collective): every rank writes its part, then rank 0
-    /// the manifest, then rank 0 removes the earlier parts ([`parts`]).
-    fn checkpoint_in_parts(
-        &mut self,
-        simulation: &Simulation,
-        rank: usize,
-    ) -> Result<(), RunError> {
-        let shared = self.shared.clone().unwrap_or_else(|| self.dir.clone());
-        let generation = self.generation + 1;
-        let manifest = parts::write_parts(simulation.engine(), &shared, generation);
-        if let Err(e) = &manifest {
-            self.log(simulation.wall_seconds(), &e.to_string());
-        }
-        let manifest = manifest?;
-        self.generation = generation;
-        let written = if rank == 0 {
-            let cp = Checkpoint {
-                format: CHECKPOINT_FORMAT,
-                scenario: simulation.scenario().to_toml(),
-                simulation: simulation.shell_state(),
-                outputs: self.outputs.clone(),
-                parts: Some(manifest),
-            };
-            self.write_checkpoint(simulation, &cp)
-        } else {
-            Ok(())
-        };
-        // Every rank learns whether the manifest is in place (collective).
-        let failed = simulation
-            .engine()
-            .domain()
-            .and_then(|d| parts::first_failure(d, written.is_ok()));
-        written?;
-        if failed.is_some() {
-            return Err(RunError::CheckpointWrite {
-                path: checkpoint::path(&shared),
-                message: "rank 0 could not write the checkpoint (its message is above); the \
-                          previous checkpoint is intact"
-                    .into(),
-            });
-        }
-        if rank == 0 {
-            parts::remove_other_generations(&shared, generation);
-        }
-        Ok(())
     }
 
     fn write_checkpoint(

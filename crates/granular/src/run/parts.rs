@@ -15,6 +15,7 @@ use super::{AnyEngine, RunError, checkpoint, io_err};
 use crate::dsmc::{Communicator, Domain, DsmcEngine, EnginePart, PartInfo};
 use crate::engine::Engine;
 use crate::output::npz::{Fill, StreamedSnapshot, write_snapshot_streamed};
+use crate::simulation::Simulation;
 use serde::{Deserialize, Serialize};
 use std::io::{BufWriter, Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
@@ -173,6 +174,82 @@ fn read_part<const D: usize>(shared: &Path, info: &PartInfo) -> Result<EnginePar
     })?;
     let payload = checkpoint::decode(&path, &bytes).map_err(|e| e.to_string())?;
     rmp_serde::from_slice(payload).map_err(|e| format!("part {}: {e}", path.display()))
+}
+
+impl super::Recorder {
+    /// A decomposed run's checkpoint (collective): every rank writes its part, then rank 0
+    /// the manifest, then rank 0 removes the earlier parts (see the module docs).
+    pub(super) fn checkpoint_in_parts(
+        &mut self,
+        simulation: &Simulation,
+        rank: usize,
+    ) -> Result<(), RunError> {
+        let shared = self.shared.clone().unwrap_or_else(|| self.dir.clone());
+        let generation = self.generation + 1;
+        let manifest = write_parts(simulation.engine(), &shared, generation);
+        if let Err(e) = &manifest {
+            self.log(simulation.wall_seconds(), &e.to_string());
+        }
+        let manifest = manifest?;
+        self.generation = generation;
+        let written = if rank == 0 {
+            let cp = super::Checkpoint {
+                format: super::CHECKPOINT_FORMAT,
+                scenario: simulation.scenario().to_toml(),
+                simulation: simulation.shell_state(),
+                outputs: self.outputs.clone(),
+                parts: Some(manifest),
+            };
+            self.write_checkpoint(simulation, &cp)
+        } else {
+            Ok(())
+        };
+        // Every rank learns whether the manifest is in place (collective).
+        let failed = simulation
+            .engine()
+            .domain()
+            .and_then(|d| first_failure(d, written.is_ok()));
+        written?;
+        if failed.is_some() {
+            return Err(RunError::CheckpointWrite {
+                path: checkpoint::path(&shared),
+                message: "rank 0 could not write the checkpoint (its message is above); the \
+                          previous checkpoint is intact"
+                    .into(),
+            });
+        }
+        if rank == 0 {
+            remove_other_generations(&shared, generation);
+        }
+        Ok(())
+    }
+}
+
+/// The simulation of a checkpoint read from `dir`: its state with the grains of its parts
+/// (in `shared`) when it was written in parts; with `ranks`, this rank's slab only, the
+/// simulation decomposed (collective), otherwise the whole system.
+pub(super) fn restore(
+    dir: &Path,
+    scenario: crate::scenario::Scenario,
+    mut state: crate::simulation::SimulationState,
+    manifest: Option<&Manifest>,
+    ranks: Option<(&Path, Arc<dyn Communicator>)>,
+) -> Result<Simulation, RunError> {
+    let shared = ranks.as_ref().map_or(dir, |(s, _)| *s);
+    if let Some(manifest) = manifest {
+        let comm = ranks.as_ref().map(|(_, c)| c.clone());
+        load(&mut state.engine, comm, shared, manifest)?;
+    }
+    let mut simulation = Simulation::restore(scenario, state);
+    if let Some((_, comm)) = ranks {
+        simulation
+            .decompose(comm)
+            .map_err(|e| RunError::Directory {
+                dir: dir.to_path_buf(),
+                message: e.to_string(),
+            })?;
+    }
+    Ok(simulation)
 }
 
 /// The temporary file of rank `rank`'s block of the snapshot `path`.
