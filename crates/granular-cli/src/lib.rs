@@ -442,7 +442,7 @@ fn dispatch(cli: Cli) -> Result<(), CliError> {
                     dir.display()
                 )));
             }
-            launch(&dir, quiet, |mine, _| {
+            launch(&dir, quiet, |mine, _, _| {
                 Run::create(mine, sc).map_err(|e| e.to_string())
             })
         }
@@ -494,11 +494,16 @@ fn dispatch(cli: Cli) -> Result<(), CliError> {
             }
             Ok(())
         }
-        Command::Resume { dir, quiet } => launch(&dir, quiet, |mine, rank| {
+        Command::Resume { dir, quiet } => launch(&dir, quiet, |mine, rank, comm| {
             if rank != 0 {
                 ranks_copy(&dir, mine)?;
             }
-            Run::resume(mine).map_err(|e| e.to_string())
+            match comm {
+                // Each rank reads only the checkpoint parts of its slab.
+                Some(comm) => Run::resume_decomposed(mine, &dir, comm),
+                None => Run::resume(mine),
+            }
+            .map_err(|e| e.to_string())
         }),
         Command::Bench { engine } => Ok(bench::run(engine)?),
         Command::Compare { dirs, out } => {
@@ -592,7 +597,7 @@ fn dispatch(cli: Cli) -> Result<(), CliError> {
             if let Some(o) = bath_file_override(&scenario, &base) {
                 set.push(o);
             }
-            sweep::sweep(&sweep::SweepArgs {
+            let args = sweep::SweepArgs {
                 scenario: &scenario,
                 text: &text,
                 dir: &dir,
@@ -601,7 +606,8 @@ fn dispatch(cli: Cli) -> Result<(), CliError> {
                 shard,
                 insist,
                 observable: base.sweep.map(|s| s.observable).unwrap_or_default(),
-            })
+            };
+            sweep_on_ranks(&args)
         }
         Command::Merge { dir, allow_missing } => sweep::merge(&dir, allow_missing),
     }
@@ -619,11 +625,37 @@ fn parse_shard(text: &str) -> Result<granular::run::sweep::Shard, String> {
 fn launch(
     dir: &Path,
     quiet: bool,
-    open: impl FnOnce(&Path, usize) -> Result<Run, String>,
+    open: impl FnOnce(&Path, usize, Ranks) -> Result<Run, String>,
 ) -> Result<(), CliError> {
-    let run = open(dir, 0)?;
+    let run = open(dir, 0, None)?;
     finish_after(run, dir, quiet, None)
 }
+
+/// `granular sweep`; under `mpirun` with several ranks (the `mpi` feature) the members are
+/// spread over the ranks and rank 0 writes the table once all have finished.
+#[cfg(not(feature = "mpi"))]
+fn sweep_on_ranks(args: &sweep::SweepArgs) -> Result<(), CliError> {
+    sweep::sweep(args, None)
+}
+
+#[cfg(feature = "mpi")]
+fn sweep_on_ranks(args: &sweep::SweepArgs) -> Result<(), CliError> {
+    let ranks = ranks::Ranks::start();
+    if ranks.size() == 1 {
+        return sweep::sweep(args, None);
+    }
+    sweep::sweep(
+        args,
+        Some(sweep::SweepRanks {
+            rank: ranks.rank(),
+            size: ranks.size(),
+            any_failed: &ranks::any_rank,
+        }),
+    )
+}
+
+/// The communicator of a run over several ranks, for opening it (`None`: one rank).
+type Ranks = Option<std::sync::Arc<dyn granular::dsmc::Communicator>>;
 
 #[cfg(not(feature = "mpi"))]
 fn ranks_copy(_dir: &Path, _mine: &Path) -> Result<(), String> {
@@ -639,32 +671,23 @@ fn ranks_copy(dir: &Path, mine: &Path) -> Result<(), String> {
 fn launch(
     dir: &Path,
     quiet: bool,
-    open: impl FnOnce(&Path, usize) -> Result<Run, String>,
+    open: impl FnOnce(&Path, usize, Ranks) -> Result<Run, String>,
 ) -> Result<(), CliError> {
     let ranks = ranks::Ranks::start();
     let mine = ranks.directory(dir);
     let rank = ranks.rank();
     let result = (|| {
-        let mut run = ranks.agree(open(&mine, rank))?;
-        let wall = run.scenario().stop.wall_seconds.is_some() && ranks.size() > 1;
-        ranks.agree(if wall {
-            Err(
-                "stop.wall_seconds: a run split over several ranks cannot stop on the wall \
-                 clock (each rank reads its own); use stop.time, stop.collisions or \
-                 stop.collisions_per_particle, and the scheduler's time limit (the run \
-                 checkpoints on SIGTERM)"
-                    .to_string(),
-            )
-        } else {
-            Ok(())
-        })?;
+        let comm = (ranks.size() > 1).then(|| ranks.communicator());
+        let mut run = ranks.agree(open(&mine, rank, comm))?;
         if ranks.size() > 1 {
             // One rank (also without mpirun) runs the threaded engine as it is.
             ranks.agree(
-                run.decompose(ranks.communicator())
+                run.decompose(ranks.communicator(), dir)
                     .map_err(|e| e.to_string()),
             )?;
             run.agree_with(Box::new(ranks::any_rank));
+            // stop.wall_seconds: rank 0's clock decides, at the same step on every rank.
+            run.decide_wall_clock_with(Box::new(ranks::rank0_decides));
         }
         // A test hook (scripts/test-mpi): stop as if killed after this many outputs,
         // leaving the checkpoint, to resume it on another number of ranks.

@@ -95,6 +95,14 @@ pub fn any_rank(local: bool) -> bool {
     all.iter().any(|&x| x != 0)
 }
 
+/// Rank 0's `local`, on every rank (collective): rank 0's clock decides
+/// `stop.wall_seconds` for all.
+pub fn rank0_decides(local: bool) -> bool {
+    let mut x = i32::from(local);
+    world().process_at_rank(0).broadcast_into(&mut x);
+    x != 0
+}
+
 /// Copies the files of a run directory (its subdirectories empty) to `to`, for a rank
 /// other than 0 that resumes from rank 0's checkpoint.
 pub fn copy_run_files(from: &Path, to: &Path) -> Result<(), String> {

@@ -16,10 +16,27 @@ pub(crate) struct SweepArgs<'a> {
     pub observable: String,
 }
 
+/// The ranks of `mpirun` a sweep is spread over: this rank, their number, and a collective
+/// "did any rank fail".
+pub(crate) struct SweepRanks<'a> {
+    pub rank: usize,
+    pub size: usize,
+    pub any_failed: &'a dyn Fn(bool) -> bool,
+}
+
+/// Shard `shard` split further over `size` ranks: rank `r` takes the members of `shard`
+/// whose turn in it is `r` (member `m` with `m mod (N K) = I - 1 + N r`).
+fn rank_shard(shard: Shard, rank: usize, size: usize) -> Shard {
+    Shard {
+        index: shard.index + shard.count * rank,
+        count: shard.count * size,
+    }
+}
+
 /// Runs the sweep (or its shard: `--shard`, else the environment) and, for the whole
 /// sweep, merges the table and prints the chosen observable as CSV.
-pub(crate) fn sweep(a: &SweepArgs) -> Result<(), CliError> {
-    let shard = match a.shard {
+pub(crate) fn sweep(a: &SweepArgs, ranks: Option<SweepRanks>) -> Result<(), CliError> {
+    let outer = match a.shard {
         Some(s) => s,
         None => match Shard::from_env(|k| std::env::var(k).ok()) {
             Ok(Some((s, from))) => {
@@ -29,6 +46,10 @@ pub(crate) fn sweep(a: &SweepArgs) -> Result<(), CliError> {
             Ok(None) => Shard::ALL,
             Err(e) => return Err(CliError::Message(e)),
         },
+    };
+    let shard = match &ranks {
+        Some(r) => rank_shard(outer, r.rank, r.size),
+        None => outer,
     };
     let start = std::time::Instant::now();
     let report = |name: &str, s: &granular::Summary| {
@@ -43,8 +64,32 @@ pub(crate) fn sweep(a: &SweepArgs) -> Result<(), CliError> {
         shard,
         insist: a.insist,
     };
-    let done = sweep::run_shard_with(a.dir, a.text, a.set, &options, &report).map_err(fail)?;
-    if shard.count > 1 {
+    let done = sweep::run_shard_with(a.dir, a.text, a.set, &options, &report).map_err(fail);
+    if let Some(r) = &ranks {
+        // Every rank has finished its members (collective); rank 0 writes the table.
+        let failed = (r.any_failed)(done.is_err());
+        let done = done?;
+        if failed {
+            return Err(CliError::Message(format!(
+                "{}: a rank failed (its message is above); rerun the same command to \
+                 finish the missing members",
+                a.dir.display()
+            )));
+        }
+        if r.rank != 0 {
+            return Ok(());
+        }
+        eprintln!(
+            "{}: shard {outer} spread over {} ranks, all finished ({} members run now on \
+             rank 0)",
+            a.dir.display(),
+            r.size,
+            done.ran
+        );
+    } else if shard.count == 1 {
+        done?;
+    } else {
+        let done = done?;
         eprintln!(
             "{}: shard {shard}: {} of {} members ({} run now) in {:.1} s; when every shard has \
              finished: granular merge {}",
@@ -53,6 +98,14 @@ pub(crate) fn sweep(a: &SweepArgs) -> Result<(), CliError> {
             done.total,
             done.ran,
             start.elapsed().as_secs_f64(),
+            a.dir.display()
+        );
+        return Ok(());
+    }
+    if outer.count > 1 {
+        eprintln!(
+            "{}: shard {outer} done; when every shard has finished: granular merge {}",
+            a.dir.display(),
             a.dir.display()
         );
         return Ok(());

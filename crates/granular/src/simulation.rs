@@ -136,7 +136,14 @@ pub struct Simulation {
     wall_seconds_before: f64,
     session_start: Instant,
     session_events_start: u64,
+    /// Turns this process's `stop.wall_seconds` verdict into the one every rank of a
+    /// decomposed run takes ([`Simulation::decide_wall_clock_with`]).
+    wall_clock: Option<WallClock>,
 }
+
+/// `decide(local)`: the `stop.wall_seconds` verdict of all ranks from this rank's own
+/// (`local`), the same on every rank (for example rank 0's, broadcast). Collective.
+pub type WallClock = Box<dyn Fn(bool) -> bool + Send + Sync>;
 
 impl Simulation {
     /// Builds the engine of `scenario` (validated first) with its initial state.
@@ -156,6 +163,7 @@ impl Simulation {
             wall_seconds_before: 0.0,
             session_start: Instant::now(),
             session_events_start: 0,
+            wall_clock: None,
         }
     }
 
@@ -170,6 +178,7 @@ impl Simulation {
             wall_seconds_before: state.wall_seconds,
             session_start: Instant::now(),
             session_events_start: events,
+            wall_clock: None,
         }
     }
 
@@ -184,11 +193,40 @@ impl Simulation {
         self.engine.decompose(comm)
     }
 
+    /// Makes the ranks of a decomposed run stop on `stop.wall_seconds` at the same step:
+    /// the rule is checked at the same points on every rank (between chunks of events and
+    /// at output times, which do not depend on the clock), and `decide` turns each rank's
+    /// own verdict into the common one (collective).
+    pub fn decide_wall_clock_with(&mut self, decide: WallClock) {
+        self.wall_clock = Some(decide);
+    }
+
+    /// Whether `limit` seconds of computing time are spent (by the common verdict of the
+    /// ranks when there is one).
+    fn wall_time_up(&self, limit: f64) -> bool {
+        let local = self.wall_seconds() >= limit;
+        match &self.wall_clock {
+            Some(decide) => decide(local),
+            None => local,
+        }
+    }
+
     /// The state a checkpoint holds (the engine is cloned; a decomposed engine is
     /// gathered whole, collectively).
     pub(crate) fn state(&self) -> SimulationState {
         SimulationState {
             engine: self.engine.whole(),
+            initial_kinetic_energy: self.initial_kinetic_energy,
+            outputs_done: self.outputs_done,
+            wall_seconds: self.wall_seconds(),
+        }
+    }
+
+    /// The state a decomposed run's checkpoint manifest holds: as [`Simulation::state`]
+    /// but the engine without its particles (they are in the ranks' parts). Local.
+    pub(crate) fn shell_state(&self) -> SimulationState {
+        SimulationState {
+            engine: self.engine.shell(),
             initial_kinetic_energy: self.initial_kinetic_energy,
             outputs_done: self.outputs_done,
             wall_seconds: self.wall_seconds(),
@@ -372,7 +410,7 @@ impl Simulation {
                 }
                 let mid_interval = if stop.events.is_some_and(|e| self.events() >= e) {
                     Some(StopReason::Events)
-                } else if stop.wall_seconds.is_some_and(|w| self.wall_seconds() >= w) {
+                } else if stop.wall_seconds.is_some_and(|w| self.wall_time_up(w)) {
                     Some(StopReason::WallSeconds)
                 } else {
                     None
@@ -412,7 +450,7 @@ impl Simulation {
             .is_some_and(|f| self.engine.kinetic_energy() <= f * self.initial_kinetic_energy)
         {
             Some(StopReason::EnergyFraction)
-        } else if stop.wall_seconds.is_some_and(|w| self.wall_seconds() >= w) {
+        } else if stop.wall_seconds.is_some_and(|w| self.wall_time_up(w)) {
             Some(StopReason::WallSeconds)
         } else {
             None

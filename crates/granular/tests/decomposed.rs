@@ -273,3 +273,226 @@ fn decomposed_driven_gases_are_bit_identical_for_1_to_4_ranks() {
         &[0.01, 0.02],
     );
 }
+
+/// A rank that records the most words it received in one collective: a rank that
+/// gathered every particle would receive at least `N (1 + 2 D)` words at once.
+#[derive(Debug)]
+struct Counting {
+    inner: Threads,
+    most: Arc<std::sync::atomic::AtomicUsize>,
+}
+
+impl Counting {
+    fn note(&self, received: Vec<Vec<f64>>) -> Vec<Vec<f64>> {
+        let words = received.iter().map(Vec::len).sum();
+        self.most
+            .fetch_max(words, std::sync::atomic::Ordering::Relaxed);
+        received
+    }
+}
+
+impl Communicator for Counting {
+    fn rank(&self) -> usize {
+        self.inner.rank
+    }
+
+    fn size(&self) -> usize {
+        self.inner.size()
+    }
+
+    fn all_gather(&self, local: &[f64]) -> Vec<Vec<f64>> {
+        self.note(self.inner.all_gather(local))
+    }
+
+    fn exchange(&self, outgoing: Vec<Vec<f64>>) -> Vec<Vec<f64>> {
+        self.note(self.inner.exchange(outgoing))
+    }
+}
+
+/// Runs `f(communicator, the most words it received)` on `k` ranks (threads).
+fn on_ranks<T: Send>(
+    k: usize,
+    f: impl Fn(Arc<dyn Communicator>, &std::sync::atomic::AtomicUsize) -> T + Sync,
+) -> Vec<T> {
+    std::thread::scope(|s| {
+        let f = &f;
+        let handles: Vec<_> = Threads::world(k)
+            .into_iter()
+            .map(|inner| {
+                s.spawn(move || {
+                    let most = Arc::new(std::sync::atomic::AtomicUsize::new(0));
+                    let comm = Counting {
+                        inner,
+                        most: most.clone(),
+                    };
+                    f(Arc::new(comm), &most)
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| h.join().expect("a rank panicked"))
+            .collect()
+    })
+}
+
+const RUN_GRAINS: usize = 3000;
+
+fn run_scenario() -> granular::scenario::Scenario {
+    let text = format!(
+        r#"
+        engine = "dsmc"
+        dimension = 2
+        seed = 5
+        gravity = [0.0, -2.0]
+        [box]
+        lengths = [1.0, 1.0]
+        boundary = ["periodic", "wall"]
+        [[species]]
+        name = "grain"
+        count = {RUN_GRAINS}
+        packing_fraction = 0.1
+        velocity = {{ distribution = "maxwell_boltzmann", temperature = 1.0 }}
+        [collisions]
+        restitution = 0.8
+        wall_restitution = 0.9
+        contact_duration = 1e-4
+        [dsmc]
+        enskog = true
+        consistent_boltzmann = true
+        [stop]
+        time = 0.05
+        [output]
+        interval = 0.01
+        snapshot_every = 2
+        checkpoint_seconds = 1e-9
+        equilibration_collisions_per_particle = 1e9
+        "#
+    );
+    granular::scenario::Scenario::from_toml(&text, &[]).expect("valid scenario")
+}
+
+/// This rank's directory: the shared run directory on rank 0, `own` elsewhere (with a
+/// copy of the shared directory's files when `copy`, as the command line's ranks do).
+fn rank_dir(
+    rank: usize,
+    shared: &std::path::Path,
+    own: &std::path::Path,
+    copy: bool,
+) -> std::path::PathBuf {
+    if rank == 0 {
+        return shared.to_path_buf();
+    }
+    let dir = own.join(format!("rank{rank}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    if copy {
+        for entry in std::fs::read_dir(shared).unwrap().flatten() {
+            let target = dir.join(entry.file_name());
+            if entry.path().is_dir() {
+                std::fs::create_dir_all(&target).unwrap();
+            } else if entry.file_name() != ".lock" {
+                std::fs::copy(entry.path(), &target).unwrap();
+            }
+        }
+    }
+    dir
+}
+
+/// A run over 3 ranks writes its checkpoints in parts and its snapshots by blocks of ids
+/// (no rank ever receives all particles at once), stops after 2 outputs; resumed from the
+/// parts on 2 ranks it ends with the threaded run's time series and snapshots, bit for bit.
+#[test]
+fn decomposed_run_writes_parts_and_resumes_on_another_rank_count() {
+    use granular::run::{Run, RunError, read_snapshot};
+    let threaded = crate::common::tmp("threaded");
+    Run::create(&threaded, run_scenario())
+        .unwrap()
+        .run_to_end(&mut |_| {}, None)
+        .unwrap();
+    let shared = crate::common::tmp("ranks");
+    let own = crate::common::tmp("ranks-own");
+    // A gather of every particle would receive N (1 + 2 D) words in one collective.
+    let whole = RUN_GRAINS * 5;
+    let most = on_ranks(3, |comm, most| {
+        let rank = comm.rank();
+        let mut run = Run::create(&rank_dir(rank, &shared, &own, false), run_scenario()).unwrap();
+        run.decompose(comm, &shared).unwrap();
+        match run.run_to_end(&mut |_| {}, Some(2)) {
+            Err(RunError::Checkpoint { message, .. }) if message.contains("on request") => {}
+            other => panic!("rank {rank}: expected the test interruption, got {other:?}"),
+        }
+        most.load(std::sync::atomic::Ordering::Relaxed)
+    });
+    let parts: Vec<_> = std::fs::read_dir(shared.join("checkpoint.parts"))
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(
+        parts.len(),
+        3,
+        "one part per rank of the last checkpoint: {parts:?}"
+    );
+    let most_resumed = on_ranks(2, |comm, most| {
+        let rank = comm.rank();
+        let dir = rank_dir(rank, &shared, &own, true);
+        let run = Run::resume_decomposed(&dir, &shared, comm).unwrap();
+        run.run_to_end(&mut |_| {}, None).unwrap();
+        most.load(std::sync::atomic::Ordering::Relaxed)
+    });
+    // The most a rank receives at once while the resumed run writes its checkpoints and
+    // snapshots: its block of ids for a snapshot (N / K records), or the raw values of the
+    // reductions' shared chunk (at most N D words here, where N is below one chunk of
+    // 4096); a gather of the whole system would be `whole`. (Not the first part: the speed
+    // histograms' set-up reads the whole initial state, and they pool whole snapshots
+    // once the gas is equilibrated, which this scenario puts off.)
+    assert_eq!(most.len(), 3);
+    for (rank, &w) in most_resumed.iter().enumerate() {
+        assert!(
+            w < whole,
+            "2 ranks: rank {rank} received {w} words in one collective, as many as all \
+             particles' records ({whole})"
+        );
+    }
+    let read = |d: &std::path::Path, f: &str| std::fs::read(d.join(f)).unwrap();
+    assert!(read(&shared, "timeseries.csv") == read(&threaded, "timeseries.csv"));
+    assert!(
+        !shared.join("checkpoint.parts").exists(),
+        "parts left after the end"
+    );
+    let mut names: Vec<_> = std::fs::read_dir(threaded.join("snapshots"))
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name())
+        .collect();
+    names.sort();
+    let ours = std::fs::read_dir(shared.join("snapshots"))
+        .unwrap()
+        .flatten()
+        .count();
+    assert_eq!(ours, names.len(), "snapshot files (and no block left over)");
+    assert!(names.len() >= 3);
+    for name in &names {
+        let a = read_snapshot(threaded.join("snapshots").join(name)).unwrap();
+        let b = read_snapshot(shared.join("snapshots").join(name)).unwrap();
+        assert!(
+            a.positions == b.positions
+                && a.velocities == b.velocities
+                && a.radii == b.radii
+                && a.masses == b.masses
+                && a.species == b.species
+                && a.species_names == b.species_names
+                && a.time.to_bits() == b.time.to_bits(),
+            "{name:?} differs from the threaded run's"
+        );
+        let f = format!("snapshots/{}", name.to_string_lossy());
+        assert!(
+            read(&shared, &f) == read(&threaded, &f),
+            "{f}: not the same bytes"
+        );
+    }
+    for d in [threaded, shared, own] {
+        let _ = std::fs::remove_dir_all(d);
+    }
+}

@@ -331,6 +331,41 @@ impl<const D: usize> DsmcEngine<D> {
         Ok(())
     }
 
+    /// The engine without its particles (what a checkpoint's manifest holds beside the
+    /// parts): every parameter, the time, the counters. [`DsmcEngine::load_parts`] puts
+    /// the particles back.
+    pub fn shell(&self) -> DsmcEngine<D> {
+        DsmcEngine {
+            config: self.config.clone(),
+            sim_box: self.sim_box.clone(),
+            grid: self.grid.clone(),
+            radius: self.radius,
+            mass: self.mass,
+            seed: self.seed,
+            tau: self.tau,
+            gravity: self.gravity,
+            chi_global: self.chi_global,
+            pos: Vec::new(),
+            vel: Vec::new(),
+            ids: Vec::new(),
+            last: Vec::new(),
+            cell_of: Vec::new(),
+            start: Vec::new(),
+            perm: Default::default(),
+            scratch_vec: Vec::new(),
+            scratch_vel: Vec::new(),
+            scratch_ids: Vec::new(),
+            scratch_last: Vec::new(),
+            time: self.time,
+            steps: self.steps,
+            tally: self.tally.clone(),
+            species_name: self.species_name.clone(),
+            validity: self.validity.clone(),
+            domain: None,
+            driving: self.driving.clone(),
+        }
+    }
+
     /// The time step `tau` in use.
     pub fn time_step(&self) -> f64 {
         self.tau

@@ -33,9 +33,11 @@ pub mod engine;
 mod flight;
 pub mod guards;
 pub mod observables;
+pub mod parts;
 
 pub use config::{DensityScope, DsmcConfig, VmaxMode};
 pub use domain::{Communicator, Domain, DomainError, Traffic};
 pub use engine::{DsmcEngine, DsmcError};
 pub use guards::{GuardKind, ValidityWarning};
 pub use observables::{DensityMap, StructureFactor};
+pub use parts::{EnginePart, IdBlock, PartInfo};

@@ -28,6 +28,9 @@ use std::path::Path;
 
 use npyz::{DType, NpyFile, TypeChar, TypeStr, WriterBuilder};
 
+mod stream;
+pub use stream::{Fill, StreamedSnapshot, write_snapshot_streamed};
+
 use crate::engine::Snapshot;
 
 /// Why an array file could not be written or read.

@@ -64,6 +64,25 @@ impl AnyEngine {
         }
     }
 
+    /// This rank's share of a decomposed DSMC engine (`None`: the whole engine).
+    pub fn domain(&self) -> Option<&crate::dsmc::Domain> {
+        match self {
+            AnyEngine::Dsmc2(e) => e.domain(),
+            AnyEngine::Dsmc3(e) => e.domain(),
+            _ => None,
+        }
+    }
+
+    /// A DSMC engine without its particles (the manifest of a decomposed run's
+    /// checkpoint); other engines are cloned.
+    pub(crate) fn shell(&self) -> AnyEngine {
+        match self {
+            AnyEngine::Dsmc2(e) => AnyEngine::Dsmc2(e.shell()),
+            AnyEngine::Dsmc3(e) => AnyEngine::Dsmc3(e.shell()),
+            other => other.clone(),
+        }
+    }
+
     /// The whole engine: a clone, gathered from all ranks for a decomposed DSMC engine
     /// (collective then).
     pub fn whole(&self) -> AnyEngine {

@@ -13,6 +13,7 @@
 //! | `intruder_histograms.csv`, `.npz` | intruder engine: velocity histograms on the time grid with reference densities |
 //! | `summary.json` | engine, version, seed, timings, final observables, goodness of fit |
 //! | `checkpoint.msgpack` | full state at the last checkpoint, with its CRC-32 ([`checkpoint`]; removed when the run ends) |
+//! | `checkpoint.parts/` | a run over several ranks: each rank's particles at the last checkpoint ([`parts`]) |
 //! | `.lock` | the process id of the run writing the directory (removed when it ends; see `docs/output.md`) |
 //! | `log.txt` | what happened, with wall-clock times |
 
@@ -21,6 +22,7 @@ pub mod checkpoint;
 pub mod intruder;
 mod lock;
 pub mod outputs;
+pub mod parts;
 pub mod summary;
 pub mod sweep;
 
@@ -154,6 +156,10 @@ struct Checkpoint {
     scenario: String,
     simulation: SimulationState,
     outputs: StandardOutputs,
+    /// A run decomposed over ranks: the engine above has no particles; they are in
+    /// these parts ([`parts`]). Absent from the threaded run's checkpoints.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    parts: Option<parts::Manifest>,
 }
 
 /// The files and log of a run directory, apart from the simulation they record.
@@ -167,6 +173,11 @@ struct Recorder {
     /// Whether the outputs have been set up and have seen the start.
     started: bool,
     warnings: Vec<String>,
+    /// The run directory every rank of a decomposed run writes its checkpoint parts and
+    /// snapshot blocks into (rank 0's `dir`).
+    shared: Option<PathBuf>,
+    /// The number of the last checkpoint written in parts.
+    generation: u64,
 }
 
 /// A run in progress in a run directory.
@@ -275,6 +286,8 @@ impl Run {
             _lock: lock,
             started: false,
             warnings,
+            shared: None,
+            generation: 0,
         };
         if let Some(note) = note {
             recorder.log(0.0, &note);
@@ -295,6 +308,26 @@ impl Run {
     /// the checkpoint is damaged (its CRC-32, length and format are checked) or when
     /// `scenario.toml` was edited after the run started.
     pub fn resume(dir: &Path) -> Result<Run, RunError> {
+        Run::resume_with(dir, None)
+    }
+
+    /// [`Run::resume`] on the ranks of `comm` (collective): `dir` is this rank's copy of
+    /// the run directory (its files), `shared` the run directory every rank sees. The
+    /// checkpoint of a run over several ranks is read in parts, each rank only the parts
+    /// that overlap its slab; the single-file checkpoint of a threaded run is read whole
+    /// by every rank, then split. The run is decomposed afterwards.
+    pub fn resume_decomposed(
+        dir: &Path,
+        shared: &Path,
+        comm: std::sync::Arc<dyn crate::dsmc::Communicator>,
+    ) -> Result<Run, RunError> {
+        Run::resume_with(dir, Some((shared, comm)))
+    }
+
+    fn resume_with(
+        dir: &Path,
+        ranks: Option<(&Path, std::sync::Arc<dyn crate::dsmc::Communicator>)>,
+    ) -> Result<Run, RunError> {
         let path = checkpoint::path(dir);
         let nothing = |message: String| RunError::Directory {
             dir: dir.to_path_buf(),
@@ -354,7 +387,11 @@ impl Run {
             .create(true)
             .open(&log_path)
             .map_err(io_err(&log_path))?;
-        let simulation = Simulation::restore(scenario, cp.simulation);
+        let shared = ranks.as_ref().map_or(dir, |(s, _)| *s).to_path_buf();
+        let simulation = parts::restore(dir, scenario, cp.simulation, cp.parts.as_ref(), ranks)?;
+        if simulation.engine().domain().is_some() {
+            outputs.share(&shared);
+        }
         let mut recorder = Recorder {
             dir: dir.to_path_buf(),
             outputs,
@@ -363,6 +400,8 @@ impl Run {
             _lock: lock.0,
             started: true,
             warnings: Vec::new(),
+            shared: simulation.engine().domain().is_some().then_some(shared),
+            generation: cp.parts.as_ref().map_or(0, |m| m.generation),
         };
         if let Some(note) = lock.1 {
             recorder.log(simulation.wall_seconds(), &note);
@@ -393,12 +432,27 @@ impl Run {
     /// Splits a DSMC run over the ranks of `comm` (collective; see
     /// [`Simulation::decompose`]). Every rank runs the same loop: give each the same
     /// scenario, and to ranks other than 0 a directory of their own to throw away (all
-    /// outputs hold whole-system values, so rank 0's directory is the run's).
+    /// outputs hold whole-system values, so rank 0's directory is the run's). `shared` is
+    /// the run directory (rank 0's), which every rank must see: each writes its part of
+    /// the checkpoints and its block of the snapshots there, so that no rank gathers all
+    /// particles ([`parts`]).
     pub fn decompose(
         &mut self,
         comm: std::sync::Arc<dyn crate::dsmc::Communicator>,
+        shared: &Path,
     ) -> Result<(), crate::dsmc::DomainError> {
-        self.simulation.decompose(comm)
+        self.simulation.decompose(comm)?;
+        if self.simulation.engine().domain().is_some() {
+            self.recorder.shared = Some(shared.to_path_buf());
+            self.recorder.outputs.share(shared);
+        }
+        Ok(())
+    }
+
+    /// Makes every rank of a decomposed run stop on `stop.wall_seconds` at the same step
+    /// (see [`Simulation::decide_wall_clock_with`]).
+    pub fn decide_wall_clock_with(&mut self, decide: crate::simulation::WallClock) {
+        self.simulation.decide_wall_clock_with(decide);
     }
 
     /// `agree(local)` is called on every rank between chunks, once for an interruption
@@ -483,6 +537,7 @@ impl Recorder {
         let lock = lock::Lock::acquire(dir)?;
         let _ = std::fs::remove_dir_all(dir.join("snapshots"));
         let _ = std::fs::remove_file(dir.join("checkpoint.msgpack"));
+        let _ = std::fs::remove_dir_all(dir.join(parts::PARTS_DIR));
         let _ = std::fs::remove_file(dir.join("summary.json"));
         let path = dir.join("scenario.toml");
         std::fs::write(&path, scenario.to_toml()).map_err(io_err(&path))?;
@@ -518,14 +573,26 @@ impl Recorder {
     }
 
     fn checkpoint(&mut self, simulation: &Simulation) -> Result<(), RunError> {
-        let path = checkpoint::path(&self.dir);
+        if let Some(domain) = simulation.engine().domain() {
+            return self.checkpoint_in_parts(simulation, domain.rank());
+        }
         let cp = Checkpoint {
             format: CHECKPOINT_FORMAT,
             scenario: simulation.scenario().to_toml(),
             simulation: simulation.state(),
             outputs: self.outputs.clone(),
+            parts: None,
         };
-        let bytes = rmp_serde::to_vec_named(&cp).map_err(|e| RunError::Checkpoint {
+        self.write_checkpoint(simulation, &cp)
+    }
+
+    fn write_checkpoint(
+        &mut self,
+        simulation: &Simulation,
+        cp: &Checkpoint,
+    ) -> Result<(), RunError> {
+        let path = checkpoint::path(&self.dir);
+        let bytes = rmp_serde::to_vec_named(cp).map_err(|e| RunError::Checkpoint {
             path: path.clone(),
             message: e.to_string(),
         })?;
@@ -609,6 +676,7 @@ impl Recorder {
         let text = serde_json::to_string_pretty(&summary).unwrap_or_default();
         std::fs::write(&path, text + "\n").map_err(io_err(&path))?;
         let _ = std::fs::remove_file(self.dir.join("checkpoint.msgpack"));
+        let _ = std::fs::remove_dir_all(self.dir.join(parts::PARTS_DIR));
         self.log(
             wall,
             &format!("finished ({reason}): {events} events, {collisions} collisions, {wall:.3} s"),

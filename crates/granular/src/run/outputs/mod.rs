@@ -145,6 +145,12 @@ impl StandardOutputs {
         }
     }
 
+    /// Makes the snapshots of a decomposed run go to `dir`, the run directory every rank
+    /// sees (each rank writes its block there; see [`crate::run::parts`]).
+    pub(crate) fn share(&mut self, dir: &Path) {
+        self.snapshots.share(dir);
+    }
+
     /// Cuts files that are appended to back to where the checkpoint left them.
     pub(crate) fn rewind(&self) -> Result<(), RunError> {
         self.timeseries.rewind()?;

@@ -16,6 +16,9 @@ pub struct Snapshots {
     dir: PathBuf,
     every: u64,
     written: u64,
+    /// The snapshots folder every rank of a decomposed run writes into.
+    #[serde(skip)]
+    shared: Option<PathBuf>,
 }
 
 impl Snapshots {
@@ -26,11 +29,16 @@ impl Snapshots {
             dir: dir.join("snapshots"),
             every,
             written: 0,
+            shared: None,
         }
     }
 
     pub(crate) fn relocate(&mut self, dir: &Path) {
         self.dir = dir.join("snapshots");
+    }
+
+    pub(crate) fn share(&mut self, dir: &Path) {
+        self.shared = Some(dir.join("snapshots"));
     }
 
     /// Snapshots written so far.
@@ -39,9 +47,14 @@ impl Snapshots {
     }
 
     fn write(&mut self, simulation: &Simulation) -> Result<(), RunError> {
-        if let Some(snap) = simulation.snapshot() {
-            let index = simulation.outputs_done();
-            write_snapshot(self.dir.join(format!("snapshot_{index:06}.npz")), &snap)?;
+        let name = format!("snapshot_{:06}.npz", simulation.outputs_done());
+        if simulation.engine().domain().is_some() {
+            // Every rank its block of grain ids, into the one file (collective).
+            let dir = self.shared.as_ref().unwrap_or(&self.dir);
+            crate::run::parts::write_snapshot(simulation.engine(), &dir.join(name))?;
+            self.written += 1;
+        } else if let Some(snap) = simulation.snapshot() {
+            write_snapshot(self.dir.join(name), &snap)?;
             self.written += 1;
         }
         Ok(())

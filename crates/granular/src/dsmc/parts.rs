@@ -1,0 +1,236 @@
+//! Checkpoints and snapshots of a decomposed engine without gathering it on one rank
+//! (see [`super::domain`] for the decomposition).
+//!
+//! * **Checkpoint parts**: every rank keeps its slab as an [`EnginePart`] (its cells'
+//!   storage ranges and its particles in storage order); the parts, put in the order of
+//!   their cells, are the whole engine's storage. A run resumed on any number of ranks
+//!   reads only the parts whose cells overlap its own slab ([`DsmcEngine::load_parts`]);
+//!   one rank (or the threaded build) reads them all.
+//! * **Snapshots**: the particles are sent to the rank that owns their block of grain ids
+//!   (rank `q` owns ids `q N / K .. (q + 1) N / K`), so each rank holds `N / K` of them in
+//!   id order, the order of a snapshot's rows ([`DsmcEngine::id_block`]).
+
+use super::domain::{Communicator, Domain};
+use super::engine::DsmcEngine;
+use crate::vector::Vector;
+use serde::{Deserialize, Serialize};
+use std::ops::Range;
+use std::sync::Arc;
+
+/// One rank's particles in a checkpoint: the cells `first_cell ..` `first_cell +
+/// start.len() - 1`, their storage ranges, and the particles in storage order.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct EnginePart<const D: usize> {
+    first_cell: usize,
+    /// Storage offset of each cell of the part (relative to the part), then its length.
+    start: Vec<u32>,
+    ids: Vec<u32>,
+    pos: Vec<Vector<D>>,
+    vel: Vec<Vector<D>>,
+    /// Time of the last collision of each particle (the TC model only).
+    last: Vec<f64>,
+}
+
+impl<const D: usize> EnginePart<D> {
+    /// The cells the part covers (linear cell indices).
+    pub fn cells(&self) -> Range<usize> {
+        self.first_cell..self.first_cell + self.start.len().saturating_sub(1)
+    }
+
+    /// Particles in the part.
+    pub fn len(&self) -> usize {
+        self.ids.len()
+    }
+
+    /// Whether the part holds no particle.
+    pub fn is_empty(&self) -> bool {
+        self.ids.is_empty()
+    }
+
+    /// Whether the part is consistent (offsets rising from 0 to its length, arrays of one
+    /// length): a part that reads but fails this was not written by this engine.
+    fn consistent(&self) -> bool {
+        let n = self.ids.len();
+        self.start.first() == Some(&0)
+            && self.start.last().map(|&s| s as usize) == Some(n)
+            && self.start.windows(2).all(|w| w[0] <= w[1])
+            && self.pos.len() == n
+            && self.vel.len() == n
+            && (self.last.is_empty() || self.last.len() == n)
+    }
+}
+
+/// Where a part of a checkpoint is and what it covers (in the checkpoint's manifest).
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct PartInfo {
+    /// Its file name, relative to the run directory.
+    pub file: String,
+    /// The first cell it covers.
+    pub first_cell: usize,
+    /// One past its last cell.
+    pub end_cell: usize,
+    /// Its particles.
+    pub particles: usize,
+}
+
+impl<const D: usize> DsmcEngine<D> {
+    /// The cells this engine holds: its slab when decomposed, every cell otherwise.
+    pub(super) fn owned_cells(&self) -> Range<usize> {
+        self.domain
+            .as_ref()
+            .map_or(0..self.grid.len(), |d| d.cells.clone())
+    }
+
+    /// This rank's particles as a checkpoint part (the whole engine's when it is not
+    /// decomposed). Local: no communication.
+    pub fn part(&self) -> EnginePart<D> {
+        let cells = self.owned_cells();
+        let a = self.start[cells.start];
+        EnginePart {
+            first_cell: cells.start,
+            start: self.start[cells.start..=cells.end]
+                .iter()
+                .map(|&s| s - a)
+                .collect(),
+            ids: self.ids.clone(),
+            pos: self.pos.clone(),
+            vel: self.vel.clone(),
+            last: self.last.clone(),
+        }
+    }
+
+    /// Puts the particles of a checkpoint's parts back into a `DsmcEngine::shell`:
+    /// with `comm` of several ranks this rank's slab only (collective; the engine is then
+    /// decomposed), reading only the parts whose cells overlap it; without, the whole
+    /// engine from every part. `parts` lists the parts in the order of their cells, which
+    /// must cover the grid once; `read` loads one. `n_global` is the particle count of
+    /// the whole engine.
+    pub fn load_parts(
+        &mut self,
+        comm: Option<Arc<dyn Communicator>>,
+        n_global: usize,
+        parts: &[PartInfo],
+        mut read: impl FnMut(&PartInfo) -> Result<EnginePart<D>, String>,
+    ) -> Result<(), String> {
+        let cells = self.grid.len();
+        let covered = parts.first().map(|p| p.first_cell) == Some(0)
+            && parts.last().map(|p| p.end_cell) == Some(cells)
+            && parts.windows(2).all(|w| w[0].end_cell == w[1].first_cell)
+            && parts.iter().map(|p| p.particles).sum::<usize>() == n_global;
+        if !covered {
+            return Err(format!(
+                "its parts do not cover the {cells} cells and {n_global} particles once \
+                 (a part from another checkpoint?)"
+            ));
+        }
+        let domain = match comm {
+            Some(c) if c.size() > 1 => {
+                Some(Domain::new(c, &self.grid.dims, n_global).map_err(|e| e.to_string())?)
+            }
+            _ => None,
+        };
+        let mine = domain.as_ref().map_or(0..cells, |d| d.cells.clone());
+        let tc = self.config().law.has_tc();
+        let mut start = vec![0u32; cells + 1];
+        let (mut ids, mut pos, mut vel, mut last) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        for info in parts {
+            let lo = info.first_cell.max(mine.start);
+            let hi = info.end_cell.min(mine.end);
+            if lo >= hi {
+                continue;
+            }
+            let part = read(info)?;
+            if !part.consistent()
+                || part.cells() != (info.first_cell..info.end_cell)
+                || part.len() != info.particles
+                || (tc && part.last.len() != part.len())
+            {
+                return Err(format!(
+                    "{} does not hold what the checkpoint lists (cells {}..{}, {} particles)",
+                    info.file, info.first_cell, info.end_cell, info.particles
+                ));
+            }
+            let at = |c: usize| part.start[c - info.first_cell] as usize;
+            let (a, b) = (at(lo), at(hi));
+            for (c, s) in start.iter_mut().enumerate().take(hi).skip(lo) {
+                *s = (ids.len() + at(c) - a) as u32;
+            }
+            ids.extend_from_slice(&part.ids[a..b]);
+            pos.extend_from_slice(&part.pos[a..b]);
+            vel.extend_from_slice(&part.vel[a..b]);
+            if tc {
+                last.extend_from_slice(&part.last[a..b]);
+            }
+        }
+        let n = ids.len();
+        for s in &mut start[mine.end..] {
+            *s = n as u32;
+        }
+        self.cell_of = vec![0; n];
+        (self.ids, self.pos, self.vel, self.last) = (ids, pos, vel, last);
+        self.start = start;
+        self.domain = domain;
+        Ok(())
+    }
+
+    /// The grains of ids `lo .. hi` (this rank's block of `K` equal blocks of the ids,
+    /// `lo = r N / K`), positions and velocities in id order: every rank sends its
+    /// particles to the owners of their ids (collective). Together the blocks are a
+    /// snapshot's rows; no rank holds more than its block. Not decomposed: every grain.
+    pub fn id_block(&self) -> IdBlock<D> {
+        let Some(domain) = self.domain.as_ref() else {
+            let (positions, velocities) = self.state_by_id();
+            return IdBlock {
+                first: 0,
+                positions,
+                velocities,
+            };
+        };
+        let (k, n) = (domain.size(), domain.n_global);
+        let block = |q: usize| q * n / k..(q + 1) * n / k;
+        let w = 1 + 2 * D;
+        let mut out: Vec<Vec<f64>> = vec![Vec::new(); k];
+        for i in 0..self.ids.len() {
+            let id = self.ids[i] as usize;
+            // The owner of id: the largest q with q n / k <= id.
+            let mut q = (id * k / n).min(k - 1);
+            while block(q).start > id {
+                q -= 1;
+            }
+            while block(q).end <= id {
+                q += 1;
+            }
+            let o = &mut out[q];
+            o.push(f64::from_bits(id as u64));
+            o.extend_from_slice(&self.pos[i].0);
+            o.extend_from_slice(&self.vel[i].0);
+        }
+        let mine = block(domain.rank());
+        let incoming = domain.exchange(out);
+        let mut positions = vec![Vector::zero(); mine.len()];
+        let mut velocities = vec![Vector::zero(); mine.len()];
+        for r in incoming.iter().flat_map(|v| v.chunks_exact(w)) {
+            let slot = r[0].to_bits() as usize - mine.start;
+            positions[slot] = Vector::from_slice(&r[1..1 + D]).unwrap_or_default();
+            velocities[slot] = Vector::from_slice(&r[1 + D..w]).unwrap_or_default();
+        }
+        IdBlock {
+            first: mine.start,
+            positions,
+            velocities,
+        }
+    }
+}
+
+/// A block of consecutive grain ids with their positions and velocities
+/// ([`DsmcEngine::id_block`]).
+#[derive(Clone, Debug)]
+pub struct IdBlock<const D: usize> {
+    /// The first id of the block.
+    pub first: usize,
+    /// Positions of ids `first ..`.
+    pub positions: Vec<Vector<D>>,
+    /// Velocities of ids `first ..`.
+    pub velocities: Vec<Vector<D>>,
+}

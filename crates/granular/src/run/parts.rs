@@ -1,0 +1,358 @@
+//! Checkpoints and snapshots of a DSMC run decomposed over ranks, written without
+//! gathering the particles on any rank (`docs/output.md`, "Runs over several ranks"):
+//!
+//! * a checkpoint is one part per rank, `checkpoint.parts/GGGGGG_RRRR.msgpack` (its
+//!   slab's particles, with the checkpoint header and CRC-32), then rank 0's
+//!   `checkpoint.msgpack`, the manifest: the engine without particles, the outputs, and the
+//!   list of parts of generation `GGGGGG`. The manifest is renamed into place only once
+//!   every part is on disk, and the parts of earlier generations are removed only after
+//!   that, so a crash at any moment leaves one complete checkpoint;
+//! * a snapshot is the single `.npz` of the threaded run (same members, same bytes): every
+//!   rank writes its block of grain ids to a temporary file beside it, rank 0 copies the
+//!   blocks into the archive piece by piece, and the temporary files are removed.
+
+use super::{AnyEngine, RunError, checkpoint, io_err};
+use crate::dsmc::{Communicator, Domain, DsmcEngine, EnginePart, PartInfo};
+use crate::engine::Engine;
+use crate::output::npz::{Fill, StreamedSnapshot, write_snapshot_streamed};
+use crate::simulation::Simulation;
+use serde::{Deserialize, Serialize};
+use std::io::{BufWriter, Read, Seek, SeekFrom, Write};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// The folder of the checkpoint parts in the run directory.
+pub const PARTS_DIR: &str = "checkpoint.parts";
+
+/// What a decomposed run's `checkpoint.msgpack` says about its parts.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub(crate) struct Manifest {
+    /// The checkpoint's number, in the parts' file names.
+    pub generation: u64,
+    /// Particles in all parts.
+    pub particles: usize,
+    /// The parts in the order of their cells.
+    pub parts: Vec<PartInfo>,
+}
+
+/// Every rank's `ok` (collective): the first rank that failed, if any.
+pub(crate) fn first_failure(domain: &Domain, ok: bool) -> Option<usize> {
+    domain
+        .all_gather(&[f64::from(u8::from(ok))])
+        .iter()
+        .position(|v| v[0] == 0.0)
+}
+
+/// Writes this rank's part of checkpoint `generation` into `shared` (the run directory
+/// all ranks see), collectively: every rank returns the manifest's list of parts, or an
+/// error when any rank failed (the previous checkpoint is then intact).
+pub(crate) fn write_parts(
+    engine: &AnyEngine,
+    shared: &Path,
+    generation: u64,
+) -> Result<Manifest, RunError> {
+    match engine {
+        AnyEngine::Dsmc2(e) => write_parts_of(e, shared, generation),
+        AnyEngine::Dsmc3(e) => write_parts_of(e, shared, generation),
+        other => Err(RunError::CheckpointWrite {
+            path: shared.join(PARTS_DIR),
+            message: format!("the {} engine is not decomposed", other.name()),
+        }),
+    }
+}
+
+fn write_parts_of<const D: usize>(
+    e: &DsmcEngine<D>,
+    shared: &Path,
+    generation: u64,
+) -> Result<Manifest, RunError> {
+    let Some(domain) = e.domain() else {
+        return Err(RunError::CheckpointWrite {
+            path: shared.join(PARTS_DIR),
+            message: "the engine is not decomposed".into(),
+        });
+    };
+    let rank = domain.rank();
+    let file = format!("{PARTS_DIR}/{generation:06}_{rank:04}.msgpack");
+    let path = shared.join(&file);
+    let part = e.part();
+    let result = std::fs::create_dir_all(shared.join(PARTS_DIR))
+        .map_err(io_err(&path))
+        .and_then(|()| {
+            let bytes = rmp_serde::to_vec(&part).map_err(|err| RunError::CheckpointWrite {
+                path: path.clone(),
+                message: err.to_string(),
+            })?;
+            checkpoint::write_atomic(&path, &checkpoint::encode(&bytes))
+        });
+    let cells = part.cells();
+    let words: Vec<f64> = [cells.start, cells.end, part.len()]
+        .iter()
+        .map(|&x| f64::from_bits(x as u64))
+        .collect();
+    let failed = first_failure(domain, result.is_ok());
+    result?;
+    if let Some(r) = failed {
+        return Err(RunError::CheckpointWrite {
+            path: shared.join(PARTS_DIR),
+            message: format!(
+                "rank {r} could not write its part (its message is above); the previous \
+                 checkpoint is intact"
+            ),
+        });
+    }
+    let all = domain.all_gather(&words);
+    let parts = all
+        .iter()
+        .enumerate()
+        .map(|(r, w)| PartInfo {
+            file: format!("{PARTS_DIR}/{generation:06}_{r:04}.msgpack"),
+            first_cell: w[0].to_bits() as usize,
+            end_cell: w[1].to_bits() as usize,
+            particles: w[2].to_bits() as usize,
+        })
+        .collect();
+    Ok(Manifest {
+        generation,
+        particles: domain.n_global,
+        parts,
+    })
+}
+
+/// Removes the parts of checkpoints other than `generation` (after its manifest is in
+/// place).
+pub(crate) fn remove_other_generations(shared: &Path, generation: u64) {
+    let keep = format!("{generation:06}_");
+    let Ok(entries) = std::fs::read_dir(shared.join(PARTS_DIR)) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        if !entry.file_name().to_string_lossy().starts_with(&keep) {
+            let _ = std::fs::remove_file(entry.path());
+        }
+    }
+}
+
+/// Puts the particles of `manifest`'s parts (in `shared`) into `engine`, a checkpoint's
+/// engine without particles: with `comm` of several ranks only this rank's slab
+/// (collective), otherwise the whole engine.
+pub(crate) fn load(
+    engine: &mut AnyEngine,
+    comm: Option<Arc<dyn Communicator>>,
+    shared: &Path,
+    manifest: &Manifest,
+) -> Result<(), RunError> {
+    let result = match engine {
+        AnyEngine::Dsmc2(e) => e.load_parts(comm, manifest.particles, &manifest.parts, |i| {
+            read_part(shared, i)
+        }),
+        AnyEngine::Dsmc3(e) => e.load_parts(comm, manifest.particles, &manifest.parts, |i| {
+            read_part(shared, i)
+        }),
+        other => Err(format!(
+            "lists parts, but holds the {} engine, which is never decomposed",
+            other.name()
+        )),
+    };
+    result.map_err(|message| RunError::Checkpoint {
+        path: checkpoint::path(shared),
+        message: format!(
+            "{message}. Rerun the scenario: `granular run {} --out {} --replace`",
+            shared.join("scenario.toml").display(),
+            shared.display()
+        ),
+    })
+}
+
+fn read_part<const D: usize>(shared: &Path, info: &PartInfo) -> Result<EnginePart<D>, String> {
+    let path = shared.join(&info.file);
+    let bytes = std::fs::read(&path).map_err(|e| {
+        format!(
+            "part {} cannot be read ({e}); the checkpoint is incomplete",
+            path.display()
+        )
+    })?;
+    let payload = checkpoint::decode(&path, &bytes).map_err(|e| e.to_string())?;
+    rmp_serde::from_slice(payload).map_err(|e| format!("part {}: {e}", path.display()))
+}
+
+impl super::Recorder {
+    /// A decomposed run's checkpoint (collective): every rank writes its part, then rank 0
+    /// the manifest, then rank 0 removes the earlier parts (see the module docs).
+    pub(super) fn checkpoint_in_parts(
+        &mut self,
+        simulation: &Simulation,
+        rank: usize,
+    ) -> Result<(), RunError> {
+        let shared = self.shared.clone().unwrap_or_else(|| self.dir.clone());
+        let generation = self.generation + 1;
+        let manifest = write_parts(simulation.engine(), &shared, generation);
+        if let Err(e) = &manifest {
+            self.log(simulation.wall_seconds(), &e.to_string());
+        }
+        let manifest = manifest?;
+        self.generation = generation;
+        let written = if rank == 0 {
+            let cp = super::Checkpoint {
+                format: super::CHECKPOINT_FORMAT,
+                scenario: simulation.scenario().to_toml(),
+                simulation: simulation.shell_state(),
+                outputs: self.outputs.clone(),
+                parts: Some(manifest),
+            };
+            self.write_checkpoint(simulation, &cp)
+        } else {
+            Ok(())
+        };
+        // Every rank learns whether the manifest is in place (collective).
+        let failed = simulation
+            .engine()
+            .domain()
+            .and_then(|d| first_failure(d, written.is_ok()));
+        written?;
+        if failed.is_some() {
+            return Err(RunError::CheckpointWrite {
+                path: checkpoint::path(&shared),
+                message: "rank 0 could not write the checkpoint (its message is above); the \
+                          previous checkpoint is intact"
+                    .into(),
+            });
+        }
+        if rank == 0 {
+            remove_other_generations(&shared, generation);
+        }
+        Ok(())
+    }
+}
+
+/// The simulation of a checkpoint read from `dir`: its state with the grains of its parts
+/// (in `shared`) when it was written in parts; with `ranks`, this rank's slab only, the
+/// simulation decomposed (collective), otherwise the whole system.
+pub(super) fn restore(
+    dir: &Path,
+    scenario: crate::scenario::Scenario,
+    mut state: crate::simulation::SimulationState,
+    manifest: Option<&Manifest>,
+    ranks: Option<(&Path, Arc<dyn Communicator>)>,
+) -> Result<Simulation, RunError> {
+    let shared = ranks.as_ref().map_or(dir, |(s, _)| *s);
+    if let Some(manifest) = manifest {
+        let comm = ranks.as_ref().map(|(_, c)| c.clone());
+        load(&mut state.engine, comm, shared, manifest)?;
+    }
+    let mut simulation = Simulation::restore(scenario, state);
+    if let Some((_, comm)) = ranks {
+        simulation
+            .decompose(comm)
+            .map_err(|e| RunError::Directory {
+                dir: dir.to_path_buf(),
+                message: e.to_string(),
+            })?;
+    }
+    Ok(simulation)
+}
+
+/// The temporary file of rank `rank`'s block of the snapshot `path`.
+fn block_file(path: &Path, rank: usize) -> PathBuf {
+    let mut name = path.as_os_str().to_owned();
+    name.push(format!(".rank{rank:04}.tmp"));
+    PathBuf::from(name)
+}
+
+/// Writes the snapshot `path` of a decomposed engine (collective; see the module docs).
+pub(crate) fn write_snapshot(engine: &AnyEngine, path: &Path) -> Result<(), RunError> {
+    match engine {
+        AnyEngine::Dsmc2(e) => write_snapshot_of(e, path),
+        AnyEngine::Dsmc3(e) => write_snapshot_of(e, path),
+        _ => Ok(()),
+    }
+}
+
+fn write_snapshot_of<const D: usize>(e: &DsmcEngine<D>, path: &Path) -> Result<(), RunError> {
+    let Some(domain) = e.domain() else {
+        return Ok(());
+    };
+    let (rank, k, n) = (domain.rank(), domain.size(), domain.n_global);
+    let block = e.id_block();
+    let mine = block_file(path, rank);
+    let written = (|| -> std::io::Result<()> {
+        if let Some(dir) = path.parent() {
+            std::fs::create_dir_all(dir)?;
+        }
+        let mut w = BufWriter::new(std::fs::File::create(&mine)?);
+        for x in block.positions.iter().chain(&block.velocities) {
+            for c in x.0 {
+                w.write_all(&c.to_le_bytes())?;
+            }
+        }
+        w.flush()
+    })()
+    .map_err(io_err(&mine));
+    let failed = first_failure(domain, written.is_ok());
+    let result = written.and_then(|()| match failed {
+        Some(r) => Err(RunError::Directory {
+            dir: path.to_path_buf(),
+            message: format!("rank {r} could not write its block of the snapshot"),
+        }),
+        None if rank == 0 => assemble::<D>(e, path, k, n),
+        None => Ok(()),
+    });
+    let failed = first_failure(domain, result.is_ok());
+    let _ = std::fs::remove_file(&mine);
+    result?;
+    match failed {
+        Some(r) => Err(RunError::Directory {
+            dir: path.to_path_buf(),
+            message: format!("rank {r} could not write the snapshot (its message is above)"),
+        }),
+        None => Ok(()),
+    }
+}
+
+/// Rank 0: the snapshot from the ranks' block files, a piece at a time.
+fn assemble<const D: usize>(
+    e: &DsmcEngine<D>,
+    path: &Path,
+    k: usize,
+    n: usize,
+) -> Result<(), RunError> {
+    let rows = |q: usize| (q + 1) * n / k - q * n / k;
+    let from_blocks = |velocities: bool| -> Fill<'_, f64> {
+        Box::new(move |sink| {
+            let mut buf = vec![0u8; 8 << 16];
+            let mut values = Vec::with_capacity(1 << 16);
+            for q in 0..k {
+                let mut f = std::fs::File::open(block_file(path, q))?;
+                let count = rows(q) * D;
+                if velocities {
+                    f.seek(SeekFrom::Start(8 * count as u64))?;
+                }
+                let mut left = count;
+                while left > 0 {
+                    let m = left.min(1 << 16);
+                    f.read_exact(&mut buf[..8 * m])?;
+                    values.clear();
+                    values.extend(
+                        buf[..8 * m]
+                            .chunks_exact(8)
+                            .map(|b| f64::from_le_bytes(b.try_into().unwrap_or([0; 8]))),
+                    );
+                    sink(&values)?;
+                    left -= m;
+                }
+            }
+            Ok(())
+        })
+    };
+    let snapshot = StreamedSnapshot {
+        time: e.time(),
+        dimension: D,
+        n,
+        radius: e.radius(),
+        mass: e.mass(),
+        species_name: e.species_name().to_string(),
+        positions: from_blocks(false),
+        velocities: from_blocks(true),
+    };
+    Ok(write_snapshot_streamed(path, snapshot)?)
+}
