@@ -374,6 +374,67 @@ fn dsmc_resume_equals_the_uninterrupted_run() {
     assert_eq!(a, b);
 }
 
+/// A resumed run's summary keeps the warnings about its set-up: DSMC's validity warnings
+/// of the initial state (cells larger than the mean free path) and the pre-flight warning
+/// (a cooling gas with evenly spaced outputs), the same as the uninterrupted run's.
+#[test]
+fn a_resumed_run_keeps_the_set_up_warnings() {
+    let text = std::fs::read_to_string(
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/dsmc-cooling.toml"),
+    )
+    .unwrap();
+    let o: Vec<String> = vec![
+        "species[0].count=2000".into(),
+        "dsmc.cell_size=0.25".into(),
+        "stop.time=0.3".into(),
+        "output.interval=0.03".into(),
+    ];
+    let warned = Scenario::from_toml(&text, &o).unwrap();
+    // The same gas to 250 collisions per grain, stopped (and checkpointed) after three
+    // outputs: its pre-flight warning is the cooling one.
+    let mut far = o.clone();
+    far[2] = "stop.collisions_per_particle=250".into();
+    let cooling = Scenario::from_toml(&text, &far).unwrap();
+    assert!(
+        cooling.cost().warning(&cooling).is_some(),
+        "cooling warning"
+    );
+    for (name, s, cut_at) in [("validity", warned, 4), ("preflight", cooling, 3)] {
+        let (full, cut) = (
+            tmp(&format!("warn-{name}-full")),
+            tmp(&format!("warn-{name}-cut")),
+        );
+        let expected = if name == "validity" {
+            let a = Run::create(&full, s.clone())
+                .unwrap()
+                .run_to_end(&mut |_| {}, None)
+                .unwrap();
+            a.warnings
+        } else {
+            // Too long to finish here: the warnings it starts with are the summary's.
+            Run::create(&full, s.clone()).unwrap().warnings().to_vec()
+        };
+        assert!(!expected.is_empty(), "{name}: the run should warn");
+        assert!(
+            Run::create(&cut, s.clone())
+                .unwrap()
+                .run_to_end(&mut |_| {}, Some(cut_at))
+                .is_err(),
+            "{name}: interrupted"
+        );
+        let resumed = Run::resume(&cut).unwrap();
+        assert_eq!(resumed.warnings(), &expected[..], "{name}");
+        if name == "validity" {
+            let b = resumed.run_to_end(&mut |_| {}, None).unwrap();
+            assert_eq!(b.warnings, expected, "{name}: summary");
+            let on_disk: granular::Summary =
+                serde_json::from_str(&std::fs::read_to_string(cut.join("summary.json")).unwrap())
+                    .unwrap();
+            assert_eq!(on_disk.warnings, expected, "{name}: summary.json");
+        }
+    }
+}
+
 #[test]
 fn checkpoint_of_another_format_is_named_as_such() {
     let dir = tmp("old-checkpoint");

@@ -234,6 +234,21 @@ impl DirectoryState {
     }
 }
 
+/// Warnings about the set-up, for the log and the summary's `warnings`: DSMC's validity
+/// conditions violated by the initial state (computed when the engine was built, and
+/// carried by checkpoints) and the pre-flight estimate's warning on the scenario.
+fn set_up_warnings(simulation: &Simulation) -> Vec<String> {
+    let mut warnings = Vec::new();
+    if let AnyEngine::Dsmc2(e) = simulation.engine() {
+        warnings.extend(e.validity_warnings().iter().map(|w| w.message.clone()));
+    }
+    if let AnyEngine::Dsmc3(e) = simulation.engine() {
+        warnings.extend(e.validity_warnings().iter().map(|w| w.message.clone()));
+    }
+    warnings.extend(simulation.scenario().cost().warning(simulation.scenario()));
+    warnings
+}
+
 impl Run {
     /// Starts a new run of `scenario` in `dir`: created if missing; an empty directory or
     /// an earlier run directory (whose files are replaced) is used; a directory with other
@@ -270,14 +285,7 @@ impl Run {
         log: std::fs::File,
         (lock, note): (lock::Lock, Option<String>),
     ) -> Run {
-        let mut warnings = Vec::new();
-        if let AnyEngine::Dsmc2(e) = simulation.engine() {
-            warnings.extend(e.validity_warnings().iter().map(|w| w.message.clone()));
-        }
-        if let AnyEngine::Dsmc3(e) = simulation.engine() {
-            warnings.extend(e.validity_warnings().iter().map(|w| w.message.clone()));
-        }
-        warnings.extend(simulation.scenario().cost().warning(simulation.scenario()));
+        let warnings = set_up_warnings(&simulation);
         let mut recorder = Recorder {
             dir: dir.to_path_buf(),
             outputs: StandardOutputs::for_simulation(dir, &simulation),
@@ -399,7 +407,10 @@ impl Run {
             log,
             _lock: lock.0,
             started: true,
-            warnings: Vec::new(),
+            // The same as the uninterrupted run's: DSMC's validity warnings are those of
+            // the initial state, kept in the checkpoint; the pre-flight warning is the
+            // scenario's.
+            warnings: set_up_warnings(&simulation),
             shared: simulation.engine().domain().is_some().then_some(shared),
             generation: cp.parts.as_ref().map_or(0, |m| m.generation),
         };
