@@ -739,7 +739,12 @@ fn figure_tables_small_runs() {
     let multi = figures::fig4_power_law_ratio(&[0.5, 1.0], 20_000, 4);
     assert_eq!(format!("{single:?}"), format!("{multi:?}"));
     let f5 = figures::fig5_power_law_distributions(20_000, 5);
-    assert_eq!(f5.columns.len(), 1 + 11 + 2);
+    // v, 11 alpha densities, Eq. 19 at alpha = 0.5 and the v^-4 tail, and the raw counts of the
+    // alpha = 0.5 histogram (its chi-square on the figure).
+    assert_eq!(f5.columns.len(), 1 + 11 + 2 + 1);
+    let counts = f5.column("count_alpha0.5").unwrap();
+    assert!(counts.iter().all(|c| *c >= 0.0 && c.fract() == 0.0));
+    assert!(counts.iter().sum::<f64>() > 0.0);
     let f7 = figures::fig7_correlation(&[0.5, 1.0], 20_000, 7);
     assert!(f7.column("R_M0.1").unwrap().iter().all(|r| r.is_finite()));
     let f8 = figures::fig8_angular_distribution(50_000, 8);
