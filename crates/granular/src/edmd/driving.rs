@@ -1,7 +1,7 @@
 //! The steady-state driving of the event-driven engine ([`crate::driving`]). The event
 //! loop stops at fixed times `t_k = t_0 + k dt_kick`, the driving changes every velocity
 //! there (positions do not move), and the event calendar is predicted again from scratch
-//! ([`Edmd::change_velocities`]): no overlap is created and no event is skipped.
+//! (`Edmd::change_velocities`): no overlap is created and no event is skipped.
 //!
 //! * `rescale`: the peculiar velocities are multiplied by `sqrt(T* / T)` at every `t_k`.
 //! * `white_noise`: every velocity component receives a Gaussian kick of variance
@@ -55,7 +55,8 @@ pub struct EdmdDriving {
 impl<const D: usize> Edmd<D> {
     /// Attaches a steady-state driving from now on (replacing any earlier one), with kick
     /// streams under `seed` and `dt_kick` = [`KICK_FRACTION`] (white noise) or
-    /// [`RESCALE_FRACTION`] (rescale) of the Enskog mean free time at the state's temperature ([`Edmd::gas_theory`]). Requires a gas without gravity.
+    /// [`RESCALE_FRACTION`] (rescale) of the Enskog mean free time at the state's
+    /// temperature ([`Edmd::gas_theory`]). Requires a gas without gravity.
     pub fn set_driving(&mut self, driving: Option<Driving>, seed: u64) {
         let fraction = match driving {
             Some(Driving::WhiteNoise { .. }) => KICK_FRACTION,
