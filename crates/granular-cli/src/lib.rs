@@ -327,6 +327,8 @@ fn driving_values(sc: &Scenario, sim: &granular::prelude::Simulation) -> Vec<(St
                 sc.particle_count(),
             ),
         ),
+        AnyEngine::Edmd2(e) => (e.driving().map(|s| s.driving.clone()), e.gas_theory()),
+        AnyEngine::Edmd3(e) => (e.driving().map(|s| s.driving.clone()), e.gas_theory()),
         _ => return Vec::new(),
     };
     let Some(driving) = driving else {
