@@ -284,6 +284,12 @@ fn automatic_values(sc: &Scenario) -> Vec<(String, f64)> {
             out.extend(driving_values(sc, &sim));
             out
         }
+        EngineKind::Edmd if sc.driving.is_some() && sc.particle_count() <= 1_000_000 => {
+            let Ok(sim) = granular::prelude::Simulation::new(sc.clone()) else {
+                return Vec::new();
+            };
+            driving_values(sc, &sim)
+        }
         _ => Vec::new(),
     }
 }
@@ -327,6 +333,8 @@ fn driving_values(sc: &Scenario, sim: &granular::prelude::Simulation) -> Vec<(St
                 sc.particle_count(),
             ),
         ),
+        AnyEngine::Edmd2(e) => (e.driving().map(|s| s.driving.clone()), e.gas_theory()),
+        AnyEngine::Edmd3(e) => (e.driving().map(|s| s.driving.clone()), e.gas_theory()),
         _ => return Vec::new(),
     };
     let Some(driving) = driving else {

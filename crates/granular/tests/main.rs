@@ -18,6 +18,7 @@ mod scenario_errors;
 mod simulation;
 mod spine;
 mod steady;
+mod steady_edmd;
 mod structure_transport;
 mod sweeps;
 mod trajectory;

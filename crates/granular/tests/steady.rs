@@ -23,7 +23,7 @@ use std::f64::consts::SQRT_2;
 /// (Montanero and Santos, Granular Matter 2, 53 (2000); our 8-seed measurement in
 /// `docs/dsmc.md`: 0.0746 ± 0.0009 against 0.0766 in 2D); the heated gas's estimate within
 /// about 0.003 (same reference, their Fig. 2 at `e >= 0.5`).
-const SONINE_TRUNCATION: f64 = 0.004;
+pub(crate) const SONINE_TRUNCATION: f64 = 0.004;
 
 /// The time step in mean free times. DSMC's collisional loss per step has a bias below
 /// `0.75 zeta tau` (`docs/dsmc.md`, the Haff test), 0.3 % here: below the Sonine

@@ -291,6 +291,9 @@ pub struct Edmd<const D: usize> {
     /// Scratch list of neighbour candidates of one prediction.
     #[serde(skip)]
     candidates: Candidates,
+    /// The steady-state driving ([`crate::driving`], `super::driving`); `None`: free.
+    #[serde(default)]
+    pub(super) driving: Option<super::driving::EdmdDriving>,
 }
 
 impl<const D: usize> Edmd<D> {
@@ -394,6 +397,7 @@ impl<const D: usize> Edmd<D> {
             bx,
             log: None,
             candidates: Candidates::default(),
+            driving: None,
         };
         for i in 0..n {
             let c = engine.cells.coords_of(&engine.grains[i].pos.0);
@@ -1374,16 +1378,29 @@ impl<const D: usize> Edmd<D> {
 
     /// Multiplies all velocities by `factor` (thermostat used during compression).
     pub(crate) fn scale_velocities(&mut self, factor: f64) {
+        self.change_velocities(|_, v| v * factor);
+    }
+
+    /// Replaces every grain's velocity `v` by `f(id, v)` at the current time, then
+    /// predicts every grain's next event again and rebuilds the calendar (no event is
+    /// skipped: the positions do not move, only the future changes). Without gravity.
+    pub(crate) fn change_velocities(&mut self, mut f: impl FnMut(u32, Vector<D>) -> Vector<D>) {
         for i in 0..self.len() {
             self.advance_particle(i);
+            let id = self.id[i];
             let g = &mut self.grains[i];
-            g.vel = g.vel * factor;
+            g.vel = f(id, g.vel);
             g.counter = g.counter.wrapping_add(1);
         }
         for i in 0..self.len() {
             self.predict(i);
         }
         self.queue.rebuild(self.now);
+    }
+
+    /// Mass of grain `id`.
+    pub fn mass_of(&self, id: usize) -> f64 {
+        self.mass(self.slot_of(id))
     }
 
     /// Takes the grains out of the engine (positions and velocities at the current time),
@@ -1443,28 +1460,13 @@ impl<const D: usize> Edmd<D> {
     }
 }
 
-impl<const D: usize> Engine for Edmd<D> {
-    fn name(&self) -> &'static str {
-        "edmd"
-    }
-
-    fn time(&self) -> f64 {
-        self.origin + self.now
-    }
-
-    fn events(&self) -> u64 {
-        self.totals.events
-    }
-
-    fn collisions(&self) -> u64 {
-        self.totals.pair_collisions
-    }
-
-    fn particle_count(&self) -> usize {
-        self.len()
-    }
-
-    fn advance(&mut self, until: f64, max_events: u64) -> Result<Progress, EngineError> {
+impl<const D: usize> Edmd<D> {
+    /// The event loop: events up to `until` (absolute time), at most `max_events`.
+    pub(super) fn advance_events(
+        &mut self,
+        until: f64,
+        max_events: u64,
+    ) -> Result<Progress, EngineError> {
         let interval = self
             .options
             .reorder_interval
@@ -1506,6 +1508,38 @@ impl<const D: usize> Engine for Edmd<D> {
             }
         }
         Ok(Progress::BudgetExhausted)
+    }
+}
+
+impl<const D: usize> Engine for Edmd<D> {
+    fn name(&self) -> &'static str {
+        "edmd"
+    }
+
+    fn time(&self) -> f64 {
+        self.origin + self.now
+    }
+
+    fn events(&self) -> u64 {
+        self.totals.events
+    }
+
+    fn collisions(&self) -> u64 {
+        self.totals.pair_collisions
+    }
+
+    fn particle_count(&self) -> usize {
+        self.len()
+    }
+
+    /// Events up to `until`; a steady-state driving ([`Edmd::set_driving`]) acts at its
+    /// fixed times in between.
+    fn advance(&mut self, until: f64, max_events: u64) -> Result<Progress, EngineError> {
+        if self.driving.is_some() {
+            self.advance_driven(until, max_events)
+        } else {
+            self.advance_events(until, max_events)
+        }
     }
 
     fn observe(&self) -> Observation {
@@ -1555,7 +1589,11 @@ impl<const D: usize> Engine for Edmd<D> {
             wall_area,
             a2: Some(a2),
             dsmc: None,
-            engine_specific: Vec::new(),
+            engine_specific: self
+                .driving
+                .as_ref()
+                .map(|d| vec![("injected_energy".to_string(), d.state.injected_energy)])
+                .unwrap_or_default(),
         }
     }
 

@@ -17,6 +17,7 @@
 pub mod bench;
 mod candidates;
 pub(crate) mod cells;
+pub mod driving;
 pub mod engine;
 pub mod init;
 pub(crate) mod prediction;

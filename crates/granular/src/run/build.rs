@@ -331,7 +331,15 @@ fn build_edmd<const D: usize>(scenario: &Scenario) -> Result<Edmd<D>, BuildError
         impact_bins: scenario.edmd.impact_bins,
         ..EdmdOptions::default()
     };
-    Ok(Edmd::new(bx, set, scenario.collisions.law(), options))
+    let mut engine = Edmd::new(bx, set, scenario.collisions.law(), options);
+    // `[driving]`: a steady state (rescale defaults to the initial temperature), kicks from
+    // the dynamics seed as in DSMC.
+    if let Some(d) = &scenario.driving {
+        let t0 = 2.0 * engine.kinetic_energy_now() / (D as f64 * engine.len().max(1) as f64);
+        let seed = crate::random::derive_key(scenario.seed, &[crate::random::DYNAMICS]);
+        engine.set_driving(Some(d.driving(t0)), seed);
+    }
+    Ok(engine)
 }
 
 /// The DSMC engine starts from the same initial state as the event-driven one (the same

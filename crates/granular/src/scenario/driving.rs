@@ -58,17 +58,21 @@ impl DrivingSpec {
     }
 }
 
-/// Checks `[driving]`: the DSMC engine, a periodic box without gravity, and the keys of
+/// Checks `[driving]`: DSMC or one species in the event-driven engine, a periodic box without gravity, and the keys of
 /// its kind.
 pub(super) fn validate(sc: &Scenario) -> Result<(), ScenarioError> {
     let Some(d) = &sc.driving else {
         return Ok(());
     };
-    if sc.engine == EngineKind::Edmd {
+    if sc.engine == EngineKind::Edmd && sc.species.len() > 1 {
         return Err(ScenarioError::new(
-            "driving",
-            "is set, but the event-driven engine has no steady-state driving yet; use \
-             engine = \"dsmc\" (rescale and white_noise) or remove [driving]",
+            "species",
+            format!(
+                "has {} species, but the steady states of [driving] are those of one \
+                 species (the Sonine theory of a monodisperse gas); keep one [[species]] \
+                 or remove [driving]",
+                sc.species.len()
+            ),
         ));
     }
     if sc.axes().iter().any(|a| *a != AxisKind::Periodic) {

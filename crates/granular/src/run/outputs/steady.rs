@@ -7,7 +7,7 @@ use crate::run::summary::{AveragesSummary, SteadyStateSummary};
 use crate::simulation::Simulation;
 use crate::theory::sonine;
 
-/// The block, for a DSMC run with a driving; `None` otherwise.
+/// The block, for a DSMC or event-driven run with a driving; `None` otherwise.
 pub(super) fn summary(
     simulation: &Simulation,
     averages: &AveragesSummary,
@@ -15,6 +15,8 @@ pub(super) fn summary(
     let (driving, theory) = match simulation.engine() {
         AnyEngine::Dsmc2(e) => (e.driving()?.driving.clone(), gas(e)),
         AnyEngine::Dsmc3(e) => (e.driving()?.driving.clone(), gas(e)),
+        AnyEngine::Edmd2(e) => (e.driving()?.driving.clone(), e.gas_theory()),
+        AnyEngine::Edmd3(e) => (e.driving()?.driving.clone(), e.gas_theory()),
         _ => return None,
     };
     let get = |k: &str| averages.observables.get(k).cloned();
