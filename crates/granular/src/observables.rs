@@ -32,23 +32,13 @@ pub struct DensityMap {
     pub values: Vec<f64>,
 }
 
-/// `S(k) = |sum_j exp(i k.x_j)|^2 / N` by a direct Fourier sum over particles for the
-/// wave vectors `k = 2 pi (n_0/L_0, ..., n_{D-1}/L_{D-1})`, integer `n` with
-/// `max_k |n_k| <= max_index`, `n != 0`, one of each pair `+-n`; bins of width
-/// `2 pi / max_k L_k` in `|k|`. Deterministic: partial sums over fixed chunks of
-/// particles are added in order. Cost `O(N (2 max_index + 1)^D / 2)` products, done as a
-/// blocked outer product (see `chunk_sums`): the same numbers as the plain loop over
-/// particles and wave vectors, several times faster.
-pub fn structure_factor<const D: usize>(
-    pos: &[Vector<D>],
-    lengths: &[f64],
-    max_index: usize,
-) -> StructureFactor {
-    let m = max_index as i64;
-    // Half space: first non-zero component positive.
-    let mut ns: Vec<[i64; D]> = Vec::new();
+/// The integer wave-vector indices `n` with `max_k |n_k| <= m`, `n != 0`, one of each pair
+/// `+-n` (the half space whose first non-zero component is positive), in the order of
+/// the flat index over `[-m, m]^D` with the first axis fastest.
+fn half_space_indices<const D: usize>(m: i64) -> Vec<[i64; D]> {
     let side = (2 * m + 1) as usize;
     let total = side.pow(D as u32);
+    let mut ns: Vec<[i64; D]> = Vec::new();
     for flat in 0..total {
         let mut n = [0i64; D];
         let mut r = flat;
@@ -62,6 +52,24 @@ pub fn structure_factor<const D: usize>(
             ns.push(n);
         }
     }
+    ns
+}
+
+/// `S(k) = |sum_j exp(i k.x_j)|^2 / N` by a direct Fourier sum over particles for the
+/// wave vectors `k = 2 pi (n_0/L_0, ..., n_{D-1}/L_{D-1})`, integer `n` with
+/// `max_k |n_k| <= max_index`, `n != 0`, one of each pair `+-n`; bins of width
+/// `2 pi / max_k L_k` in `|k|`. Deterministic: partial sums over fixed chunks of
+/// particles are added in order. Cost `O(N (2 max_index + 1)^D / 2)` products, done as a
+/// blocked outer product (see `chunk_sums`): the same numbers as the plain loop over
+/// particles and wave vectors, several times faster.
+pub fn structure_factor<const D: usize>(
+    pos: &[Vector<D>],
+    lengths: &[f64],
+    max_index: usize,
+) -> StructureFactor {
+    let m = max_index as i64;
+    let side = (2 * m + 1) as usize;
+    let ns = half_space_indices::<D>(m);
     if ns.is_empty() || pos.is_empty() {
         return StructureFactor::default();
     }
@@ -327,23 +335,8 @@ mod tests {
         max_index: usize,
     ) -> StructureFactor {
         let m = max_index as i64;
-        // Half space: first non-zero component positive.
-        let mut ns: Vec<[i64; D]> = Vec::new();
         let side = (2 * m + 1) as usize;
-        let total = side.pow(D as u32);
-        for flat in 0..total {
-            let mut n = [0i64; D];
-            let mut r = flat;
-            for c in n.iter_mut() {
-                *c = (r % side) as i64 - m;
-                r /= side;
-            }
-            if let Some(&first) = n.iter().find(|&&c| c != 0)
-                && first > 0
-            {
-                ns.push(n);
-            }
-        }
+        let ns = half_space_indices::<D>(m);
         if ns.is_empty() || pos.is_empty() {
             return StructureFactor::default();
         }
