@@ -1605,19 +1605,25 @@ impl<const D: usize> Engine for Edmd<D> {
         Some(Edmd::impact_histogram(self).clone())
     }
 
-    /// Reads the records in slot order (sequentially, as they lie in memory) and scatters
-    /// them by grain id (`particles::scatter_by_id`), where reading by id would
-    /// wait on a cache miss per grain.
+    /// Gathers the records by grain id through the slot table (`particles::gather_by_slot`,
+    /// built on the first query after a reordering and kept until the next), prefetching
+    /// the records a few grains ahead: the output is written in order, on all of rayon's
+    /// workers. (A scatter in slot order, the earlier way, scanned the whole order once
+    /// per worker and wrote each row at random.)
     fn state_into(&self, velocities: bool, out: &mut [f64]) -> bool {
-        crate::particles::scatter_by_id::<D>(&self.id, out, |s| {
-            if velocities {
+        let grains: &[Grain<D>] = &self.grains;
+        let ahead = |next: &[u32]| super::prefetch::prefetch_all(grains, next);
+        if velocities {
+            crate::particles::gather_by_slot::<D>(self.slots(), out, ahead, |s| {
                 self.velocity_slot(s).0
-            } else {
+            });
+        } else {
+            crate::particles::gather_by_slot::<D>(self.slots(), out, ahead, |s| {
                 let mut x = self.position_raw(s);
                 self.bx.wrap(&mut x);
                 x.0
-            }
-        });
+            });
+        }
         true
     }
 
