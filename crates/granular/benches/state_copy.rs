@@ -2,8 +2,8 @@
 //! (`Simulation::positions_into`, what `Simulation.positions` of the Python package
 //! calls): the number issue 23 asks to be "a few milliseconds" for 10^6 disks.
 //!
-//! `cargo bench -p granular --bench state_copy -- [N] [lattice|random] [REPEAT]`
-//! (defaults 1000000 lattice 15). It builds the event-driven gas of the Python benchmark
+//! `cargo bench -p granular --bench state_copy -- [N] [lattice|random] [REPEAT] [edmd|dsmc]`
+//! (defaults 1000000 lattice 15 edmd). It builds the event-driven gas of the Python benchmark
 //! (`crates/granular-py/benches/bench_python.py`: periodic unit square, packing fraction
 //! 0.1, seed 1), advances it to t = 0.001, and prints the best and median of REPEAT calls
 //! into one reused buffer and, for scale, of a `copy_from_slice` of the result. `random`
@@ -24,9 +24,10 @@ fn main() {
     let n: usize = args.first().and_then(|a| a.parse().ok()).unwrap_or(1_000_000);
     let placement = args.get(1).map_or("lattice", String::as_str);
     let repeat: usize = args.get(2).and_then(|a| a.parse().ok()).unwrap_or(15);
+    let engine = args.get(3).map_or("edmd", String::as_str);
     let text = format!(
         r#"
-engine = "edmd"
+engine = "{engine}"
 dimension = 2
 seed = 1
 [box]
