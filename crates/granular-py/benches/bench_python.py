@@ -44,12 +44,12 @@ def bench_steps(n: int, steps: int, total: float, repeat: int) -> None:
     sc = scenario(n, 0.2)
     one, many, events = [], [], 0
     for _ in range(repeat):
-        sim = granular.Simulation(sc)
+        sim = granular.Simulation(sc, insist=True)
         start = time.perf_counter()
         sim.advance(total)
         one.append(time.perf_counter() - start)
         events = sim.events
-        sim = granular.Simulation(sc)
+        sim = granular.Simulation(sc, insist=True)
         dt = total / steps
         start = time.perf_counter()
         for k in range(1, steps + 1):
@@ -65,7 +65,7 @@ def bench_steps(n: int, steps: int, total: float, repeat: int) -> None:
 
 def bench_copy(n: int, repeat: int) -> None:
     start = time.perf_counter()
-    sim = granular.Simulation(scenario(n, 0.1, "lattice"))
+    sim = granular.Simulation(scenario(n, 0.1, "lattice"), insist=True)
     built = time.perf_counter() - start
     positions, snapshots = [], []
     for _ in range(repeat):
