@@ -21,7 +21,10 @@ fn main() {
         .skip(1)
         .filter(|a| !a.starts_with('-'))
         .collect();
-    let n: usize = args.first().and_then(|a| a.parse().ok()).unwrap_or(1_000_000);
+    let n: usize = args
+        .first()
+        .and_then(|a| a.parse().ok())
+        .unwrap_or(1_000_000);
     let placement = args.get(1).map_or("lattice", String::as_str);
     let repeat: usize = args.get(2).and_then(|a| a.parse().ok()).unwrap_or(15);
     let engine = args.get(3).map_or("edmd", String::as_str);
@@ -77,7 +80,10 @@ wall_seconds = 86400.0
         copy.copy_from_slice(std::hint::black_box(&out));
         plain.push(start.elapsed().as_secs_f64());
     }
-    for (what, t) in [("positions_into", &mut ours), ("copy_from_slice", &mut plain)] {
+    for (what, t) in [
+        ("positions_into", &mut ours),
+        ("copy_from_slice", &mut plain),
+    ] {
         t.sort_by(f64::total_cmp);
         println!(
             "  {what:16} best {:.2} ms, median {:.2} ms ({repeat} calls)",
