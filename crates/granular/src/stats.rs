@@ -231,6 +231,48 @@ pub fn chi_square_test(hist: &Histogram, cdf: impl Fn(f64) -> f64) -> ChiSquare 
     }
 }
 
+/// `log10` of the chi-square survival function `p = Q(dof/2, statistic/2)` (the regularised
+/// upper incomplete gamma function), finite where `p` itself underflows to 0 in `f64`
+/// (`statistic` of thousands). Where `Q` is a normal number it is `log10(gammq)`; below,
+/// the continued fraction of `Q` (Press et al., Numerical Recipes, 3rd ed., Eq. 6.2.7,
+/// modified Lentz) is summed with its prefactor `exp(-x) x^a / Gamma(a)` taken in logarithms.
+/// `-inf` for an infinite statistic.
+pub fn chi_square_log10_p(statistic: f64, degrees_of_freedom: usize) -> f64 {
+    let a = degrees_of_freedom.max(1) as f64 / 2.0;
+    let x = statistic / 2.0;
+    if !x.is_finite() {
+        return f64::NEG_INFINITY;
+    }
+    let q = puruspe::gammq(a, x);
+    if q >= f64::MIN_POSITIVE || x < a + 1.0 {
+        return q.log10();
+    }
+    const TINY: f64 = 1e-300;
+    let mut b = x + 1.0 - a;
+    let mut c = 1.0 / TINY;
+    let mut d = 1.0 / b;
+    let mut h = d;
+    for i in 1..10_000 {
+        let an = -(i as f64) * (i as f64 - a);
+        b += 2.0;
+        d = an * d + b;
+        if d.abs() < TINY {
+            d = TINY;
+        }
+        c = b + an / c;
+        if c.abs() < TINY {
+            c = TINY;
+        }
+        d = 1.0 / d;
+        let del = d * c;
+        h *= del;
+        if (del - 1.0).abs() < 1e-15 {
+            break;
+        }
+    }
+    (-x + a * x.ln() - puruspe::ln_gamma(a) + h.ln()) / std::f64::consts::LN_10
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -256,5 +298,26 @@ mod tests {
         assert!(good.p_value > 1e-3, "{good:?}");
         let bad = chi_square_test(&h, |x| x.clamp(0.0, 1.0).powf(1.05));
         assert!(bad.p_value < 1e-6, "{bad:?}");
+    }
+
+    /// Where `p` is representable the log is `log10(p)`; where it underflows the continued
+    /// fraction continues the same curve: Q(1, x) = exp(-x) exactly (2 dof), and for 10 dof
+    /// the closed form Q(5, x) = exp(-x) (1 + x + x²/2 + x³/6 + x⁴/24).
+    #[test]
+    fn chi_square_log10_p_continues_past_the_underflow() {
+        for stat in [3.0, 40.0, 700.0, 1400.0, 5000.0, 1e5] {
+            let exact = -stat / 2.0 / std::f64::consts::LN_10;
+            let got = chi_square_log10_p(stat, 2);
+            assert!((got - exact).abs() < 1e-9 * exact.abs().max(1.0), "{stat}: {got} {exact}");
+            let x: f64 = stat / 2.0;
+            let poly = 1.0 + x + x * x / 2.0 + x.powi(3) / 6.0 + x.powi(4) / 24.0;
+            let exact = (-x + poly.ln()) / std::f64::consts::LN_10;
+            let got = chi_square_log10_p(stat, 10);
+            assert!((got - exact).abs() < 1e-9 * exact.abs().max(1.0), "{stat}: {got} {exact}");
+        }
+        // The underflow itself: p is 0 in f64, its logarithm is not.
+        assert_eq!(puruspe::gammq(1.0, 2500.0), 0.0);
+        assert!(chi_square_log10_p(5000.0, 2).is_finite());
+        assert_eq!(chi_square_log10_p(f64::INFINITY, 3), f64::NEG_INFINITY);
     }
 }

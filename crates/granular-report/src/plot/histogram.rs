@@ -420,13 +420,36 @@ impl Draw for HistogramPlot {
 }
 
 /// The goodness-of-fit line printed on histograms: `χ² = 40.0, dof = 48, p = 0.787`.
+/// A `p` that underflowed to 0 (`χ²` of thousands) is printed from the logarithm of the
+/// survival function (`granular::stats::chi_square_log10_p`), e.g. `p = 3.2e-1234`.
 pub fn fit_text(chi_square: f64, degrees_of_freedom: usize, p: f64) -> String {
-    let p = if p >= 1e-3 {
-        format!("{p:.3}")
-    } else {
-        format!("{p:.1e}")
-    };
-    format!("χ² = {chi_square:.1}, dof = {degrees_of_freedom}, p = {p}")
+    format!(
+        "χ² = {chi_square:.1}, dof = {degrees_of_freedom}, p = {}",
+        p_text(chi_square, degrees_of_freedom, p)
+    )
+}
+
+/// `p` with three decimals, or in scientific notation below 1e-3; below the smallest
+/// `f64` (where `p` is 0 or subnormal) mantissa and exponent come from `log10 p`.
+fn p_text(chi_square: f64, degrees_of_freedom: usize, p: f64) -> String {
+    if p >= 1e-3 {
+        return format!("{p:.3}");
+    }
+    if p >= f64::MIN_POSITIVE {
+        return format!("{p:.1e}");
+    }
+    let log10_p = granular::stats::chi_square_log10_p(chi_square, degrees_of_freedom);
+    if !log10_p.is_finite() {
+        return format!("{p:.1e}");
+    }
+    let mut exponent = log10_p.floor();
+    let mut mantissa = 10f64.powf(log10_p - exponent);
+    // 9.96 would print as "10.0".
+    if mantissa >= 9.95 {
+        mantissa = 1.0;
+        exponent += 1.0;
+    }
+    format!("{mantissa:.1}e{exponent:.0}")
 }
 
 #[cfg(test)]
@@ -443,6 +466,22 @@ mod tests {
                 (-2.0 * temperature / mass * (1.0 - u).ln()).sqrt()
             })
             .collect()
+    }
+
+    /// Ordinary p-values keep their format; one that underflows (Fig. 8's χ² against the
+    /// fitted Gaussian) is printed from its logarithm instead of as "0.0e0". For 2 degrees
+    /// of freedom `p = exp(-χ²/2)` exactly: χ² = 5000 gives `log10 p = -1085.74`, i.e.
+    /// `1.8e-1086`.
+    #[test]
+    fn fit_text_prints_an_underflowed_p_value() {
+        assert_eq!(fit_text(40.04, 48, 0.787), "χ² = 40.0, dof = 48, p = 0.787");
+        assert_eq!(fit_text(80.0, 48, 2.5e-4), "χ² = 80.0, dof = 48, p = 2.5e-4");
+        let p = (-2500f64).exp();
+        assert_eq!(p, 0.0);
+        let text = fit_text(5000.0, 2, p);
+        assert_eq!(text, "χ² = 5000.0, dof = 2, p = 1.8e-1086");
+        assert!(!text.contains("0.0e0"), "{text}");
+        assert_eq!(p_text(f64::INFINITY, 3, 0.0), "0.0e0");
     }
 
     #[test]
