@@ -7,23 +7,20 @@
 //! Tolerances: 4 standard errors of the run's mean from 10 batch means (each batch of at
 //! least 3.5 collisions per grain, several times the relaxation time of `a2` and `T`, which
 //! is about one mean free time), plus, for `a2`, the truncation error of the linear Sonine
-//! estimates (`SONINE_TRUNCATION`).
+//! estimates (`SONINE_TRUNCATION`); both shared with the event-driven tests
+//! (`crate::common`).
 
+use crate::common::{
+    SONINE_TRUNCATION, STANDARD_ERRORS, assert_within_errors, batch_estimate as estimate,
+    scenario_text,
+};
 use granular::collision_law::CollisionLaw;
 use granular::driving::{Driving, GasTheory};
 use granular::dsmc::{DsmcConfig, DsmcEngine};
 use granular::engine::Engine;
-use granular::stats::batch_means;
 use granular::theory::{haff, sonine};
 use granular::{AxisKind, SimulationBox, Vector};
 use std::f64::consts::SQRT_2;
-
-/// How far the exact `a2` of the Boltzmann equation lies from the linear Sonine estimates
-/// at `e = 0.5`-`0.8`: the HCS's second estimate is followed by DSMC within 0.002-0.004
-/// (Montanero and Santos, Granular Matter 2, 53 (2000); our 8-seed measurement in
-/// `docs/dsmc.md`: 0.0746 ± 0.0009 against 0.0766 in 2D); the heated gas's estimate within
-/// about 0.003 (same reference, their Fig. 2 at `e >= 0.5`).
-pub(crate) const SONINE_TRUNCATION: f64 = 0.004;
 
 /// The time step in mean free times. DSMC's collisional loss per step has a bias below
 /// `0.75 zeta tau` (`docs/dsmc.md`, the Haff test), 0.3 % here: below the Sonine
@@ -99,12 +96,6 @@ fn sample<const D: usize>(eng: &mut DsmcEngine<D>, relax: f64, sample: f64) -> [
     }
 }
 
-/// Mean and standard error of a series from 10 batch means.
-fn estimate(series: &[f64]) -> (f64, f64) {
-    assert!(series.len() >= 100, "{} samples", series.len());
-    batch_means(series, 10)
-}
-
 /// Velocity rescaling samples the homogeneous cooling state: `a2` follows van Noije and
 /// Ernst's second estimate (2D, `e = 0.5`, where `a2 = 0.077` is well resolved), the
 /// temperature stays at `T*` after every step, momentum stays zero, and the measured
@@ -118,10 +109,7 @@ fn rescaled_dsmc_samples_the_homogeneous_cooling_state() {
     let (a2, sd) = estimate(&a2);
     let second = sonine::cooling_a2_second(2, e);
     eprintln!("rescaled HCS: a2 = {a2} ± {sd}, second estimate {second}");
-    assert!(
-        (a2 - second).abs() < 4.0 * sd + SONINE_TRUNCATION,
-        "a2 = {a2} ± {sd}, second estimate {second}"
-    );
+    assert_within_errors("a2 (second estimate)", (a2, sd), second, SONINE_TRUNCATION);
     // The temperature is the target after every step (its series has no variance).
     let t = temp.iter().sum::<f64>() / temp.len() as f64;
     assert!((t - 1.0).abs() < 1e-12, "T = {t}");
@@ -137,10 +125,7 @@ fn rescaled_dsmc_samples_the_homogeneous_cooling_state() {
     let zeta_theory = theory(&eng).cooling_rate(1.0, second);
     eprintln!("rescaled HCS: zeta = {zeta} ± {sd}, theory {zeta_theory}");
     let model = (3.0 / 16.0 * SONINE_TRUNCATION + loss_bias(zeta_theory, &eng)) * zeta_theory;
-    assert!(
-        (zeta - zeta_theory).abs() < 4.0 * sd + model,
-        "zeta = {zeta} ± {sd}, theory {zeta_theory}"
-    );
+    assert_within_errors("zeta", (zeta, sd), zeta_theory, model);
 }
 
 /// The white-noise heated gas: `a2` follows van Noije and Ernst's heated-gas estimate
@@ -160,14 +145,11 @@ fn white_noise_dsmc_reaches_the_heated_steady_state() {
     let [a2, temp, zeta] = sample(&mut eng, 8.0, 40.0);
     let (a2, sd) = estimate(&a2);
     eprintln!("white noise: a2 = {a2} ± {sd}, estimate {wn}");
-    assert!(
-        (a2 - wn).abs() < 4.0 * sd + SONINE_TRUNCATION,
-        "a2 = {a2} ± {sd}, heated-gas estimate {wn}"
-    );
+    assert_within_errors("a2 (heated-gas estimate)", (a2, sd), wn, SONINE_TRUNCATION);
     // Away from the HCS value: the two states are told apart.
     let hcs = sonine::cooling_a2_second(2, e);
     assert!(
-        (a2 - hcs).abs() > 4.0 * sd + SONINE_TRUNCATION,
+        (a2 - hcs).abs() > STANDARD_ERRORS * sd + SONINE_TRUNCATION,
         "a2 = {a2} ± {sd}"
     );
     assert!(
@@ -182,10 +164,7 @@ fn white_noise_dsmc_reaches_the_heated_steady_state() {
     // step by up to `loss_bias`, so T by 2/3 of their sum (T^(3/2) ~ 1 / loss rate).
     let model =
         2.0 / 3.0 * (3.0 / 16.0 * SONINE_TRUNCATION + loss_bias(th.cooling_rate(1.0, wn), &eng));
-    assert!(
-        (t - t_theory).abs() < 4.0 * sd_t + model * t_theory,
-        "T = {t} ± {sd_t}, energy balance {t_theory}"
-    );
+    assert_within_errors("T (energy balance)", (t, sd_t), t_theory, model * t_theory);
     // Energy balance in the mean: the loss rate equals the heating power.
     let (zeta, sd_z) = estimate(&zeta);
     let heating = strength * (1.0 - 1.0 / 20_000.0);
@@ -195,7 +174,7 @@ fn white_noise_dsmc_reaches_the_heated_steady_state() {
         sd_z * t
     );
     assert!(
-        (zeta * t - heating).abs() < 4.0 * sd_z * t + 4.0 * sd_t * zeta,
+        (zeta * t - heating).abs() < STANDARD_ERRORS * (sd_z * t + sd_t * zeta),
         "zeta T = {}, heating {heating}",
         zeta * t
     );
@@ -231,17 +210,12 @@ fn freely_cooling_dsmc_a2_follows_the_second_estimate() {
     let (a2, sd) = estimate(&a2);
     let second = sonine::cooling_a2_second(2, e);
     eprintln!("free cooling: a2 = {a2} ± {sd}, second estimate {second}");
-    assert!(
-        (a2 - second).abs() < 4.0 * sd + SONINE_TRUNCATION,
-        "a2 = {a2} ± {sd}, second estimate {second}"
-    );
+    assert_within_errors("a2 (second estimate)", (a2, sd), second, SONINE_TRUNCATION);
 }
 
 /// A bundled driven scenario, shrunk by `overrides`.
-fn bundled(name: &str, overrides: &[&str]) -> granular::scenario::Scenario {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join(format!("../../scenarios/{name}.toml"));
-    let text = std::fs::read_to_string(path).expect("bundled scenario");
+pub(crate) fn bundled(name: &str, overrides: &[&str]) -> granular::scenario::Scenario {
+    let text = scenario_text(&format!("{name}.toml"));
     let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
     granular::scenario::Scenario::from_toml(&text, &o).expect("valid")
 }

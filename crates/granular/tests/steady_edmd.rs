@@ -5,9 +5,10 @@
 //!
 //! Tolerances: 4 standard errors of the run's mean from 10 batch means, plus, for `a2`,
 //! the truncation error of the linear Sonine estimates
-//! ([`crate::steady::SONINE_TRUNCATION`], the same allowance as the DSMC tests).
+//! ([`crate::common::SONINE_TRUNCATION`], the same allowance as the DSMC tests).
 
-use crate::steady::SONINE_TRUNCATION;
+use crate::common::{SONINE_TRUNCATION, assert_within_errors, batch_estimate as estimate};
+use crate::steady::bundled;
 use granular::boundary::{AxisKind, SimulationBox};
 use granular::collision_law::CollisionLaw;
 use granular::driving::Driving;
@@ -15,7 +16,6 @@ use granular::edmd::init::{self, Region};
 use granular::edmd::{Edmd, EdmdOptions, ParticleSet};
 use granular::engine::Engine;
 use granular::random::stream;
-use granular::stats::batch_means;
 use granular::theory::{haff, sonine};
 use granular::vector::Vector;
 
@@ -76,12 +76,6 @@ fn sample(eng: &mut Edmd<2>, temperature: f64, relax: f64, sample: f64) -> [Vec<
     }
 }
 
-/// Mean and standard error from 10 batch means.
-fn estimate(series: &[f64]) -> (f64, f64) {
-    assert!(series.len() >= 100, "{} samples", series.len());
-    batch_means(series, 10)
-}
-
 /// Rescaling samples the HCS: `a2` follows van Noije and Ernst's second estimate (2D,
 /// `e = 0.5`). The box is 5 mean free paths wide (1000 disks at `phi = 0.0025`), below the
 /// length at which the HCS's shear modes grow (vortices would otherwise form within tens
@@ -96,10 +90,7 @@ fn rescaled_edmd_samples_the_homogeneous_cooling_state() {
     let (a2, sd) = estimate(&a2);
     let second = sonine::cooling_a2_second(2, e);
     eprintln!("EDMD rescaled HCS: a2 = {a2} ± {sd}, second estimate {second}");
-    assert!(
-        (a2 - second).abs() < 4.0 * sd + SONINE_TRUNCATION,
-        "a2 = {a2} ± {sd}, second estimate {second}"
-    );
+    assert_within_errors("a2 (second estimate)", (a2, sd), second, SONINE_TRUNCATION);
     // The temperature stays within one rescaling interval's cooling of T* = 1.
     let (t, _) = estimate(&temp);
     assert!(t < 1.0 && t > 0.9, "T = {t}");
@@ -117,10 +108,7 @@ fn rescaled_edmd_samples_the_homogeneous_cooling_state() {
     let theory = eng.gas_theory().cooling_rate(t, second);
     eprintln!("EDMD rescaled HCS: zeta = {zeta} ± {sdz}, theory {theory} at T = {t}");
     let model = 3.0 / 16.0 * SONINE_TRUNCATION * theory;
-    assert!(
-        (zeta - theory).abs() < 4.0 * sdz + model,
-        "{zeta} ± {sdz}, {theory}"
-    );
+    assert_within_errors("zeta", (zeta, sdz), theory, model);
 }
 
 /// The white-noise heated gas (2D, `e = 0.5`, 2000 disks at `phi = 0.005`): `a2` follows the
@@ -142,18 +130,12 @@ fn white_noise_edmd_reaches_the_energy_balance() {
     let [a2, temp, _] = sample(&mut eng, t_theory, 10.0, 300.0);
     let (a2, sd) = estimate(&a2);
     eprintln!("EDMD white noise: a2 = {a2} ± {sd}, Sonine {a2_theory}");
-    assert!(
-        (a2 - a2_theory).abs() < 4.0 * sd + SONINE_TRUNCATION,
-        "a2 = {a2} ± {sd}, Sonine {a2_theory}"
-    );
+    assert_within_errors("a2 (Sonine)", (a2, sd), a2_theory, SONINE_TRUNCATION);
     // T ~ zeta^(-2/3): the Sonine truncation moves it by (2/3)(3/16) SONINE_TRUNCATION.
     let (t, sdt) = estimate(&temp);
     let model = 2.0 / 3.0 * 3.0 / 16.0 * SONINE_TRUNCATION * t_theory;
     eprintln!("EDMD white noise: T = {t} ± {sdt}, energy balance {t_theory}");
-    assert!(
-        (t - t_theory).abs() < 4.0 * sdt + model,
-        "T = {t} ± {sdt}, {t_theory}"
-    );
+    assert_within_errors("T (energy balance)", (t, sdt), t_theory, model);
     assert!(eng.momentum().norm() < 1e-10, "{:?}", eng.momentum());
 }
 
@@ -180,19 +162,15 @@ fn driven_edmd_energy_tally_closes() {
 #[test]
 fn driven_edmd_resumes_bit_identical() {
     for name in ["edmd-hcs-rescaled", "edmd-white-noise"] {
-        let o: Vec<String> = [
-            "species[0].count=600",
-            "output.interval=1e6",
-            "output.checkpoint_seconds=1e-9",
-            "stop.events=1000000",
-        ]
-        .iter()
-        .map(|s| s.to_string())
-        .collect();
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join(format!("../../scenarios/{name}.toml"));
-        let text = std::fs::read_to_string(path).expect("bundled scenario");
-        let s = granular::scenario::Scenario::from_toml(&text, &o).expect("valid");
+        let s = bundled(
+            name,
+            &[
+                "species[0].count=600",
+                "output.interval=1e6",
+                "output.checkpoint_seconds=1e-9",
+                "stop.events=1000000",
+            ],
+        );
         crate::spine::assert_resume_mid_interval(name, s);
     }
 }
@@ -201,14 +179,10 @@ fn driven_edmd_resumes_bit_identical() {
 /// block with the Enskog chi of its packing fraction.
 #[test]
 fn white_noise_edmd_run_reports_its_steady_state() {
-    let o: Vec<String> = ["stop.collisions_per_particle=40", "output.interval=0.1"]
-        .iter()
-        .map(|s| s.to_string())
-        .collect();
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../scenarios/edmd-white-noise.toml");
-    let text = std::fs::read_to_string(path).expect("bundled scenario");
-    let s = granular::scenario::Scenario::from_toml(&text, &o).expect("valid");
+    let s = bundled(
+        "edmd-white-noise",
+        &["stop.collisions_per_particle=40", "output.interval=0.1"],
+    );
     let dir = std::env::temp_dir().join(format!("granular-steady-edmd-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     let summary = granular::run::Run::create(&dir, s)
