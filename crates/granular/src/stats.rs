@@ -308,12 +308,18 @@ mod tests {
         for stat in [3.0, 40.0, 700.0, 1400.0, 5000.0, 1e5] {
             let exact = -stat / 2.0 / std::f64::consts::LN_10;
             let got = chi_square_log10_p(stat, 2);
-            assert!((got - exact).abs() < 1e-9 * exact.abs().max(1.0), "{stat}: {got} {exact}");
+            assert!(
+                (got - exact).abs() < 1e-9 * exact.abs().max(1.0),
+                "{stat}: {got} {exact}"
+            );
             let x: f64 = stat / 2.0;
             let poly = 1.0 + x + x * x / 2.0 + x.powi(3) / 6.0 + x.powi(4) / 24.0;
             let exact = (-x + poly.ln()) / std::f64::consts::LN_10;
             let got = chi_square_log10_p(stat, 10);
-            assert!((got - exact).abs() < 1e-9 * exact.abs().max(1.0), "{stat}: {got} {exact}");
+            assert!(
+                (got - exact).abs() < 1e-9 * exact.abs().max(1.0),
+                "{stat}: {got} {exact}"
+            );
         }
         // The underflow itself: p is 0 in f64, its logarithm is not.
         assert_eq!(puruspe::gammq(1.0, 2500.0), 0.0);

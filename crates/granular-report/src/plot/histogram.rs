@@ -475,7 +475,10 @@ mod tests {
     #[test]
     fn fit_text_prints_an_underflowed_p_value() {
         assert_eq!(fit_text(40.04, 48, 0.787), "χ² = 40.0, dof = 48, p = 0.787");
-        assert_eq!(fit_text(80.0, 48, 2.5e-4), "χ² = 80.0, dof = 48, p = 2.5e-4");
+        assert_eq!(
+            fit_text(80.0, 48, 2.5e-4),
+            "χ² = 80.0, dof = 48, p = 2.5e-4"
+        );
         let p = (-2500f64).exp();
         assert_eq!(p, 0.0);
         let text = fit_text(5000.0, 2, p);
