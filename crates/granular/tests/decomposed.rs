@@ -496,3 +496,98 @@ fn decomposed_run_writes_parts_and_resumes_on_another_rank_count() {
         let _ = std::fs::remove_dir_all(d);
     }
 }
+
+/// `run_scenario` with every output that reads the grains on: the speed histograms pool
+/// every output (the gas cools, so the speeds scaled by each snapshot's thermal speed are
+/// written too) and the density map is recorded; no checkpoints.
+fn outputs_scenario() -> granular::scenario::Scenario {
+    let mut text = run_scenario().to_toml();
+    for (key, value) in [
+        ("equilibration_collisions_per_particle", "0.0"),
+        ("histogram_sample_spacing", "0.0"),
+        ("checkpoint_seconds", "3600.0"),
+    ] {
+        text = text
+            .lines()
+            .map(|l| {
+                if l.trim_start().starts_with(&format!("{key} =")) {
+                    format!("{key} = {value}")
+                } else {
+                    l.to_string()
+                }
+            })
+            .collect::<Vec<_>>()
+            .join("\n");
+    }
+    granular::scenario::Scenario::from_toml(&text, &[]).expect("valid scenario")
+}
+
+/// `summary.json` without its wall-clock fields.
+fn summary_without_clock(dir: &std::path::Path) -> serde_json::Value {
+    let text = std::fs::read_to_string(dir.join("summary.json")).expect("summary.json");
+    let mut v: serde_json::Value = serde_json::from_str(&text).expect("JSON");
+    if let Some(o) = v.as_object_mut() {
+        for k in ["wall_seconds", "events_per_second", "collisions_per_second"] {
+            o.remove(k);
+        }
+    }
+    v
+}
+
+/// The outputs that read the grains (the speed histograms at set-up and pooled at every
+/// output, the scaled speeds) on 2 and 3 ranks: no rank ever receives as many words in
+/// one collective as all particles' records (set-up included), and `summary.json` and
+/// every file they write are the threaded run's, byte for byte.
+#[test]
+fn decomposed_outputs_gather_no_rank_and_match_the_threaded_run() {
+    use granular::run::Run;
+    let scenario = outputs_scenario();
+    let threaded = crate::common::tmp("outputs-threaded");
+    Run::create(&threaded, scenario.clone())
+        .unwrap()
+        .run_to_end(&mut |_| {}, None)
+        .unwrap();
+    let files = [
+        "timeseries.csv",
+        "speed_histograms.csv",
+        "velocity_histograms.csv",
+        "scaled_speed_histograms.csv",
+    ];
+    for f in files {
+        assert!(threaded.join(f).exists(), "the threaded run wrote no {f}");
+    }
+    let whole = RUN_GRAINS * 5;
+    for k in [2, 3] {
+        let shared = crate::common::tmp("outputs-ranks");
+        let own = crate::common::tmp("outputs-ranks-own");
+        let most = on_ranks(k, |comm, most| {
+            let rank = comm.rank();
+            let mut run =
+                Run::create(&rank_dir(rank, &shared, &own, false), scenario.clone()).unwrap();
+            run.decompose(comm, &shared).unwrap();
+            run.run_to_end(&mut |_| {}, None).unwrap();
+            most.load(std::sync::atomic::Ordering::Relaxed)
+        });
+        for (rank, &w) in most.iter().enumerate() {
+            assert!(
+                w < whole,
+                "{k} ranks: rank {rank} received {w} words in one collective, as many as \
+                 all particles' records ({whole})"
+            );
+        }
+        assert_eq!(
+            summary_without_clock(&shared),
+            summary_without_clock(&threaded),
+            "{k} ranks: summary.json differs from the threaded run's"
+        );
+        for f in files {
+            let a = std::fs::read(threaded.join(f)).unwrap();
+            let b = std::fs::read(shared.join(f)).unwrap();
+            assert!(a == b, "{k} ranks: {f} differs from the threaded run's");
+        }
+        for d in [shared, own] {
+            let _ = std::fs::remove_dir_all(d);
+        }
+    }
+    let _ = std::fs::remove_dir_all(threaded);
+}

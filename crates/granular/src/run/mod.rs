@@ -22,6 +22,7 @@ pub mod checkpoint;
 pub mod intruder;
 mod lock;
 pub mod outputs;
+pub(crate) mod grains;
 pub mod parts;
 pub mod summary;
 pub mod sweep;
