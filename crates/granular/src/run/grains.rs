@@ -19,7 +19,7 @@
 
 use crate::dsmc::Domain;
 use crate::engine::Snapshot;
-use crate::run::AnyEngine;
+use crate::run::{AnyEngine, RunError};
 use crate::simulation::Simulation;
 use crate::stats::Histogram;
 
@@ -28,6 +28,8 @@ pub(crate) struct Grains {
     /// The block's rows: grains `first .. first + len` in id (input) order; every
     /// per-grain array has the block's length, `species_names` is the whole list.
     pub snap: Snapshot,
+    /// The id of the block's first grain.
+    pub first: usize,
     /// Grains on all ranks.
     pub total: usize,
     /// The ranks, when the run is decomposed.
@@ -42,6 +44,7 @@ impl Grains {
             AnyEngine::Dsmc2(e) if e.domain().is_some() => Some(block_of(e)),
             AnyEngine::Dsmc3(e) if e.domain().is_some() => Some(block_of(e)),
             _ => simulation.snapshot().map(|snap| Grains {
+                first: 0,
                 total: snap.masses.len(),
                 snap,
                 domain: None,
@@ -92,6 +95,40 @@ impl Grains {
         acc
     }
 
+    /// The rows of the block (`rows`: `width` words per grain, in id order) cut into the
+    /// chunks of `chunk` consecutive ids of the whole system, `c chunk .. (c + 1) chunk`:
+    /// the chunks that start in this block, whole, in order (collective: the rows of a
+    /// chunk that runs on into later blocks are sent by their ranks to the rank where it
+    /// starts). Not decomposed: every chunk. A fold per chunk, then over the chunks in
+    /// order ([`Grains::chain`]), is then the threaded run's chunked fold.
+    pub fn chunks_starting_here(&self, rows: &[f64], width: usize, chunk: usize) -> Vec<Vec<f64>> {
+        let n = self.len();
+        let lead = match self.first % chunk {
+            0 => 0,
+            r => (chunk - r).min(n),
+        };
+        let mut own: Vec<Vec<f64>> = rows[lead * width..]
+            .chunks(chunk * width)
+            .map(<[f64]>::to_vec)
+            .collect();
+        let Some(domain) = &self.domain else {
+            return own;
+        };
+        let (me, k) = (domain.rank(), domain.size());
+        let mut out = vec![Vec::new(); k];
+        if lead > 0 {
+            let start = self.first - self.first % chunk;
+            out[block_owner(start, self.total, k)] = rows[..lead * width].to_vec();
+        }
+        let incoming = domain.exchange(out);
+        if let Some(last) = own.last_mut() {
+            for words in incoming.iter().skip(me + 1) {
+                last.extend_from_slice(words);
+            }
+        }
+        own
+    }
+
     /// Integer counters summed over the ranks (exact).
     pub fn sum_u64(&self, local: Vec<u64>) -> Vec<u64> {
         match &self.domain {
@@ -122,6 +159,44 @@ impl Grains {
     }
 }
 
+/// The most grains of a run over several ranks for which the outputs that still gather
+/// the whole system on every rank (`output.pair_correlation`, `output.msd`,
+/// `output.trajectory`) are accepted: `N (1 + 2 D)` words a rank, 56 MB in 3D. Above it
+/// they are refused before the run starts (see `docs/output.md`).
+pub const GATHER_LIMIT: usize = 1_000_000;
+
+/// Refuses the output of scenario key `key`, which gathers every grain on every rank, in
+/// a decomposed run of more than [`GATHER_LIMIT`] grains.
+pub(crate) fn refuse_whole_gather(simulation: &Simulation, key: &str) -> Result<(), RunError> {
+    let Some(domain) = simulation.engine().domain() else {
+        return Ok(());
+    };
+    let n = simulation.particle_count();
+    if n <= GATHER_LIMIT {
+        return Ok(());
+    }
+    Err(RunError::Output {
+        key: key.into(),
+        message: format!(
+            "is on in a run of {n} grains over {} ranks, but this output gathers every              grain on every rank (it is not computed by blocks of grains yet), which is              refused above {GATHER_LIMIT} grains: turn it off (the speed histograms, S(k),              density maps and snapshots are written from the ranks), or run fewer grains",
+            domain.size()
+        ),
+    })
+}
+
+/// The rank whose block of `n` ids (over `k` ranks: `q n / k .. (q + 1) n / k`) holds `id`.
+fn block_owner(id: usize, n: usize, k: usize) -> usize {
+    let block = |q: usize| q * n / k..(q + 1) * n / k;
+    let mut q = (id * k / n.max(1)).min(k - 1);
+    while q > 0 && block(q).start > id {
+        q -= 1;
+    }
+    while q + 1 < k && block(q).end <= id {
+        q += 1;
+    }
+    q
+}
+
 /// Adds `from`'s counts to `into` (histograms of the same bins).
 pub(crate) fn add_counts(into: &mut Histogram, from: &Histogram) {
     for (a, b) in into.counts.iter_mut().zip(&from.counts) {
@@ -148,6 +223,7 @@ fn block_of<const D: usize>(e: &crate::dsmc::DsmcEngine<D>) -> Grains {
             species: vec![0; n],
             species_names: vec![e.species_name().to_string()],
         },
+        first: block.first,
         total: e.particle_count(),
         domain,
     }
