@@ -19,10 +19,10 @@
 
 mod build;
 pub mod checkpoint;
+pub(crate) mod grains;
 pub mod intruder;
 mod lock;
 pub mod outputs;
-pub(crate) mod grains;
 pub mod parts;
 pub mod summary;
 pub mod sweep;

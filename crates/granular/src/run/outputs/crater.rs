@@ -44,7 +44,7 @@ impl Crater {
 
 impl Output for Crater {
     /// The bed's initial positions; refuses a run over ranks above
-    /// [`crate::run::grains::GATHER_LIMIT`] grains (every rank gathers the whole system
+    /// `GATHER_LIMIT` (10^6) grains (every rank gathers the whole system
     /// at the start and the end).
     fn setup(&mut self, simulation: &Simulation) -> Result<(), RunError> {
         crate::run::grains::refuse_whole_gather(simulation, "crater")?;

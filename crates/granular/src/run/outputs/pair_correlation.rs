@@ -67,7 +67,7 @@ impl PairCorrelationOutput {
 }
 
 impl Output for PairCorrelationOutput {
-    /// Refuses a run over ranks above [`crate::run::grains::GATHER_LIMIT`] grains (every
+    /// Refuses a run over ranks above `GATHER_LIMIT` (10^6) grains (every
     /// rank gathers the whole system at each observation).
     fn setup(&mut self, simulation: &Simulation) -> Result<(), RunError> {
         crate::run::grains::refuse_whole_gather(simulation, "output.pair_correlation")

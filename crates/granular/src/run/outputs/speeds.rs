@@ -264,7 +264,7 @@ impl Output for SpeedStatistics {
     /// Fixes the histogram ranges from the initial state: the upper edge is
     /// `output.histogram_max_speed` times each species' thermal speed at the mean energy.
     /// Under ranks, `Σ m v²` is chained in id order and the counts are summed (see
-    /// [`Grains`]): no rank holds more than its block of grains.
+    /// `run::grains`): no rank holds more than its block of grains.
     fn setup(&mut self, simulation: &Simulation) -> Result<(), RunError> {
         let Some(g) = Grains::of(simulation) else {
             return Ok(());
@@ -326,7 +326,7 @@ impl Output for SpeedStatistics {
     /// `output.equilibration_collisions_per_particle` collisions per grain and the last
     /// pooled snapshot is `output.histogram_sample_spacing` collisions per grain back
     /// (HD appendix C.2: samples far enough apart to be independent). Under ranks each
-    /// rank bins its block and the sums run in id order over the ranks ([`Grains`]).
+    /// rank bins its block and the sums run in id order over the ranks (`run::grains`).
     fn observe(
         &mut self,
         simulation: &Simulation,
