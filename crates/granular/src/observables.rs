@@ -67,51 +67,93 @@ pub fn structure_factor<const D: usize>(
     lengths: &[f64],
     max_index: usize,
 ) -> StructureFactor {
-    let m = max_index as i64;
-    let side = (2 * m + 1) as usize;
-    let ns = half_space_indices::<D>(m);
-    if ns.is_empty() || pos.is_empty() {
+    let Some(plan) = SkPlan::<D>::new(lengths, max_index) else {
+        return StructureFactor::default();
+    };
+    if pos.is_empty() {
         return StructureFactor::default();
     }
-    let grid = WaveGrid::<D>::new(m);
     let sums: Vec<Vec<(f64, f64)>> = pos
-        .par_chunks(4096)
-        .map(|chunk| chunk_sums(chunk, lengths, &grid))
+        .par_chunks(SK_CHUNK)
+        .map(|chunk| plan.chunk_sums(chunk))
         .collect();
-    let mut tot = vec![(0.0, 0.0); grid.rows.len() * side];
+    let mut tot = vec![(0.0, 0.0); plan.sums_len()];
     for part in &sums {
         for (t, p) in tot.iter_mut().zip(part) {
             t.0 += p.0;
             t.1 += p.1;
         }
     }
-    let lmax = lengths.iter().cloned().fold(0.0, f64::max);
-    let dk = 2.0 * PI / lmax;
-    let nf = pos.len() as f64;
-    let mut bins: Vec<(f64, f64, usize)> = Vec::new();
-    for n in &ns {
-        let t = tot[grid.slot(n)];
-        let mut k2 = 0.0;
-        for d in 0..D {
-            let kd = 2.0 * PI * n[d] as f64 / lengths[d];
-            k2 += kd * kd;
-        }
-        let k = k2.sqrt();
-        let b = (k / dk + 0.5).floor() as usize;
-        if bins.len() <= b {
-            bins.resize(b + 1, (0.0, 0.0, 0));
-        }
-        bins[b].0 += k;
-        bins[b].1 += (t.0 * t.0 + t.1 * t.1) / nf;
-        bins[b].2 += 1;
+    plan.shells(&tot, pos.len())
+}
+
+/// Particles per chunk of the sums of [`structure_factor`] (in the grains' order): fixed,
+/// so that the additions do not depend on the number of threads or ranks.
+pub(crate) const SK_CHUNK: usize = 4096;
+
+/// The wave vectors of [`structure_factor`] for a box and a `max_index`: the sums of one
+/// chunk of grains ([`SkPlan::chunk_sums`]) and `S(k)` in shells of `|k|` from the sums
+/// over all grains ([`SkPlan::shells`]). The run directory's ranks add the chunks of their
+/// blocks of grain ids in the same order as [`structure_factor`].
+pub(crate) struct SkPlan<const D: usize> {
+    ns: Vec<[i64; D]>,
+    grid: WaveGrid<D>,
+    lengths: Vec<f64>,
+}
+
+impl<const D: usize> SkPlan<D> {
+    /// `None` when there is no wave vector (`max_index = 0`).
+    pub(crate) fn new(lengths: &[f64], max_index: usize) -> Option<Self> {
+        let m = max_index as i64;
+        let ns = half_space_indices::<D>(m);
+        (!ns.is_empty()).then(|| SkPlan {
+            ns,
+            grid: WaveGrid::<D>::new(m),
+            lengths: lengths.to_vec(),
+        })
     }
-    let mut out = StructureFactor::default();
-    for (ks, ss, c) in bins.into_iter().filter(|b| b.2 > 0) {
-        out.k.push(ks / c as f64);
-        out.s.push(ss / c as f64);
-        out.count.push(c);
+
+    /// Length of the table of sums (one complex sum per slot of the grid).
+    pub(crate) fn sums_len(&self) -> usize {
+        self.grid.rows.len() * (2 * self.grid.m + 1) as usize
     }
-    out
+
+    /// `sum_j exp(i k.x_j)` over `chunk`, as a table of [`SkPlan::sums_len`] slots.
+    pub(crate) fn chunk_sums(&self, chunk: &[Vector<D>]) -> Vec<(f64, f64)> {
+        chunk_sums(chunk, &self.lengths, &self.grid)
+    }
+
+    /// `S(k)` in shells of `|k|` from the sums `tot` over all `n` grains.
+    pub(crate) fn shells(&self, tot: &[(f64, f64)], n: usize) -> StructureFactor {
+        let lengths = &self.lengths;
+        let lmax = lengths.iter().cloned().fold(0.0, f64::max);
+        let dk = 2.0 * PI / lmax;
+        let nf = n as f64;
+        let mut bins: Vec<(f64, f64, usize)> = Vec::new();
+        for n in &self.ns {
+            let t = tot[self.grid.slot(n)];
+            let mut k2 = 0.0;
+            for d in 0..D {
+                let kd = 2.0 * PI * n[d] as f64 / lengths[d];
+                k2 += kd * kd;
+            }
+            let k = k2.sqrt();
+            let b = (k / dk + 0.5).floor() as usize;
+            if bins.len() <= b {
+                bins.resize(b + 1, (0.0, 0.0, 0));
+            }
+            bins[b].0 += k;
+            bins[b].1 += (t.0 * t.0 + t.1 * t.1) / nf;
+            bins[b].2 += 1;
+        }
+        let mut out = StructureFactor::default();
+        for (ks, ss, c) in bins.into_iter().filter(|b| b.2 > 0) {
+            out.k.push(ks / c as f64);
+            out.s.push(ss / c as f64);
+            out.count.push(c);
+        }
+        out
+    }
 }
 
 /// The wave vectors of [`structure_factor`] as a grid: a *row* is a choice of the first
@@ -245,6 +287,15 @@ pub fn density_map<const D: usize>(
     dims: [usize; D],
 ) -> DensityMap {
     let dims = dims.map(|d| d.max(1));
+    density_from_counts(density_counts(pos, lengths, dims), lengths, &dims)
+}
+
+/// Grains per bin of [`density_map`] (`dims` at least 1 each).
+pub(crate) fn density_counts<const D: usize>(
+    pos: &[Vector<D>],
+    lengths: &[f64],
+    dims: [usize; D],
+) -> Vec<u64> {
     let total: usize = dims.iter().product();
     let mut counts = vec![0u64; total];
     for x in pos {
@@ -257,7 +308,14 @@ pub fn density_map<const D: usize>(
         }
         counts[idx] += 1;
     }
-    let bin_volume: f64 = (0..D).map(|d| lengths[d] / dims[d] as f64).product();
+    counts
+}
+
+/// The [`DensityMap`] of grain counts per bin (`dims` at least 1 each).
+pub(crate) fn density_from_counts(counts: Vec<u64>, lengths: &[f64], dims: &[usize]) -> DensityMap {
+    let bin_volume: f64 = (0..dims.len())
+        .map(|d| lengths[d] / dims[d] as f64)
+        .product();
     DensityMap {
         dims: dims.to_vec(),
         values: counts.iter().map(|&c| c as f64 / bin_volume).collect(),
@@ -265,7 +323,7 @@ pub fn density_map<const D: usize>(
 }
 
 /// Copies the row-major positions of a snapshot (`n x D`) into vectors.
-fn vectors<const D: usize>(flat: &[f64]) -> Vec<Vector<D>> {
+pub(crate) fn vectors<const D: usize>(flat: &[f64]) -> Vec<Vector<D>> {
     flat.chunks_exact(D)
         .map(|c| {
             let mut v = Vector::zero();

@@ -27,6 +27,20 @@ impl RunningStats {
         self.m2 += delta * (x - self.mean);
     }
 
+    /// The accumulator as three words (the count as its bits), to hand on between ranks.
+    pub(crate) fn to_words(&self) -> [f64; 3] {
+        [f64::from_bits(self.count), self.mean, self.m2]
+    }
+
+    /// The accumulator of [`RunningStats::to_words`].
+    pub(crate) fn from_words(w: &[f64]) -> Self {
+        Self {
+            count: w[0].to_bits(),
+            mean: w[1],
+            m2: w[2],
+        }
+    }
+
     /// The sample mean (NaN when empty).
     pub fn mean(&self) -> f64 {
         if self.count == 0 { f64::NAN } else { self.mean }

@@ -441,19 +441,20 @@ fn decomposed_run_writes_parts_and_resumes_on_another_rank_count() {
         run.run_to_end(&mut |_| {}, None).unwrap();
         most.load(std::sync::atomic::Ordering::Relaxed)
     });
-    // The most a rank receives at once while the resumed run writes its checkpoints and
-    // snapshots: its block of ids for a snapshot (N / K records), or the raw values of the
-    // reductions' shared chunk (at most N D words here, where N is below one chunk of
-    // 4096); a gather of the whole system would be `whole`. (Not the first part: the speed
-    // histograms' set-up reads the whole initial state, and they pool whole snapshots
-    // once the gas is equilibrated, which this scenario puts off.)
+    // The most a rank receives at once while the run sets its outputs up and writes its
+    // checkpoints and snapshots: its block of ids for a snapshot or the speed histograms
+    // (N / K records), or the raw values of the reductions' shared chunk (at most N D
+    // words here, where N is below one chunk of 4096); a gather of the whole system would
+    // be `whole`.
     assert_eq!(most.len(), 3);
-    for (rank, &w) in most_resumed.iter().enumerate() {
-        assert!(
-            w < whole,
-            "2 ranks: rank {rank} received {w} words in one collective, as many as all \
-             particles' records ({whole})"
-        );
+    for (k, most) in [(3, &most), (2, &most_resumed)] {
+        for (rank, &w) in most.iter().enumerate() {
+            assert!(
+                w < whole,
+                "{k} ranks: rank {rank} received {w} words in one collective, as many as \
+                 all particles' records ({whole})"
+            );
+        }
     }
     let read = |d: &std::path::Path, f: &str| std::fs::read(d.join(f)).unwrap();
     assert!(read(&shared, "timeseries.csv") == read(&threaded, "timeseries.csv"));
@@ -495,4 +496,118 @@ fn decomposed_run_writes_parts_and_resumes_on_another_rank_count() {
     for d in [threaded, shared, own] {
         let _ = std::fs::remove_dir_all(d);
     }
+}
+
+/// Grains of `outputs_scenario`: more than two chunks of 4096 ids, so that chunks of the
+/// `S(k)` sums run across the blocks of 3 ranks.
+const OUTPUT_GRAINS: usize = 10_000;
+
+/// The walled, driven-by-gravity gas of `run_scenario` with every output that reads the
+/// grains by blocks on: the speed histograms pool every output (the gas cools, so the
+/// speeds scaled by each snapshot's thermal speed are written too), `S(k)` and a density
+/// map at every output; no checkpoints.
+fn outputs_scenario() -> granular::scenario::Scenario {
+    let text = format!(
+        r#"
+        engine = "dsmc"
+        dimension = 2
+        seed = 5
+        gravity = [0.0, -2.0]
+        [box]
+        lengths = [1.0, 1.0]
+        boundary = ["periodic", "wall"]
+        [[species]]
+        name = "grain"
+        count = {OUTPUT_GRAINS}
+        packing_fraction = 0.1
+        velocity = {{ distribution = "maxwell_boltzmann", temperature = 1.0 }}
+        [collisions]
+        restitution = 0.8
+        wall_restitution = 0.9
+        [dsmc]
+        enskog = true
+        [stop]
+        time = 0.04
+        [output]
+        interval = 0.01
+        equilibration_collisions_per_particle = 0.0
+        histogram_sample_spacing = 0.0
+        structure_factor = true
+        structure_factor_max_index = 4
+        density_map = [6, 5]
+        "#
+    );
+    granular::scenario::Scenario::from_toml(&text, &[]).expect("valid scenario")
+}
+
+/// `summary.json` without its wall-clock fields.
+fn summary_without_clock(dir: &std::path::Path) -> serde_json::Value {
+    let text = std::fs::read_to_string(dir.join("summary.json")).expect("summary.json");
+    let mut v: serde_json::Value = serde_json::from_str(&text).expect("JSON");
+    if let Some(o) = v.as_object_mut() {
+        for k in ["wall_seconds", "events_per_second", "collisions_per_second"] {
+            o.remove(k);
+        }
+    }
+    v
+}
+
+/// The outputs that read the grains (the speed histograms at set-up and pooled at every
+/// output, the scaled speeds, `S(k)`, the density map) on 2 and 3 ranks: no rank ever receives as many words in
+/// one collective as all particles' records (set-up included), and `summary.json` and
+/// every file they write are the threaded run's, byte for byte.
+#[test]
+fn decomposed_outputs_gather_no_rank_and_match_the_threaded_run() {
+    use granular::run::Run;
+    let scenario = outputs_scenario();
+    let threaded = crate::common::tmp("outputs-threaded");
+    Run::create(&threaded, scenario.clone())
+        .unwrap()
+        .run_to_end(&mut |_| {}, None)
+        .unwrap();
+    let files = [
+        "timeseries.csv",
+        "speed_histograms.csv",
+        "velocity_histograms.csv",
+        "scaled_speed_histograms.csv",
+        "structure_factor.npz",
+        "density_maps.npz",
+    ];
+    for f in files {
+        assert!(threaded.join(f).exists(), "the threaded run wrote no {f}");
+    }
+    let whole = OUTPUT_GRAINS * 5;
+    for k in [2, 3] {
+        let shared = crate::common::tmp("outputs-ranks");
+        let own = crate::common::tmp("outputs-ranks-own");
+        let most = on_ranks(k, |comm, most| {
+            let rank = comm.rank();
+            let mut run =
+                Run::create(&rank_dir(rank, &shared, &own, false), scenario.clone()).unwrap();
+            run.decompose(comm, &shared).unwrap();
+            run.run_to_end(&mut |_| {}, None).unwrap();
+            most.load(std::sync::atomic::Ordering::Relaxed)
+        });
+        for (rank, &w) in most.iter().enumerate() {
+            assert!(
+                w < whole,
+                "{k} ranks: rank {rank} received {w} words in one collective, as many as \
+                 all particles' records ({whole})"
+            );
+        }
+        assert_eq!(
+            summary_without_clock(&shared),
+            summary_without_clock(&threaded),
+            "{k} ranks: summary.json differs from the threaded run's"
+        );
+        for f in files {
+            let a = std::fs::read(threaded.join(f)).unwrap();
+            let b = std::fs::read(shared.join(f)).unwrap();
+            assert!(a == b, "{k} ranks: {f} differs from the threaded run's");
+        }
+        for d in [shared, own] {
+            let _ = std::fs::remove_dir_all(d);
+        }
+    }
+    let _ = std::fs::remove_dir_all(threaded);
 }

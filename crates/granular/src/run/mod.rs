@@ -19,6 +19,7 @@
 
 mod build;
 pub mod checkpoint;
+pub(crate) mod grains;
 pub mod intruder;
 mod lock;
 pub mod outputs;

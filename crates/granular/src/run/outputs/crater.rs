@@ -43,7 +43,11 @@ impl Crater {
 }
 
 impl Output for Crater {
+    /// The bed's initial positions; refuses a run over ranks above
+    /// `GATHER_LIMIT` (10^6) grains (every rank gathers the whole system
+    /// at the start and the end).
     fn setup(&mut self, simulation: &Simulation) -> Result<(), RunError> {
+        crate::run::grains::refuse_whole_gather(simulation, "crater")?;
         self.initial = self.bed_positions(simulation).map_or(Vec::new(), |p| p.0);
         Ok(())
     }

@@ -96,7 +96,9 @@ impl StandardOutputs {
     /// The outputs a simulation's scenario asks for, writing into `dir`.
     pub fn for_simulation(dir: &Path, simulation: &Simulation) -> StandardOutputs {
         let scenario = simulation.scenario();
-        let grains = simulation.snapshot().is_some();
+        // Every engine but the intruder models has grains (asked of the scenario, not of a
+        // snapshot: that would gather a decomposed run).
+        let grains = scenario.intruder.is_none();
         let o = &scenario.output;
         let spatial = o.impact_histograms || o.structure_factor || !o.density_map.is_empty();
         StandardOutputs {

@@ -3,6 +3,7 @@
 //! (DSMC-4: the scaled distribution of the homogeneous cooling state), and the spread of
 //! the snapshots' temperatures that decides whether pooling raw speeds means anything.
 
+use crate::run::grains::{Grains, add_counts};
 use crate::run::summary::ScaledSpeedSummary;
 use crate::run::{RunError, io_err};
 use crate::stats::Histogram;
@@ -48,37 +49,59 @@ impl ScaledSpeeds {
         !self.histograms.is_empty()
     }
 
-    /// Pools one snapshot: `v2[i]` the squared speed, `species[i]` the species and
-    /// `masses[s]` the mass per species, in `d` dimensions. Species at rest are skipped.
-    pub fn push(&mut self, d: usize, v2: &[f64], species: &[u32], masses: &[f64]) {
+    /// Pools one snapshot: `v2[i]` the squared speed of the block's grain `i`, `masses[s]`
+    /// the mass per species, the dimension and species from `grains` (collective under
+    /// ranks: the sums are chained in id order and the counts summed, see [`Grains`]).
+    /// Species at rest are skipped.
+    pub(crate) fn push(&mut self, grains: &Grains, v2: &[f64], masses: &[f64]) {
         let ns = self.histograms.len();
-        let mut sum = vec![0.0; ns];
-        let mut count = vec![0usize; ns];
-        for (&x, &s) in v2.iter().zip(species) {
-            sum[s as usize] += x;
-            count[s as usize] += 1;
-        }
+        let (d, species) = (grains.snap.dimension, &grains.snap.species);
+        // [Σ v², count] per species, in id order.
+        let acc = grains.chain(vec![0.0; 2 * ns], |mut a| {
+            for (&x, &s) in v2.iter().zip(species) {
+                a[s as usize] += x;
+                a[ns + s as usize] += 1.0;
+            }
+            a
+        });
         // Temperature T_s = m <v²> / D; thermal speed v_T² = 2 T_s / m = 2 <v²> / D.
         let mut inv_vt2 = vec![0.0; ns];
         for s in 0..ns {
-            if count[s] == 0 || sum[s] <= 0.0 {
+            let (sum, count) = (acc[s], acc[ns + s]);
+            if count == 0.0 || sum <= 0.0 {
                 continue;
             }
-            let mean = sum[s] / count[s] as f64;
+            let mean = sum / count;
             let t = masses[s] * mean / d as f64;
             self.t_min[s] = self.t_min[s].min(t);
             self.t_max[s] = self.t_max[s].max(t);
             inv_vt2[s] = d as f64 / (2.0 * mean);
         }
-        for (&x, &s) in v2.iter().zip(species) {
-            let s = s as usize;
-            if inv_vt2[s] == 0.0 {
-                continue;
+        let mut histograms: Vec<Histogram> = self
+            .histograms
+            .iter()
+            .map(|h| Histogram::new(h.min, h.max, h.counts.len()))
+            .collect();
+        let mut init = self.c2.clone();
+        init.extend_from_slice(&self.c4);
+        let acc = grains.chain(init, |mut a| {
+            for (&x, &s) in v2.iter().zip(species) {
+                let s = s as usize;
+                if inv_vt2[s] == 0.0 {
+                    continue;
+                }
+                let c2 = x * inv_vt2[s];
+                histograms[s].push(c2.sqrt());
+                a[s] += c2;
+                a[ns + s] += c2 * c2;
             }
-            let c2 = x * inv_vt2[s];
-            self.histograms[s].push(c2.sqrt());
-            self.c2[s] += c2;
-            self.c4[s] += c2 * c2;
+            a
+        });
+        self.c2 = acc[..ns].to_vec();
+        self.c4 = acc[ns..].to_vec();
+        grains.sum_histograms(&mut histograms);
+        for (into, from) in self.histograms.iter_mut().zip(&histograms) {
+            add_counts(into, from);
         }
     }
 

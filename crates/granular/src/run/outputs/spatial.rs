@@ -14,12 +14,16 @@
 //! (Fig. 2b), `S(k)` (Fig. 3) and the clusters themselves.
 
 use super::Output;
-use crate::observables::{density_map_of, structure_factor_of};
+use crate::observables::{
+    DensityMap, SK_CHUNK, SkPlan, StructureFactor, density_counts, density_from_counts, vectors,
+};
 use crate::observation::Observation;
 use crate::output::npz::{NpzArray, NpzData, write_npz};
 use crate::run::RunError;
+use crate::run::grains::Grains;
 use crate::scenario::OutputSpec;
 use crate::simulation::Simulation;
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -199,15 +203,14 @@ impl Output for SpatialObservables {
             st.previous_counts = h.counts.clone();
             st.previous_time = now;
         }
-        let snapshot = if out.structure_factor || !out.density_map.is_empty() {
-            simulation.snapshot()
+        let grains = if out.structure_factor || !out.density_map.is_empty() {
+            Grains::of(simulation)
         } else {
             None
         };
-        if let Some(snap) = &snapshot {
+        if let Some(g) = &grains {
             if out.structure_factor
-                && let Some(sk) =
-                    structure_factor_of(snap, &lengths, out.structure_factor_max_index)
+                && let Some(sk) = structure_factor_of(g, &lengths, out.structure_factor_max_index)
             {
                 self.sk_times.push(now);
                 self.sk_k = sk.k;
@@ -215,7 +218,7 @@ impl Output for SpatialObservables {
                 self.sk_values.push(sk.s);
             }
             if !out.density_map.is_empty()
-                && let Some(map) = density_map_of(snap, &lengths, &out.density_map)
+                && let Some(map) = density_map_of(g, &lengths, &out.density_map)
             {
                 self.density_times.push(now);
                 self.density_values.push(map.values);
@@ -223,4 +226,65 @@ impl Output for SpatialObservables {
         }
         self.write_files(out, &lengths)
     }
+}
+
+/// `S(k)` of the grains ([`crate::observables::structure_factor`], 2D or 3D; `None`
+/// otherwise): under ranks each rank sums the chunks of grain ids that start in its block
+/// and the chunks' sums are added in id order over the ranks ([`Grains::chain`]), so the
+/// additions are the threaded run's.
+fn structure_factor_of(g: &Grains, lengths: &[f64], max_index: usize) -> Option<StructureFactor> {
+    if lengths.len() != g.snap.dimension {
+        return None;
+    }
+    match g.snap.dimension {
+        2 => Some(structure_factor_blocks::<2>(g, lengths, max_index)),
+        3 => Some(structure_factor_blocks::<3>(g, lengths, max_index)),
+        _ => None,
+    }
+}
+
+fn structure_factor_blocks<const D: usize>(
+    g: &Grains,
+    lengths: &[f64],
+    max_index: usize,
+) -> StructureFactor {
+    let Some(plan) = SkPlan::<D>::new(lengths, max_index) else {
+        return StructureFactor::default();
+    };
+    let chunks = g.chunks_starting_here(&g.snap.positions, D, SK_CHUNK);
+    let sums: Vec<Vec<(f64, f64)>> = chunks
+        .par_iter()
+        .map(|c| plan.chunk_sums(&vectors::<D>(c)))
+        .collect();
+    let words = g.chain(vec![0.0; 2 * plan.sums_len()], |mut tot| {
+        for part in &sums {
+            for (t, p) in tot.chunks_exact_mut(2).zip(part) {
+                t[0] += p.0;
+                t[1] += p.1;
+            }
+        }
+        tot
+    });
+    let tot: Vec<(f64, f64)> = words.chunks_exact(2).map(|t| (t[0], t[1])).collect();
+    plan.shells(&tot, g.total)
+}
+
+/// The density map of the grains on `dims` bins (one entry per axis, 2D or 3D): each
+/// rank counts its block, the counts are summed over the ranks (exact).
+fn density_map_of(g: &Grains, lengths: &[f64], dims: &[usize]) -> Option<DensityMap> {
+    let d = g.snap.dimension;
+    if lengths.len() != d || dims.len() != d {
+        return None;
+    }
+    let dims: Vec<usize> = dims.iter().map(|&n| n.max(1)).collect();
+    let counts = match d {
+        2 => density_counts::<2>(&vectors(&g.snap.positions), lengths, [dims[0], dims[1]]),
+        3 => density_counts::<3>(
+            &vectors(&g.snap.positions),
+            lengths,
+            [dims[0], dims[1], dims[2]],
+        ),
+        _ => return None,
+    };
+    Some(density_from_counts(g.sum_u64(counts), lengths, &dims))
 }

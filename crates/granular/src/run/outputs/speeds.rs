@@ -4,8 +4,8 @@
 
 use super::Output;
 use super::scaled_speeds::{STEADY_TOLERANCE, ScaledSpeeds};
-use crate::engine::Snapshot;
 use crate::observation::Observation;
+use crate::run::grains::{Grains, add_counts};
 use crate::run::summary::{MaxwellBoltzmannFit, SpeciesStatistics};
 use crate::run::{RunError, Summary, io_err};
 use crate::simulation::Simulation;
@@ -43,15 +43,6 @@ pub struct SpeedStatistics {
     /// their temperatures (empty in a checkpoint of an earlier version).
     #[serde(default)]
     scaled: ScaledSpeeds,
-}
-
-/// `|v_i|²` of grain `i`.
-fn speed_squared(snap: &Snapshot, i: usize) -> f64 {
-    let d = snap.dimension;
-    snap.velocities[i * d..(i + 1) * d]
-        .iter()
-        .map(|x| x * x)
-        .sum::<f64>()
 }
 
 impl SpeedStatistics {
@@ -190,6 +181,66 @@ impl SpeedStatistics {
         !self.scaled.is_set() || self.scaled.steady(s, self.temperature(s))
     }
 
+    /// Pools the speeds of one snapshot (collective under ranks): the histograms from
+    /// every rank's counts, the energy sum and running statistics chained in id order.
+    fn pool(&mut self, g: &Grains) {
+        let snap = &g.snap;
+        let d = snap.dimension;
+        let ns = self.species.len();
+        let empty = |h: &Histogram| Histogram::new(h.min, h.max, h.counts.len());
+        let mut speed: Vec<Histogram> = self.equilibrium.iter().map(empty).collect();
+        let mut velocity: Vec<Histogram> = self.velocity.iter().map(empty).collect();
+        for i in 0..g.len() {
+            let s = snap.species[i] as usize;
+            speed[s].push(g.speed_squared(i).sqrt());
+            for &c in &snap.velocities[i * d..(i + 1) * d] {
+                velocity[s].push(c);
+            }
+        }
+        g.sum_histograms(&mut speed);
+        g.sum_histograms(&mut velocity);
+        for (into, from) in self.equilibrium.iter_mut().zip(&speed) {
+            add_counts(into, from);
+        }
+        for (into, from) in self.velocity.iter_mut().zip(&velocity) {
+            add_counts(into, from);
+        }
+        // [energy sums, speed statistics, energy statistics] per species, in id order.
+        let mut init = self.energy_sum.clone();
+        init.extend(self.speed_stats.iter().flat_map(RunningStats::to_words));
+        init.extend(self.energy_stats.iter().flat_map(RunningStats::to_words));
+        let acc = g.chain(init, |mut a| {
+            let mut speed_stats: Vec<RunningStats> = (0..ns)
+                .map(|s| RunningStats::from_words(&a[ns + 3 * s..]))
+                .collect();
+            let mut energy_stats: Vec<RunningStats> = (0..ns)
+                .map(|s| RunningStats::from_words(&a[4 * ns + 3 * s..]))
+                .collect();
+            for i in 0..g.len() {
+                let v2 = g.speed_squared(i);
+                let s = snap.species[i] as usize;
+                a[s] += snap.masses[i] * v2 / d as f64;
+                speed_stats[s].push(v2.sqrt());
+                energy_stats[s].push(0.5 * snap.masses[i] * v2);
+            }
+            a.truncate(ns);
+            a.extend(speed_stats.iter().flat_map(RunningStats::to_words));
+            a.extend(energy_stats.iter().flat_map(RunningStats::to_words));
+            a
+        });
+        self.energy_sum = acc[..ns].to_vec();
+        self.speed_stats = (0..ns)
+            .map(|s| RunningStats::from_words(&acc[ns + 3 * s..]))
+            .collect();
+        self.energy_stats = (0..ns)
+            .map(|s| RunningStats::from_words(&acc[4 * ns + 3 * s..]))
+            .collect();
+        if self.scaled.is_set() {
+            let v2: Vec<f64> = (0..g.len()).map(|i| g.speed_squared(i)).collect();
+            self.scaled.push(g, &v2, &self.masses);
+        }
+    }
+
     fn species_statistics(&self, d: usize, s: usize) -> Option<SpeciesStatistics> {
         let (sp, en) = (&self.speed_stats[s], &self.energy_stats[s]);
         if sp.count == 0 {
@@ -212,25 +263,30 @@ impl SpeedStatistics {
 impl Output for SpeedStatistics {
     /// Fixes the histogram ranges from the initial state: the upper edge is
     /// `output.histogram_max_speed` times each species' thermal speed at the mean energy.
+    /// Under ranks, `Σ m v²` is chained in id order and the counts are summed (see
+    /// `run::grains`): no rank holds more than its block of grains.
     fn setup(&mut self, simulation: &Simulation) -> Result<(), RunError> {
-        let Some(snap) = simulation.snapshot() else {
+        let Some(g) = Grains::of(simulation) else {
             return Ok(());
         };
         let output = &simulation.scenario().output;
+        let snap = &g.snap;
         let d = snap.dimension;
-        let n = snap.masses.len();
-        let mut mv2 = 0.0;
-        let mut msum = 0.0;
-        for i in 0..n {
-            mv2 += snap.masses[i] * speed_squared(&snap, i);
-            msum += snap.masses[i];
-        }
         let ns = snap.species_names.len();
-        let mut masses = vec![1.0; ns];
-        for i in 0..n {
-            masses[snap.species[i] as usize] = snap.masses[i];
-        }
-        let t = mv2 / (d as f64 * n as f64);
+        // [Σ m v², Σ m, the mass of each species (the last grain's)], in id order.
+        let mut init = vec![0.0, 0.0];
+        init.extend(std::iter::repeat_n(1.0, ns));
+        let acc = g.chain(init, |mut a| {
+            for i in 0..g.len() {
+                a[0] += snap.masses[i] * g.speed_squared(i);
+                a[1] += snap.masses[i];
+                a[2 + snap.species[i] as usize] = snap.masses[i];
+            }
+            a
+        });
+        let (mv2, msum) = (acc[0], acc[1]);
+        let masses = acc[2..].to_vec();
+        let t = mv2 / (d as f64 * g.total as f64);
         let histograms: Vec<Histogram> = (0..ns)
             .map(|s| {
                 let v_rms = if t > 0.0 {
@@ -243,9 +299,10 @@ impl Output for SpeedStatistics {
             })
             .collect();
         let mut initial = histograms.clone();
-        for i in 0..n {
-            initial[snap.species[i] as usize].push(speed_squared(&snap, i).sqrt());
+        for i in 0..g.len() {
+            initial[snap.species[i] as usize].push(g.speed_squared(i).sqrt());
         }
+        g.sum_histograms(&mut initial);
         self.velocity = histograms
             .iter()
             .map(|h| Histogram::new(-h.max, h.max, 2 * h.counts.len()))
@@ -268,7 +325,8 @@ impl Output for SpeedStatistics {
     /// Pools the speeds of the snapshot when the gas has had
     /// `output.equilibration_collisions_per_particle` collisions per grain and the last
     /// pooled snapshot is `output.histogram_sample_spacing` collisions per grain back
-    /// (HD appendix C.2: samples far enough apart to be independent).
+    /// (HD appendix C.2: samples far enough apart to be independent). Under ranks each
+    /// rank bins its block and the sums run in id order over the ranks (`run::grains`).
     fn observe(
         &mut self,
         simulation: &Simulation,
@@ -282,27 +340,10 @@ impl Output for SpeedStatistics {
         {
             return Ok(());
         }
-        let Some(snap) = simulation.snapshot() else {
+        let Some(g) = Grains::of(simulation) else {
             return Ok(());
         };
-        let d = snap.dimension;
-        for i in 0..snap.masses.len() {
-            let v2 = speed_squared(&snap, i);
-            let s = snap.species[i] as usize;
-            self.equilibrium[s].push(v2.sqrt());
-            for &c in &snap.velocities[i * d..(i + 1) * d] {
-                self.velocity[s].push(c);
-            }
-            self.energy_sum[s] += snap.masses[i] * v2 / d as f64;
-            self.speed_stats[s].push(v2.sqrt());
-            self.energy_stats[s].push(0.5 * snap.masses[i] * v2);
-        }
-        if self.scaled.is_set() {
-            let v2: Vec<f64> = (0..snap.masses.len())
-                .map(|i| speed_squared(&snap, i))
-                .collect();
-            self.scaled.push(d, &v2, &snap.species, &self.masses);
-        }
+        self.pool(&g);
         self.samples += 1;
         self.last_sample_cpp = cpp;
         Ok(())

@@ -70,7 +70,10 @@ impl Trajectory {
 }
 
 impl Output for Trajectory {
+    /// Opens the files; refuses a run over ranks above
+    /// `GATHER_LIMIT` (10^6) grains (every rank gathers each frame).
     fn setup(&mut self, simulation: &Simulation) -> Result<(), RunError> {
+        crate::run::grains::refuse_whole_gather(simulation, "output.trajectory")?;
         self.cell = Some(Cell::from_scenario(simulation.scenario()));
         self.writers = self
             .formats

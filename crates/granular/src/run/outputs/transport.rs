@@ -86,8 +86,10 @@ fn interval_error(interval: f64, message: String) -> RunError {
 
 impl Output for TransportOutput {
     /// Refuses an output interval in which a grain could cross half a periodic edge
-    /// (before the run starts).
+    /// (before the run starts), and a run over ranks above
+    /// `GATHER_LIMIT` (10^6) grains (every rank gathers the whole system).
     fn setup(&mut self, simulation: &Simulation) -> Result<(), RunError> {
+        crate::run::grains::refuse_whole_gather(simulation, "output.msd")?;
         let Some(snap) = simulation.snapshot() else {
             return Ok(());
         };
