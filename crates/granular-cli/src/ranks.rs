@@ -85,7 +85,24 @@ impl dsmc::Communicator for World {
         }
         split(&buf, &recv_counts)
     }
+
+    fn send(&self, to: usize, words: &[f64]) {
+        world()
+            .process_at_rank(to as i32)
+            .send_with_tag(words, CHAIN_TAG);
+    }
+
+    fn receive(&self, from: usize) -> Vec<f64> {
+        world()
+            .process_at_rank(from as i32)
+            .receive_vec_with_tag::<f64>(CHAIN_TAG)
+            .0
+    }
 }
+
+/// The tag of the library's point-to-point messages (the chained sums' accumulators), so
+/// that they never match another point-to-point message.
+const CHAIN_TAG: i32 = 27;
 
 /// Whether any rank says yes (collective over the world).
 pub fn any_rank(local: bool) -> bool {

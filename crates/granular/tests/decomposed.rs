@@ -24,6 +24,10 @@ struct Shared {
     barrier: Barrier,
     /// `slots[from][to]`.
     slots: Mutex<Vec<Vec<Vec<f64>>>>,
+    /// Point-to-point messages in flight, `mail[from * size + to]`, oldest first.
+    mail: Mutex<Vec<std::collections::VecDeque<Vec<f64>>>>,
+    /// Signalled when a message is posted.
+    posted: std::sync::Condvar,
 }
 
 impl Threads {
@@ -32,6 +36,8 @@ impl Threads {
             size,
             barrier: Barrier::new(size),
             slots: Mutex::new(vec![vec![Vec::new(); size]; size]),
+            mail: Mutex::new(vec![Default::default(); size * size]),
+            posted: std::sync::Condvar::new(),
         });
         (0..size)
             .map(|rank| Threads {
@@ -72,6 +78,35 @@ impl Communicator for Threads {
             .collect();
         self.shared.barrier.wait();
         received
+    }
+
+    fn send(&self, to: usize, words: &[f64]) {
+        let mut mail = self
+            .shared
+            .mail
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        mail[self.rank * self.shared.size + to].push_back(words.to_vec());
+        self.shared.posted.notify_all();
+    }
+
+    fn receive(&self, from: usize) -> Vec<f64> {
+        let box_index = from * self.shared.size + self.rank;
+        let mut mail = self
+            .shared
+            .mail
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        loop {
+            if let Some(words) = mail[box_index].pop_front() {
+                return words;
+            }
+            mail = self
+                .shared
+                .posted
+                .wait(mail)
+                .unwrap_or_else(std::sync::PoisonError::into_inner);
+        }
     }
 }
 
@@ -307,6 +342,17 @@ impl Communicator for Counting {
     fn exchange(&self, outgoing: Vec<Vec<f64>>) -> Vec<Vec<f64>> {
         self.note(self.inner.exchange(outgoing))
     }
+
+    fn send(&self, to: usize, words: &[f64]) {
+        self.inner.send(to, words);
+    }
+
+    fn receive(&self, from: usize) -> Vec<f64> {
+        let words = self.inner.receive(from);
+        self.most
+            .fetch_max(words.len(), std::sync::atomic::Ordering::Relaxed);
+        words
+    }
 }
 
 /// Runs `f(communicator, the most words it received)` on `k` ranks (threads).
@@ -443,9 +489,8 @@ fn decomposed_run_writes_parts_and_resumes_on_another_rank_count() {
     });
     // The most a rank receives at once while the run sets its outputs up and writes its
     // checkpoints and snapshots: its block of ids for a snapshot or the speed histograms
-    // (N / K records), or the raw values of the reductions' shared chunk (at most N D
-    // words here, where N is below one chunk of 4096); a gather of the whole system would
-    // be `whole`.
+    // (N / K records); the chained sums pass and gather a few accumulators; a gather of
+    // the whole system would be `whole`.
     assert_eq!(most.len(), 3);
     for (k, most) in [(3, &most), (2, &most_resumed)] {
         for (rank, &w) in most.iter().enumerate() {

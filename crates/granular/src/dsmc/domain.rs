@@ -23,11 +23,19 @@
 //!
 //! # Reductions
 //!
-//! The threaded engine sums over fixed chunks of `SUM_CHUNK` particles of the global
-//! storage order, then over the chunks in order. Here each rank folds the parts of chunks
-//! that *start* on it, and hands on the raw values of a chunk that started on an earlier
-//! rank; every rank then finishes the same folds in the same order
-//! (`Domain::ordered_fold`). Counters are integers (exact in any order) and maxima are
+//! The threaded engine sums over fixed chunks of `SUM_CHUNK` (4096) particles of the
+//! global storage order, each chunk from zero in storage order, then adds the chunks'
+//! accumulators in order. Here (`Domain::ordered_fold`, **chained sums**) each rank folds
+//! the chunks that start on it; a chunk that spans a rank cut is continued by the next
+//! rank holding particles, which receives the chunk's partial accumulator (point to
+//! point, [`Communicator::send`]) and folds its own leading particles into it, and so on
+//! through as many ranks as the chunk spans (fewer than 4096 particles on a rank; ranks
+//! without particles are skipped). The rank holding a chunk's last particle thus has the
+//! chunk's exact accumulator. One all-gather then carries one accumulator per chunk, in
+//! chunk order, and every rank adds them in that order, as the threaded engine does.
+//! Per sum and rank: one gather of the particle counts (1 word), at most one accumulator
+//! sent to the next rank and one received (`A` words each), and the accumulators of the
+//! chunks that end on the rank. Counters are integers (exact in any order) and maxima are
 //! order-free. So the time step, the observables and the trajectory are bit for bit those
 //! of the threaded engine, for any number of ranks.
 //!
@@ -52,6 +60,14 @@ pub trait Communicator: Send + Sync + std::fmt::Debug {
     /// Sends `outgoing[q]` to rank `q` (`outgoing.len() == size()`); returns what every
     /// rank sent to this one, indexed by the source rank.
     fn exchange(&self, outgoing: Vec<Vec<f64>>) -> Vec<Vec<f64>>;
+    /// Sends `words` to rank `to` (`to != rank()`), point to point and not collective:
+    /// only `to` calls [`Communicator::receive`] for it. Messages from one rank to another
+    /// arrive in the order sent. May return before `to` receives; the chained sums send
+    /// only to later ranks, so a blocking send cannot deadlock.
+    fn send(&self, to: usize, words: &[f64]);
+    /// The next words rank `from` sent to this one with [`Communicator::send`] (waits for
+    /// them).
+    fn receive(&self, from: usize) -> Vec<f64>;
 }
 
 /// A rank's share of a decomposed engine: which cell planes it owns and how to talk to
@@ -73,9 +89,10 @@ pub struct Domain {
 
 /// What one rank has communicated so far, by purpose: **migration** (the point-to-point
 /// exchange after every free flight) and **reductions** (every gather over the ranks:
-/// counters, maxima, the chunked sums of the observables and of the adaptive time step).
-/// Counted at the [`Communicator`] calls; the time is the wall time spent inside them, so
-/// it includes waiting for the slowest rank (load imbalance shows up as communication).
+/// counters, maxima, the chunked sums of the observables and of the adaptive time step,
+/// and the chained sums' accumulators passed to the next rank). Counted at the
+/// [`Communicator`] calls; the time is the wall time spent inside them, so it includes
+/// waiting for the slowest rank (load imbalance shows up as communication).
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Traffic {
     /// Bytes sent to other ranks by migrations (8 per word).
@@ -87,14 +104,19 @@ pub struct Traffic {
     /// Seconds spent inside migration calls.
     pub migration_seconds: f64,
     /// Bytes sent to other ranks by reductions (a gathered word counts once per other
-    /// rank it reaches).
+    /// rank it reaches; a chained sum's accumulator once).
     pub reduction_bytes_sent: u64,
     /// Bytes received from other ranks by reductions.
     pub reduction_bytes_received: u64,
     /// Reduction calls ([`Communicator::all_gather`]).
     pub reduction_calls: u64,
-    /// Seconds spent inside reduction calls.
+    /// Seconds spent inside reduction calls and chained-sum messages (sending and
+    /// waiting to receive).
     pub reduction_seconds: f64,
+    /// Chained-sum messages sent ([`Communicator::send`]: a chunk's accumulator passed to
+    /// the next rank holding particles).
+    #[serde(default)]
+    pub reduction_messages: u64,
 }
 
 impl Traffic {
@@ -111,6 +133,7 @@ impl Traffic {
                 - earlier.reduction_bytes_received,
             reduction_calls: self.reduction_calls - earlier.reduction_calls,
             reduction_seconds: self.reduction_seconds - earlier.reduction_seconds,
+            reduction_messages: self.reduction_messages - earlier.reduction_messages,
         }
     }
 }
@@ -281,12 +304,50 @@ impl Domain {
             .collect()
     }
 
+    /// Sends `words` to rank `to` (point to point, a chained sum's accumulator), counting
+    /// the words and the time as reduction traffic.
+    fn send(&self, to: usize, words: &[f64]) {
+        let t = Instant::now();
+        self.comm.send(to, words);
+        let seconds = t.elapsed().as_secs_f64();
+        self.record(|c| {
+            c.reduction_bytes_sent += 8 * words.len() as u64;
+            c.reduction_messages += 1;
+            c.reduction_seconds += seconds;
+        });
+    }
+
+    /// The next words rank `from` sent to this one (waits for them), counted as
+    /// reduction traffic.
+    fn receive(&self, from: usize) -> Vec<f64> {
+        let t = Instant::now();
+        let words = self.comm.receive(from);
+        let seconds = t.elapsed().as_secs_f64();
+        self.record(|c| {
+            c.reduction_bytes_received += 8 * words.len() as u64;
+            c.reduction_seconds += seconds;
+        });
+        words
+    }
+
     /// The chunked fold of the threaded engine over the global storage order, on every
     /// rank: `elem(i)` is the value (`E` words) of local particle `i`, `fold` adds one
     /// value to a chunk's accumulator (`A` words, starting at zero) and `combine` adds a
     /// chunk's accumulator to the total (starting at zero), both in storage order.
     /// Bit-identical to folding every [`SUM_CHUNK`] particles of the whole system, then
     /// the chunks in order.
+    ///
+    /// **Chained**: a chunk that spans a rank cut is folded by the ranks it spans one
+    /// after the other; its accumulator passes from each to the next rank holding
+    /// particles (point to point, `A` words; ranks without particles are skipped), which
+    /// continues the fold with its own values. The rank holding a chunk's last particle
+    /// thus has the chunk's accumulator, exactly as the threaded engine's; every rank then
+    /// contributes the accumulators of the chunks that end on it to one all-gather (one
+    /// accumulator per chunk, in chunk order by rank order), and every rank combines them
+    /// in order. A rank sends its own open chunk before it waits for the chunk continuing
+    /// from an earlier rank, so the messages of a step overlap and only a chunk that
+    /// spans more than two ranks (fewer than [`SUM_CHUNK`] particles on a rank) makes a
+    /// sequence of messages.
     pub(crate) fn ordered_fold<const E: usize, const A: usize>(
         &self,
         n_local: usize,
@@ -295,62 +356,329 @@ impl Domain {
         combine: impl Fn(&mut [f64; A], &[f64; A]),
     ) -> [f64; A] {
         let counts = self.counts(n_local);
-        let offset: usize = counts[..self.rank()].iter().sum();
-        // Pieces of the local range cut at the global chunk boundaries.
-        let mut pieces = Vec::new();
-        let mut i = 0;
-        while i < n_local {
-            let g = offset + i;
-            let end = (i + SUM_CHUNK - g % SUM_CHUNK).min(n_local);
-            pieces.push((i, end));
-            i = end;
-        }
-        // Words: [continuation length, its raw values..., then one accumulator per piece
-        // that starts a chunk].
-        let cont = match pieces.first() {
-            Some(&(s, e)) if !(offset + s).is_multiple_of(SUM_CHUNK) => e - s,
-            _ => 0,
+        let layout = ChainLayout::new(&counts, self.rank());
+        let run = |acc: &mut [f64; A], range: std::ops::Range<usize>| {
+            for k in range {
+                fold(acc, &elem(k));
+            }
         };
-        let folded: Vec<[f64; A]> = pieces
+        // The chunks that start on this rank, folded in parallel (the last may be open).
+        let starts: Vec<[f64; A]> = layout
+            .own_chunks()
             .par_iter()
-            .skip(usize::from(cont > 0))
-            .map(|&(s, e)| {
+            .map(|r| {
                 let mut acc = [0.0; A];
-                for k in s..e {
-                    fold(&mut acc, &elem(k));
-                }
+                run(&mut acc, r.clone());
                 acc
             })
             .collect();
-        let mut words = Vec::with_capacity(1 + cont * E + folded.len() * A);
-        words.push(cont as f64);
-        for k in 0..cont {
-            words.extend_from_slice(&elem(k));
+        let mut ends: Vec<[f64; A]> = Vec::with_capacity(starts.len() + 1);
+        let complete = starts.len() - usize::from(layout.open_tail());
+        if let (true, Some(to), Some(open)) = (layout.open_tail(), layout.next, starts.last()) {
+            self.send(to, open);
         }
-        for a in &folded {
-            words.extend_from_slice(a);
-        }
-        let parts = self.all_gather(&words);
-        // Finish every chunk in order: a chunk's accumulator continues with the raw
-        // values of the ranks after the one it started on.
-        let mut chunks: Vec<[f64; A]> = Vec::new();
-        for part in &parts {
-            let cont = part[0] as usize;
-            let raw = &part[1..1 + cont * E];
-            if let Some(acc) = chunks.last_mut() {
-                for v in raw.chunks_exact(E) {
-                    let v: [f64; E] = v.try_into().unwrap_or([0.0; E]);
-                    fold(acc, &v);
-                }
-            }
-            for a in part[1 + cont * E..].chunks_exact(A) {
-                chunks.push(a.try_into().unwrap_or([0.0; A]));
+        if let Some(from) = layout.previous {
+            let words = self.receive(from);
+            let mut acc: [f64; A] = words.as_slice().try_into().unwrap_or([f64::NAN; A]);
+            run(&mut acc, 0..layout.head);
+            match layout.next {
+                // The whole rank continues a chunk that goes on after it.
+                Some(to) if layout.head == n_local => self.send(to, &acc),
+                _ => ends.push(acc),
             }
         }
+        ends.extend_from_slice(&starts[..complete]);
+        let words: Vec<f64> = ends.iter().flatten().copied().collect();
         let mut total = [0.0; A];
-        for c in &chunks {
-            combine(&mut total, c);
+        for part in self.all_gather(&words) {
+            for a in part.chunks_exact(A) {
+                combine(&mut total, &a.try_into().unwrap_or([f64::NAN; A]));
+            }
         }
         total
+    }
+}
+
+/// Where one rank's particles lie among the chunks of [`SUM_CHUNK`] of the global storage
+/// order, and whom it passes an open chunk to ([`Domain::ordered_fold`]).
+#[derive(Clone, Debug, PartialEq, Eq)]
+struct ChainLayout {
+    /// Particles on this rank.
+    n: usize,
+    /// Leading local particles that continue a chunk begun on an earlier rank.
+    head: usize,
+    /// Whether the last local particle's chunk goes on on a later rank.
+    open: bool,
+    /// The nearest earlier rank with particles, when the head is not empty.
+    previous: Option<usize>,
+    /// The nearest later rank with particles, when the last chunk goes on there.
+    next: Option<usize>,
+}
+
+impl ChainLayout {
+    /// The layout of `rank` given every rank's particle count.
+    fn new(counts: &[usize], rank: usize) -> ChainLayout {
+        let offset: usize = counts[..rank].iter().sum();
+        let total: usize = counts.iter().sum();
+        let n = counts[rank];
+        let end = offset + n;
+        let head = if n == 0 {
+            0
+        } else {
+            ((SUM_CHUNK - offset % SUM_CHUNK) % SUM_CHUNK).min(n)
+        };
+        let open = n > 0 && end < total && !end.is_multiple_of(SUM_CHUNK);
+        ChainLayout {
+            n,
+            head,
+            open,
+            previous: (head > 0)
+                .then(|| (0..rank).rev().find(|&q| counts[q] > 0))
+                .flatten(),
+            next: open
+                .then(|| (rank + 1..counts.len()).find(|&q| counts[q] > 0))
+                .flatten(),
+        }
+    }
+
+    /// The local ranges of the chunks that start on this rank (after the head), in order.
+    fn own_chunks(&self) -> Vec<std::ops::Range<usize>> {
+        (self.head..self.n)
+            .step_by(SUM_CHUNK)
+            .map(|s| s..(s + SUM_CHUNK).min(self.n))
+            .collect()
+    }
+
+    /// Whether the last chunk that starts on this rank goes on on a later rank.
+    fn open_tail(&self) -> bool {
+        self.open && self.head < self.n
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::VecDeque;
+    use std::sync::{Barrier, Condvar};
+
+    /// `K` ranks as threads of this process (as the integration tests' communicator).
+    #[derive(Debug)]
+    struct InProcess {
+        rank: usize,
+        shared: Arc<Shared>,
+    }
+
+    #[derive(Debug)]
+    struct Shared {
+        size: usize,
+        barrier: Barrier,
+        /// `slots[from][to]` of a collective.
+        slots: Mutex<Vec<Vec<Vec<f64>>>>,
+        /// Point-to-point messages, `mail[from * size + to]`, oldest first.
+        mail: Mutex<Vec<VecDeque<Vec<f64>>>>,
+        posted: Condvar,
+    }
+
+    fn world(size: usize) -> Vec<InProcess> {
+        let shared = Arc::new(Shared {
+            size,
+            barrier: Barrier::new(size),
+            slots: Mutex::new(vec![vec![Vec::new(); size]; size]),
+            mail: Mutex::new(vec![VecDeque::new(); size * size]),
+            posted: Condvar::new(),
+        });
+        (0..size)
+            .map(|rank| InProcess {
+                rank,
+                shared: shared.clone(),
+            })
+            .collect()
+    }
+
+    impl Communicator for InProcess {
+        fn rank(&self) -> usize {
+            self.rank
+        }
+
+        fn size(&self) -> usize {
+            self.shared.size
+        }
+
+        fn all_gather(&self, local: &[f64]) -> Vec<Vec<f64>> {
+            self.exchange(vec![local.to_vec(); self.size()])
+        }
+
+        fn exchange(&self, outgoing: Vec<Vec<f64>>) -> Vec<Vec<f64>> {
+            self.shared.slots.lock().unwrap()[self.rank] = outgoing;
+            self.shared.barrier.wait();
+            let received = self
+                .shared
+                .slots
+                .lock()
+                .unwrap()
+                .iter()
+                .map(|row| row[self.rank].clone())
+                .collect();
+            self.shared.barrier.wait();
+            received
+        }
+
+        fn send(&self, to: usize, words: &[f64]) {
+            let mut mail = self.shared.mail.lock().unwrap();
+            mail[self.rank * self.shared.size + to].push_back(words.to_vec());
+            self.shared.posted.notify_all();
+        }
+
+        fn receive(&self, from: usize) -> Vec<f64> {
+            let mut mail = self.shared.mail.lock().unwrap();
+            loop {
+                if let Some(words) = mail[from * self.shared.size + self.rank].pop_front() {
+                    return words;
+                }
+                mail = self.shared.posted.wait(mail).unwrap();
+            }
+        }
+    }
+
+    /// Values whose sum depends on the order of addition: magnitudes from 1e-6 to 1e6.
+    fn values(n: usize) -> Vec<[f64; 2]> {
+        (0..n)
+            .map(|i| {
+                let x = i as f64;
+                let scale = 10f64.powi((i % 13) as i32 - 6);
+                [(0.37 * x).sin() * scale, (1.3 * x + 0.2).cos() / scale]
+            })
+            .collect()
+    }
+
+    /// The threaded engine's sum: chunks of `SUM_CHUNK` folded in parallel, then added in
+    /// order (as `DsmcEngine::peculiar_moments`: accumulates `x` and `x^2` of component 0
+    /// and the vector sum).
+    fn threaded(v: &[[f64; 2]]) -> [f64; 4] {
+        v.par_chunks(SUM_CHUNK)
+            .map(|c| {
+                c.iter().fold([0.0; 4], |a, x| {
+                    [a[0] + x[0], a[1] + x[0] * x[0], a[2] + x[0], a[3] + x[1]]
+                })
+            })
+            .collect::<Vec<_>>()
+            .into_iter()
+            .fold([0.0; 4], |a, c| {
+                [a[0] + c[0], a[1] + c[1], a[2] + c[2], a[3] + c[3]]
+            })
+    }
+
+    /// The chained messages a layout needs: per chunk, the ranks with particles it spans,
+    /// minus one.
+    fn chain_messages(counts: &[usize]) -> u64 {
+        let total: usize = counts.iter().sum();
+        let mut owner = Vec::with_capacity(total);
+        for (r, &c) in counts.iter().enumerate() {
+            owner.extend(std::iter::repeat_n(r, c));
+        }
+        owner
+            .chunks(SUM_CHUNK)
+            .map(|c| c.windows(2).filter(|w| w[0] != w[1]).count() as u64)
+            .sum()
+    }
+
+    /// Every rank's result and traffic of the decomposed fold of `values(sum counts)`
+    /// split as `counts`.
+    fn decomposed(counts: &[usize]) -> Vec<([f64; 4], Traffic)> {
+        let all = values(counts.iter().sum());
+        let k = counts.len();
+        std::thread::scope(|s| {
+            let handles: Vec<_> = world(k)
+                .into_iter()
+                .map(|comm| {
+                    let all = &all;
+                    s.spawn(move || {
+                        let r = comm.rank;
+                        let d = Domain::new(Arc::new(comm), &[1, k], all.len()).unwrap();
+                        let offset: usize = counts[..r].iter().sum();
+                        let mine = &all[offset..offset + counts[r]];
+                        let [a, b] = d.ordered_fold::<1, 2>(
+                            mine.len(),
+                            |i| [mine[i][0]],
+                            |a, &[x]| *a = [a[0] + x, a[1] + x * x],
+                            |a, x| *a = [a[0] + x[0], a[1] + x[1]],
+                        );
+                        let [c, e] = d.ordered_fold::<2, 2>(
+                            mine.len(),
+                            |i| mine[i],
+                            |a, x| *a = [a[0] + x[0], a[1] + x[1]],
+                            |a, x| *a = [a[0] + x[0], a[1] + x[1]],
+                        );
+                        ([a, b, c, e], d.traffic())
+                    })
+                })
+                .collect();
+            handles.into_iter().map(|h| h.join().unwrap()).collect()
+        })
+    }
+
+    /// The chained fold gives the threaded engine's bits on every rank, for layouts where
+    /// chunks span 3 and more ranks, ranks hold no particles, and cuts fall on chunk
+    /// boundaries; the traffic is the layout's: per sum one count and one accumulator per
+    /// chunk gathered, and one accumulator per rank a chunk passes on to.
+    #[test]
+    fn chained_fold_is_the_threaded_fold_bit_for_bit() {
+        let layouts: [&[usize]; 12] = [
+            &[10_000],
+            &[5000, 0, 10, 3000, 2000, 0, 9000],
+            &[1, 1, 1, 1, 1],
+            &[0, 0, 7],
+            &[7, 0, 0],
+            &[4096, 4096, 0, 4096],
+            &[4095, 2, 4095, 4097],
+            &[3, 0, 0, 0, 4100],
+            &[0, 0, 0],
+            &[1000, 1000, 0, 1000, 1000, 1000, 0],
+            &[250_000, 250_000],
+            &[9000, 1, 0, 1, 9000],
+        ];
+        // The data is order-sensitive: a plain running sum differs from the chunked one.
+        let v = values(10_000);
+        let plain: f64 = v.iter().fold(0.0, |a, x| a + x[0] * x[0]);
+        assert_ne!(plain.to_bits(), threaded(&v)[1].to_bits());
+        for counts in layouts {
+            let total: usize = counts.iter().sum();
+            let want = threaded(&values(total)).map(f64::to_bits);
+            let k = counts.len() as u64;
+            let chunks = total.div_ceil(SUM_CHUNK) as u64;
+            let results = decomposed(counts);
+            let mut messages = 0;
+            let mut sent = 0;
+            for (rank, (got, t)) in results.iter().enumerate() {
+                assert_eq!(got.map(f64::to_bits), want, "{counts:?}: rank {rank}");
+                messages += t.reduction_messages;
+                sent += t.reduction_bytes_sent;
+                assert_eq!(t.reduction_calls, 4, "{counts:?}: rank {rank}");
+            }
+            let chain = chain_messages(counts);
+            assert_eq!(messages, 2 * chain, "{counts:?}");
+            // Two sums: counts (1 word to each other rank), the accumulators of every
+            // chunk (2 words to each other rank), the chained accumulators (2 words).
+            assert_eq!(
+                sent,
+                2 * 8 * (k * (k - 1) + 2 * chunks * (k - 1) + 2 * chain),
+                "{counts:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn chain_layout_skips_empty_ranks() {
+        let counts = [4095, 0, 2, 0, 4097];
+        let l: Vec<ChainLayout> = (0..5).map(|r| ChainLayout::new(&counts, r)).collect();
+        assert_eq!((l[0].head, l[0].open, l[0].next), (0, true, Some(2)));
+        assert_eq!((l[1].previous, l[1].next), (None, None));
+        assert_eq!((l[2].head, l[2].previous, l[2].next), (1, Some(0), Some(4)));
+        assert_eq!(l[2].own_chunks(), vec![1..2]);
+        assert_eq!(
+            (l[4].head, l[4].previous, l[4].open),
+            (4095, Some(2), false)
+        );
+        assert_eq!(l[4].own_chunks(), vec![4095..4097]);
     }
 }
