@@ -241,8 +241,8 @@ fn figure(
     net: &Network,
     out: &Path,
 ) -> Result<Vec<PathBuf>, String> {
-    // 16 rank counts per factor of 2 (the exact chunk layout makes the as-implemented
-    // model jump between neighbouring rank counts; these points show its trend).
+    // 16 rank counts per factor of 2 (the exact chunk layout makes the raw-values model
+    // jump between neighbouring rank counts; these points show its trend).
     let mut ks: Vec<usize> = (0..=160)
         .map(|j| 2f64.powf(j as f64 / 16.0).round() as usize)
         .collect();
@@ -270,14 +270,14 @@ fn figure(
     let n0 = m.n0;
     let n0_text = sci(n0);
     for (v, label) in [
-        (Variant::SlabsAsImplemented, "model, slabs as implemented"),
-        (Variant::SlabsChained, "model, slabs, chained sums"),
+        (Variant::Slabs, "model, slabs, chained sums (as implemented)"),
+        (Variant::SlabsRawValues, "model, slabs, raw values gathered (earlier)"),
         (Variant::BisectionChained, "model, bisection, chained sums"),
     ] {
         let (x, y) = curve(v, n0);
         plot = plot.series(Series::theory(format!("{label}, N = {n0_text}"), x, y).dashed(false));
     }
-    let (x, y) = curve(Variant::SlabsAsImplemented, 1e8);
+    let (x, y) = curve(Variant::Slabs, 1e8);
     plot = plot.series(Series::theory(
         "model, slabs as implemented, N = 10^8",
         x,

@@ -10,6 +10,7 @@
 //! T(K) = t_c N_max(K)                                   compute (largest slab)
 //!      + c_mig [alpha (ceil(log2 K) + 2) + 8 w m(K) / B]  migration
 //!      + sum_g [2 alpha ceil(log2 K) + R_g(K) / B]        reductions (all-gathers)
+//!      + 2 c(K) (alpha + 8 A / B)                         chained accumulators
 //! S(K) = T(1) / T(K),  T(1) = t_c N
 //! ```
 //!
@@ -24,15 +25,21 @@
 //! * reductions: the all-gathers of a run's step, each an all-gather of counts and one of
 //!   data (`2 ceil(log2 K)` messages with recursive doubling), `R_g` the bytes a rank
 //!   receives, computed from the exact layout of the chunked sums (below);
+//! * chained accumulators: each of the step's two chunked sums passes a chunk's partial
+//!   accumulator (`A` = 2 words) to the next rank, `c(K)` messages in sequence;
 //! * `B` the bandwidth per rank, `alpha` the latency per message.
 //!
-//! The chunked sums (`granular::dsmc::domain`, `ordered_fold`) gather, **as implemented**,
-//! every rank's raw values of the chunk of 4096 particles that started on an earlier
-//! rank: with `N / K < 4096` that is nearly every particle's values, received by every
-//! rank, so `R_g` grows as `min(N, 2048 K)`. The **chained** variant (not implemented)
-//! passes the open chunk's accumulator from rank to rank instead (`ceil(4096 K / N)`
-//! messages in sequence, a few words each; still bit-identical) and gathers one
-//! accumulator per chunk.
+//! The chunked sums (`granular::dsmc::domain`, `ordered_fold`) are, **as implemented**,
+//! chained: a chunk of 4096 particles that spans a rank cut is folded by the ranks it
+//! spans one after the other, its accumulator passed on point to point, and the
+//! all-gather carries one accumulator per chunk (`R_g` about `8 A N / 4096` bytes, the
+//! same on every rank). A rank sends its own open chunk before it waits for the one from
+//! its predecessor, so `c(K)` is 1 while every rank holds 4096 particles or more, and
+//! the longest run of ranks inside one chunk, plus one, below that (`ceil(4096 K / N)`
+//! or one more). The **raw-values** variant is the earlier layout, kept for comparison:
+//! every rank gathered the raw values of the chunk begun on an earlier rank, so with
+//! `N / K < 4096` nearly every particle's values reached every rank and `R_g` grew as
+//! `min(N, 2048 K)`.
 
 /// Particles per chunk of the engine's deterministic sums (`SUM_CHUNK`).
 pub const SUM_CHUNK: usize = 4096;
@@ -52,10 +59,11 @@ pub struct Network {
 /// How the ranks split the system and sum.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Variant {
-    /// Slabs of cell planes, chunked sums gathering raw values (the code as it is).
-    SlabsAsImplemented,
-    /// Slabs, chunked sums with the open chunk's accumulator passed along (proposed).
-    SlabsChained,
+    /// Slabs of cell planes, chained sums (the code as it is).
+    Slabs,
+    /// Slabs, chunked sums gathering the raw values of the chunks that span a cut (the
+    /// earlier code, for comparison).
+    SlabsRawValues,
     /// Recursive bisection into blocks, chained sums (proposed).
     BisectionChained,
 }
@@ -63,16 +71,16 @@ pub enum Variant {
 impl Variant {
     /// All variants, in the order of the tables.
     pub const ALL: [Variant; 3] = [
-        Variant::SlabsAsImplemented,
-        Variant::SlabsChained,
+        Variant::Slabs,
+        Variant::SlabsRawValues,
         Variant::BisectionChained,
     ];
 
     /// Name in tables and files.
     pub fn name(self) -> &'static str {
         match self {
-            Variant::SlabsAsImplemented => "slabs",
-            Variant::SlabsChained => "slabs-chained",
+            Variant::Slabs => "slabs",
+            Variant::SlabsRawValues => "slabs-raw-values",
             Variant::BisectionChained => "bisection-chained",
         }
     }
@@ -97,9 +105,11 @@ pub struct Inputs {
     pub reduction_calls: f64,
 }
 
-/// The words each rank contributes to one chunked sum (`E` words per raw value, `A` per
-/// accumulator) with `n` particles split evenly over `k` ranks; as implemented, or
-/// chained (one accumulator per chunk start, plus the open chunk's accumulator).
+/// The words each rank contributes to the all-gather of one chunked sum (`E` words per
+/// raw value, `A` per accumulator) with `n` particles split evenly over `k` ranks.
+/// Chained (as implemented): the accumulators of the chunks that end on the rank. Raw
+/// values (the earlier layout): a length word, the raw values of the chunk begun on an
+/// earlier rank, the accumulators of the chunks that start on the rank.
 fn fold_words(n: f64, k: usize, e: usize, a: usize, chained: bool) -> Vec<f64> {
     let n = n.round() as u128;
     let kk = k as u128;
@@ -107,17 +117,51 @@ fn fold_words(n: f64, k: usize, e: usize, a: usize, chained: bool) -> Vec<f64> {
     (0..kk)
         .map(|q| {
             let o = q * n / kk;
-            let len = (q + 1) * n / kk - o;
-            let starts = (o + len).div_ceil(c) - o.div_ceil(c);
+            let end = (q + 1) * n / kk;
+            if chained {
+                // Chunks whose last particle lies in `o .. end`.
+                let ends = if end == n {
+                    n.div_ceil(c) - o / c
+                } else {
+                    end / c - o / c
+                };
+                let ends = if end > o { ends } else { 0 };
+                return (ends * a as u128) as f64;
+            }
+            let len = end - o;
+            let starts = end.div_ceil(c) - o.div_ceil(c);
             let cont = if o.is_multiple_of(c) {
                 0
             } else {
                 len.min(c - o % c)
             };
-            let raw = if chained { 0 } else { cont * e as u128 };
-            1.0 + raw as f64 + (starts * a as u128) as f64
+            1.0 + (cont * e as u128) as f64 + (starts * a as u128) as f64
         })
         .collect()
+}
+
+/// Messages in sequence of one chained sum with `n` particles split evenly over `k`
+/// ranks: every rank sends its open chunk at once, a rank lying wholly inside one chunk
+/// (a pass-through) forwards it after receiving, so the longest run of pass-through ranks
+/// plus one (ranks without particles are skipped); zero when no chunk spans a cut.
+fn chain_steps(n: f64, k: usize) -> f64 {
+    let n = n.round() as u128;
+    let kk = k as u128;
+    let c = SUM_CHUNK as u128;
+    let (mut longest, mut run, mut any) = (0u128, 0u128, false);
+    for q in 0..kk {
+        let o = q * n / kk;
+        let end = (q + 1) * n / kk;
+        let open = end > o && end < n && !end.is_multiple_of(c);
+        let through = open && !o.is_multiple_of(c) && o / c == end / c;
+        any |= open;
+        // A rank without particles is skipped: the chain goes on past it.
+        if end > o {
+            run = if through { run + 1 } else { 0 };
+        }
+        longest = longest.max(run);
+    }
+    if any { (longest + 1) as f64 } else { 0.0 }
 }
 
 /// Bytes the rank receiving most gets from an all-gather of `words` (per rank).
@@ -189,7 +233,7 @@ impl Inputs {
         };
         let migration = self.migration_calls
             * (alpha * (lg + neighbours) + record * self.migrants(variant, n, k) / bw);
-        let chained = variant != Variant::SlabsAsImplemented;
+        let chained = variant != Variant::SlabsRawValues;
         // The gathers of one step: two chunked sums (the mean velocity, D words per
         // value and per accumulator; the peculiar moments, 1 and 2), each after a
         // gather of the counts, the tally and the non-finite check.
@@ -211,10 +255,9 @@ impl Inputs {
             .map(|w| 2.0 * alpha * lg + gather_received(w) / bw)
             .sum();
         if chained {
-            // Two chained sums per step: the open chunk's accumulator passes through the
-            // ranks it spans, one after the other.
-            let span = (SUM_CHUNK as f64 * k as f64 / n).ceil().max(1.0);
-            reductions += 2.0 * alpha * span;
+            // Two chained sums per step: the open chunks' accumulators (2 words), the
+            // longest sequence of messages.
+            reductions += 2.0 * chain_steps(n, k) * (alpha + 16.0 / bw);
         }
         Some([compute, migration, reductions])
     }
@@ -270,8 +313,8 @@ mod tests {
         for v in Variant::ALL {
             assert_eq!(m.speedup(v, 5e5, 1, &NET), Some(1.0));
         }
-        assert!(m.speedup(Variant::SlabsChained, 5e5, 224, &NET).is_some());
-        assert_eq!(m.speedup(Variant::SlabsChained, 5e5, 225, &NET), None);
+        assert!(m.speedup(Variant::Slabs, 5e5, 224, &NET).is_some());
+        assert_eq!(m.speedup(Variant::Slabs, 5e5, 225, &NET), None);
         assert!(
             m.speedup(Variant::BisectionChained, 5e5, 1024, &NET)
                 .is_some()
@@ -280,13 +323,20 @@ mod tests {
 
     #[test]
     fn fold_words_cover_every_particle_once() {
-        // As implemented: the raw values plus one accumulator per chunk start are every
-        // particle's value or its chunk's accumulator, once.
-        for &(n, k) in &[(500_000.0, 7), (10_000.0, 64), (4096.0 * 3.0, 3)] {
+        // Chained: one accumulator per chunk, from the rank where it ends. Raw values: the
+        // raw values plus one accumulator per chunk start are every particle's value or its
+        // chunk's accumulator, once.
+        for &(n, k) in &[
+            (500_000.0, 7),
+            (10_000.0, 64),
+            (4096.0 * 3.0, 3),
+            (5.0, 8),
+            (8192.0, 2),
+        ] {
             let w = fold_words(n, k, 1, 1, false);
             let raw_plus_starts: f64 = w.iter().map(|x| x - 1.0).sum();
             let chunks = (n / SUM_CHUNK as f64).ceil();
-            let chained: f64 = fold_words(n, k, 1, 1, true).iter().map(|x| x - 1.0).sum();
+            let chained: f64 = fold_words(n, k, 1, 1, true).iter().sum();
             assert_eq!(chained, chunks, "n = {n}, k = {k}");
             assert!(raw_plus_starts >= chunks && raw_plus_starts <= n + chunks);
         }
@@ -303,20 +353,32 @@ mod tests {
     fn chained_sums_scale_further_than_gathered_raw_values() {
         let m = inputs();
         let a = m
-            .speedup(Variant::SlabsAsImplemented, 5e5, 128, &NET)
+            .speedup(Variant::SlabsRawValues, 5e5, 128, &NET)
             .unwrap_or(0.0);
-        let b = m
-            .speedup(Variant::SlabsChained, 5e5, 128, &NET)
-            .unwrap_or(0.0);
+        let b = m.speedup(Variant::Slabs, 5e5, 128, &NET).unwrap_or(0.0);
         assert!(b > a, "{a} {b}");
         // Compute alone (no network cost) gives the slab imbalance only.
         let free = Network {
             latency: 0.0,
             bandwidth: f64::INFINITY,
         };
-        let s = m
-            .speedup(Variant::SlabsChained, 5e5, 112, &free)
-            .unwrap_or(0.0);
+        let s = m.speedup(Variant::Slabs, 5e5, 112, &free).unwrap_or(0.0);
         assert!((s - 112.0).abs() < 1e-9, "{s}");
+    }
+
+    #[test]
+    fn chain_steps_follow_the_ranks_inside_one_chunk() {
+        // 4096 or more per rank: every rank sends at once, one message in sequence.
+        assert_eq!(chain_steps(500_000.0, 2), 1.0);
+        assert_eq!(chain_steps(500_000.0, 100), 1.0);
+        // Cuts on chunk boundaries only: nothing to pass.
+        assert_eq!(chain_steps(8192.0, 2), 0.0);
+        assert_eq!(chain_steps(1000.0, 1), 0.0);
+        // 1000 per rank: chunk 0 spans ranks 0 to 4, ranks 1 to 3 wholly inside it, so 4
+        // messages in sequence.
+        assert_eq!(chain_steps(16_000.0, 16), 4.0);
+        // Below one particle per rank most ranks are empty and skipped: one chunk of 100
+        // particles on 100 ranks, 99 messages in sequence.
+        assert_eq!(chain_steps(100.0, 1000), 99.0);
     }
 }
