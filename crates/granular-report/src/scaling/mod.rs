@@ -270,8 +270,14 @@ fn figure(
     let n0 = m.n0;
     let n0_text = sci(n0);
     for (v, label) in [
-        (Variant::Slabs, "model, slabs, chained sums (as implemented)"),
-        (Variant::SlabsRawValues, "model, slabs, raw values gathered (earlier)"),
+        (
+            Variant::Slabs,
+            "model, slabs, chained sums (as implemented)",
+        ),
+        (
+            Variant::SlabsRawValues,
+            "model, slabs, raw values gathered (earlier)",
+        ),
         (Variant::BisectionChained, "model, bisection, chained sums"),
     ] {
         let (x, y) = curve(v, n0);
