@@ -500,16 +500,18 @@ fn decomposed_run_writes_parts_and_resumes_on_another_rank_count() {
 /// `new_decomposed` on each of `k = 1..=4` ranks creates exactly the slab that
 /// `decompose` keeps of the whole `new` engine (particles, storage order, cell ranges, TC
 /// times, time step, grid, validity warnings), without receiving a single particle from
-/// another rank, and then runs the whole engine's trajectory bit for bit.
+/// another rank, and then runs the whole engine's trajectory bit for bit (with `driving`
+/// set after the set-up, as a run does).
 fn check_slab_setup<const D: usize>(
     config: &DsmcConfig,
     bx: &SimulationBox<D>,
     gas: UniformGas,
+    driving: Option<granular::driving::Driving>,
     times: &[f64],
 ) {
     let seed = 11;
     let whole = || {
-        DsmcEngine::<D>::new(
+        let mut e = DsmcEngine::<D>::new(
             config.clone(),
             bx.clone(),
             gas.n,
@@ -518,7 +520,9 @@ fn check_slab_setup<const D: usize>(
             gas.temperature,
             seed,
         )
-        .unwrap()
+        .unwrap();
+        e.set_driving(driving.clone());
+        e
     };
     let reference = history(&mut whole(), times);
     for k in 1..=4 {
@@ -526,13 +530,15 @@ fn check_slab_setup<const D: usize>(
             let mut slab =
                 DsmcEngine::<D>::new_decomposed(config.clone(), bx.clone(), gas, seed, comm.clone())
                     .unwrap();
+            slab.set_driving(driving.clone());
             let received = most.load(std::sync::atomic::Ordering::Relaxed);
             let mut cut = whole();
             cut.decompose(comm).unwrap();
             let set_up = |e: &DsmcEngine<D>| {
                 format!(
-                    "{:?} {} {:?} {} {:?} {}",
+                    "{:?} {:?} {} {:?} {} {:?} {}",
                     e.part(),
+                    e.driving(),
                     e.time_step().to_bits(),
                     e.grid().dims,
                     e.enskog_factor().to_bits(),
@@ -577,9 +583,9 @@ fn slab_setup_is_the_slab_of_the_whole_setup_for_1_to_4_ranks() {
         mass: 1.0,
         temperature: 1.0,
     };
-    check_slab_setup(&config, &bx, gas, &[0.004, 0.01]);
+    check_slab_setup(&config, &bx, gas, None, &[0.004, 0.01]);
     // 3D periodic, automatic time step; then walled along the cut with a fixed time step
-    // and cell size, another mass and temperature.
+    // and cell size, another mass and temperature, driven by white noise.
     let (mut config, mut bx) = periodic_3d();
     let gas = UniformGas {
         n: 3000,
@@ -587,7 +593,7 @@ fn slab_setup_is_the_slab_of_the_whole_setup_for_1_to_4_ranks() {
         mass: 1.0,
         temperature: 1.0,
     };
-    check_slab_setup(&config, &bx, gas, &[0.01, 0.02]);
+    check_slab_setup(&config, &bx, gas, None, &[0.01, 0.02]);
     bx.axes[2] = AxisKind::Wall;
     config.time_step = Some(2e-3);
     config.cell_size = Some(0.125);
@@ -598,7 +604,8 @@ fn slab_setup_is_the_slab_of_the_whole_setup_for_1_to_4_ranks() {
         mass: 2.0,
         temperature: 0.5,
     };
-    check_slab_setup(&config, &bx, gas, &[0.006]);
+    let noise = granular::driving::Driving::WhiteNoise { strength: 3.0 };
+    check_slab_setup(&config, &bx, gas, Some(noise), &[0.006]);
 }
 
 #[test]
