@@ -527,9 +527,14 @@ fn check_slab_setup<const D: usize>(
     let reference = history(&mut whole(), times);
     for k in 1..=4 {
         let results = on_ranks(k, |comm, most| {
-            let mut slab =
-                DsmcEngine::<D>::new_decomposed(config.clone(), bx.clone(), gas, seed, comm.clone())
-                    .unwrap();
+            let mut slab = DsmcEngine::<D>::new_decomposed(
+                config.clone(),
+                bx.clone(),
+                gas,
+                seed,
+                comm.clone(),
+            )
+            .unwrap();
             slab.set_driving(driving.clone());
             let received = most.load(std::sync::atomic::Ordering::Relaxed);
             let mut cut = whole();
@@ -547,7 +552,12 @@ fn check_slab_setup<const D: usize>(
                 )
             };
             let same = set_up(&slab) == set_up(&cut);
-            (same, received, slab.positions().len(), history(&mut slab, times))
+            (
+                same,
+                received,
+                slab.positions().len(),
+                history(&mut slab, times),
+            )
         });
         let mut held = 0;
         for (rank, (same, received, local, h)) in results.iter().enumerate() {

@@ -861,8 +861,7 @@ impl<const D: usize> Derived<D> {
             Some(t) if t > 0.0 => t,
             Some(t) => return bad(format!("time_step {t} must be > 0")),
             None => {
-                let omega =
-                    haff::collision_frequency(D, density, radius, t0(), mass, chi_global);
+                let omega = haff::collision_frequency(D, density, radius, t0(), mass, chi_global);
                 if omega > 0.0 {
                     STEP_FRACTION / omega
                 } else {
@@ -883,7 +882,11 @@ impl<const D: usize> Derived<D> {
     }
 
     /// Wraps `x` into the box (periodic axes) and refuses a position outside it.
-    pub(super) fn place(&self, sim_box: &SimulationBox<D>, x: &mut Vector<D>) -> Result<(), DsmcError> {
+    pub(super) fn place(
+        &self,
+        sim_box: &SimulationBox<D>,
+        x: &mut Vector<D>,
+    ) -> Result<(), DsmcError> {
         sim_box.wrap(x);
         if (0..D).all(|k| (0.0..=sim_box.lengths[k]).contains(&x[k])) {
             Ok(())

@@ -13,7 +13,7 @@
 //! sums itself: the same bits as the whole engine without any communication, at the cost
 //! of drawing the velocities again for each sum.
 
-use super::{DsmcEngine, DsmcError, Derived};
+use super::{Derived, DsmcEngine, DsmcError};
 use crate::boundary::SimulationBox;
 use crate::dsmc::config::DsmcConfig;
 use crate::dsmc::domain::{Communicator, Domain};
