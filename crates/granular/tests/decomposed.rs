@@ -5,7 +5,7 @@
 //! step is some ten collectives, and a thread barrier is slow on a loaded machine.
 
 use granular::collision_law::CollisionLaw;
-use granular::dsmc::{Communicator, DensityScope, DsmcConfig, DsmcEngine, VmaxMode};
+use granular::dsmc::{Communicator, DensityScope, DsmcConfig, DsmcEngine, UniformGas, VmaxMode};
 use granular::engine::Engine;
 use granular::{AxisKind, SimulationBox, Vector};
 use std::sync::{Arc, Barrier, Mutex};
@@ -655,4 +655,141 @@ fn decomposed_outputs_gather_no_rank_and_match_the_threaded_run() {
         }
     }
     let _ = std::fs::remove_dir_all(threaded);
+
+/// `new_decomposed` on each of `k = 1..=4` ranks creates exactly the slab that
+/// `decompose` keeps of the whole `new` engine (particles, storage order, cell ranges, TC
+/// times, time step, grid, validity warnings), without receiving a single particle from
+/// another rank, and then runs the whole engine's trajectory bit for bit (with `driving`
+/// set after the set-up, as a run does).
+fn check_slab_setup<const D: usize>(
+    config: &DsmcConfig,
+    bx: &SimulationBox<D>,
+    gas: UniformGas,
+    driving: Option<granular::driving::Driving>,
+    times: &[f64],
+) {
+    let seed = 11;
+    let whole = || {
+        let mut e = DsmcEngine::<D>::new(
+            config.clone(),
+            bx.clone(),
+            gas.n,
+            gas.radius,
+            gas.mass,
+            gas.temperature,
+            seed,
+        )
+        .unwrap();
+        e.set_driving(driving.clone());
+        e
+    };
+    let reference = history(&mut whole(), times);
+    for k in 1..=4 {
+        let results = on_ranks(k, |comm, most| {
+            let mut slab = DsmcEngine::<D>::new_decomposed(
+                config.clone(),
+                bx.clone(),
+                gas,
+                seed,
+                comm.clone(),
+            )
+            .unwrap();
+            slab.set_driving(driving.clone());
+            let received = most.load(std::sync::atomic::Ordering::Relaxed);
+            let mut cut = whole();
+            cut.decompose(comm).unwrap();
+            let set_up = |e: &DsmcEngine<D>| {
+                format!(
+                    "{:?} {:?} {} {:?} {} {:?} {}",
+                    e.part(),
+                    e.driving(),
+                    e.time_step().to_bits(),
+                    e.grid().dims,
+                    e.enskog_factor().to_bits(),
+                    e.validity_warnings(),
+                    e.particle_count()
+                )
+            };
+            let same = set_up(&slab) == set_up(&cut);
+            (
+                same,
+                received,
+                slab.positions().len(),
+                history(&mut slab, times),
+            )
+        });
+        let mut held = 0;
+        for (rank, (same, received, local, h)) in results.iter().enumerate() {
+            assert!(
+                same,
+                "{D}D, {k} ranks: rank {rank}'s set-up is not the whole engine's slab"
+            );
+            // A gather of the whole system would be N (1 + 2 D) words at once; the set-up's
+            // reductions (the validity check's temperature) receive at most N D here.
+            assert!(
+                *received < gas.n * (1 + 2 * D),
+                "{D}D, {k} ranks: rank {rank} received {received} words in one collective \
+                 during the set-up, as many as all particles' records"
+            );
+            assert!(
+                h == &reference,
+                "{D}D, {k} ranks: rank {rank}'s trajectory differs from the whole engine's"
+            );
+            held += local;
+        }
+        assert_eq!(held, gas.n, "{D}D, {k} ranks: every grain on one rank");
+    }
+}
+
+#[test]
+fn slab_setup_is_the_slab_of_the_whole_setup_for_1_to_4_ranks() {
+    // 2D: walls across the cut, gravity, the TC model, Enskog, free volume, automatic
+    // time step and cell size (the initial temperature's sums).
+    let (config, bx) = walled_2d();
+    let gas = UniformGas {
+        n: 3000,
+        radius: 0.004,
+        mass: 1.0,
+        temperature: 1.0,
+    };
+    check_slab_setup(&config, &bx, gas, None, &[0.004, 0.01]);
+    // 3D periodic, automatic time step; then walled along the cut with a fixed time step
+    // and cell size, another mass and temperature, driven by white noise.
+    let (mut config, mut bx) = periodic_3d();
+    let gas = UniformGas {
+        n: 3000,
+        radius: 0.01,
+        mass: 1.0,
+        temperature: 1.0,
+    };
+    check_slab_setup(&config, &bx, gas, None, &[0.01, 0.02]);
+    bx.axes[2] = AxisKind::Wall;
+    config.time_step = Some(2e-3);
+    config.cell_size = Some(0.125);
+    config.gravity = vec![0.0, 0.0, -1.0];
+    let gas = UniformGas {
+        n: 2500,
+        radius: 0.01,
+        mass: 2.0,
+        temperature: 0.5,
+    };
+    let noise = granular::driving::Driving::WhiteNoise { strength: 3.0 };
+    check_slab_setup(&config, &bx, gas, Some(noise), &[0.006]);
+}
+
+#[test]
+fn slab_setup_with_more_ranks_than_cell_planes_is_an_error_naming_both() {
+    let (mut config, bx) = walled_2d();
+    config.cell_size = Some(0.5);
+    let gas = UniformGas {
+        n: 100,
+        radius: 0.004,
+        mass: 1.0,
+        temperature: 1.0,
+    };
+    let comm = Threads::world(3).into_iter().next().unwrap();
+    let err = DsmcEngine::<2>::new_decomposed(config, bx, gas, 5, Arc::new(comm))
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("3 ranks but only 2 cell planes"), "{err}");
 }

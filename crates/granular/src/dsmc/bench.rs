@@ -1,7 +1,7 @@
 //! Throughput benchmark of the DSMC engine (for `granular bench dsmc`).
 
 use super::config::DsmcConfig;
-use super::engine::DsmcEngine;
+use super::engine::{DsmcEngine, UniformGas};
 use crate::boundary::{AxisKind, SimulationBox};
 use crate::theory::haff;
 use crate::vector::Vector;
@@ -59,6 +59,20 @@ pub fn setup_at<const D: usize>(
     phi: f64,
     seed: u64,
 ) -> Result<DsmcEngine<D>, BenchError> {
+    let (config, bx, gas) = case_at::<D>(n, phi);
+    Ok(DsmcEngine::new(
+        config,
+        bx,
+        gas.n,
+        gas.radius,
+        gas.mass,
+        gas.temperature,
+        seed,
+    )?)
+}
+
+/// The configuration, box and gas of [`setup_at`].
+fn case_at<const D: usize>(n: usize, phi: f64) -> (DsmcConfig, SimulationBox<D>, UniformGas) {
     let radius = 1.0;
     let v = haff::grain_volume(D, radius);
     let side = (n as f64 * v / phi).powf(1.0 / D as f64);
@@ -71,7 +85,13 @@ pub fn setup_at<const D: usize>(
         ..DsmcConfig::default()
     };
     let bx = SimulationBox::uniform(Vector([side; D]), AxisKind::Periodic);
-    Ok(DsmcEngine::new(config, bx, n, radius, 1.0, 1.0, seed)?)
+    let gas = UniformGas {
+        n,
+        radius,
+        mass: 1.0,
+        temperature: 1.0,
+    };
+    (config, bx, gas)
 }
 
 fn run<const D: usize>(n: usize, threads: usize) -> Result<BenchResult, BenchError> {
@@ -159,8 +179,8 @@ pub struct RankResult {
     /// Resident memory of the rank's process at the end, bytes (`VmRSS`; NaN where the
     /// system does not say).
     pub resident_bytes: f64,
-    /// Peak resident memory of the rank's process, bytes (`VmHWM`: the set-up builds the
-    /// whole system on every rank before keeping its slab).
+    /// Peak resident memory of the rank's process, bytes (`VmHWM`; the set-up creates only
+    /// the rank's slab, [`DsmcEngine::new_decomposed`]).
     pub peak_resident_bytes: f64,
 }
 
@@ -244,9 +264,10 @@ fn run_decomposed<const D: usize>(
     comm: std::sync::Arc<dyn super::domain::Communicator>,
 ) -> Result<DecomposedResult, BenchError> {
     let ranks = comm.size();
-    let mut e = setup_at::<D>(n, phi, 1)?;
+    // Only this rank's slab is ever built (the same bits as `setup_at`, then decompose).
+    let (config, bx, gas) = case_at::<D>(n, phi);
+    let mut e = DsmcEngine::new_decomposed(config, bx, gas, 1, comm.clone())?;
     let cell_planes = *e.grid().dims.last().unwrap_or(&1);
-    e.decompose(comm.clone())?;
     for _ in 0..2 {
         run_step(&mut e);
     }

@@ -18,12 +18,18 @@ use crate::vector::Vector;
 use rand_distr::{Distribution, StandardNormal};
 use rayon::prelude::*;
 
+mod slab;
+pub use slab::UniformGas;
+
 /// Why a DSMC engine could not be built.
 #[derive(Debug, thiserror::Error)]
 pub enum DsmcError {
     /// A configuration value or an initial state is invalid; the message says which.
     #[error("invalid DSMC set-up: {0}")]
     Invalid(String),
+    /// The engine cannot be split over the ranks asked for.
+    #[error(transparent)]
+    Domain(#[from] super::domain::DomainError),
 }
 
 /// Fixed chunk length of the deterministic reductions (independent of the thread count).
@@ -194,87 +200,55 @@ impl<const D: usize> DsmcEngine<D> {
         velocities: Vec<Vector<D>>,
         seed: u64,
     ) -> Result<Self, DsmcError> {
-        let bad = |m: String| Err(DsmcError::Invalid(m));
-        if D != 2 && D != 3 {
-            return bad(format!("dimension {D} is not supported (2 or 3)"));
-        }
         let n = positions.len();
-        if n != velocities.len() || n == 0 || n >= u32::MAX as usize {
-            return bad(format!(
+        if n != velocities.len() || n == 0 {
+            return Err(DsmcError::Invalid(format!(
                 "{} positions and {} velocities",
                 n,
                 velocities.len()
-            ));
+            )));
         }
-        if !positive(radius) || !positive(mass) {
-            return bad(format!("radius {radius} and mass {mass} must be > 0"));
-        }
-        check_law(&config.law)?;
-        if !config.gravity.is_empty() && config.gravity.len() != D {
-            return bad(format!(
-                "gravity has {} components, expected {D}",
-                config.gravity.len()
-            ));
-        }
-        if sim_box.lengths.0.iter().any(|&l| !positive(l)) {
-            return bad("box lengths must be > 0".into());
-        }
-        let gravity = Vector::from_slice(&config.gravity).unwrap_or_default();
-        let density = n as f64 / sim_box.volume();
-        let phi = haff::packing_fraction(D, density, radius);
-        if (config.enskog || config.free_volume) && phi >= haff::random_close_packing(D) {
-            return bad(format!(
-                "packing fraction {phi} exceeds random close packing"
-            ));
-        }
-        let chi_global = if config.enskog {
-            haff::contact_value(D, phi)
-        } else {
-            1.0
-        };
-        // Initial temperature for the automatic time step and cell size.
-        let mut u = Vector::<D>::zero();
-        for v in &velocities {
-            u += *v;
-        }
-        u = u * (1.0 / n as f64);
-        let t0 = mass
-            * velocities
+        // Initial temperature for the automatic time step (sums in the order of the ids).
+        let t0 = || {
+            let mut u = Vector::<D>::zero();
+            for v in &velocities {
+                u += *v;
+            }
+            u = u * (1.0 / n as f64);
+            mass * velocities
                 .iter()
                 .map(|v| (*v - u).norm_squared())
                 .sum::<f64>()
-            / (D * n) as f64;
-        let lambda = haff::mean_free_path(D, density, radius, chi_global);
-        let cell_size = match config.cell_size {
-            Some(l) if l > 0.0 => l,
-            Some(l) => return bad(format!("cell_size {l} must be > 0")),
-            None => lambda.min((10.0 / density).powf(1.0 / D as f64)),
+                / (D * n) as f64
         };
-        let tau = match config.time_step {
-            Some(t) if t > 0.0 => t,
-            Some(t) => return bad(format!("time_step {t} must be > 0")),
-            None => {
-                let omega = haff::collision_frequency(D, density, radius, t0, mass, chi_global);
-                if omega > 0.0 {
-                    STEP_FRACTION / omega
-                } else {
-                    1.0
-                }
-            }
-        };
-        let grid = CellGrid::new(&sim_box, cell_size);
-        if grid.len() >= u32::MAX as usize {
-            return bad(format!("{} cells are too many", grid.len()));
-        }
+        let derived = Derived::new(&config, &sim_box, n, radius, mass, t0)?;
         let mut pos = positions;
         for x in pos.iter_mut() {
-            sim_box.wrap(x);
-            for k in 0..D {
-                if !(0.0..=sim_box.lengths[k]).contains(&x[k]) {
-                    return bad(format!("position {:?} outside the box", x.0));
-                }
-            }
+            derived.place(&sim_box, x)?;
         }
+        let ids = (0..n as u32).collect();
+        Ok(Self::assemble(
+            config, sim_box, radius, mass, seed, derived, pos, velocities, ids, None,
+        ))
+    }
+
+    /// The engine holding `pos`, `vel` and `ids` (in the order of the ids), sorted by
+    /// cell, with its validity warnings: the whole engine when `domain` is `None`, else
+    /// this rank's slab (the particles of its cells, `n_global` in all; collective then).
+    #[allow(clippy::too_many_arguments)]
+    fn assemble(
+        config: DsmcConfig,
+        sim_box: SimulationBox<D>,
+        radius: f64,
+        mass: f64,
+        seed: u64,
+        derived: Derived<D>,
+        pos: Vec<Vector<D>>,
+        vel: Vec<Vector<D>>,
+        ids: Vec<u32>,
+        domain: Option<super::domain::Domain>,
+    ) -> Self {
+        let n = pos.len();
         let last = if config.law.has_tc() {
             vec![f64::NEG_INFINITY; n]
         } else {
@@ -287,16 +261,16 @@ impl<const D: usize> DsmcEngine<D> {
             },
             config,
             sim_box,
-            grid,
+            grid: derived.grid,
             radius,
             mass,
             seed,
-            tau,
-            gravity,
-            chi_global,
+            tau: derived.tau,
+            gravity: derived.gravity,
+            chi_global: derived.chi_global,
             pos,
-            vel: velocities,
-            ids: (0..n as u32).collect(),
+            vel,
+            ids,
             last,
             cell_of: vec![0; n],
             start: Vec::new(),
@@ -309,12 +283,12 @@ impl<const D: usize> DsmcEngine<D> {
             steps: 0,
             species_name: default_species_name(),
             validity: Vec::new(),
-            domain: None,
+            domain,
             driving: None,
         };
         engine.sort_by_cell(None);
         engine.validity = engine.check_validity();
-        Ok(engine)
+        engine
     }
 
     /// Replaces the collision law from the next step on (as the event-driven engine's
@@ -821,6 +795,108 @@ impl<const D: usize> DsmcEngine<D> {
 /// `x > 0` (false for NaN).
 fn positive(x: f64) -> bool {
     x > 0.0
+}
+
+/// What an engine derives from its configuration and initial state before it holds any
+/// particle: the same for the whole engine and for every rank's slab.
+pub(super) struct Derived<const D: usize> {
+    gravity: Vector<D>,
+    chi_global: f64,
+    tau: f64,
+    pub(super) grid: CellGrid<D>,
+}
+
+impl<const D: usize> Derived<D> {
+    /// Checks the parameters of `n` grains and derives the Enskog factor, the cell grid
+    /// and the time step; `t0` (the initial temperature, called only for the automatic
+    /// time step) must be summed in the order of the ids, as [`DsmcEngine::from_state`].
+    pub(super) fn new(
+        config: &DsmcConfig,
+        sim_box: &SimulationBox<D>,
+        n: usize,
+        radius: f64,
+        mass: f64,
+        t0: impl FnOnce() -> f64,
+    ) -> Result<Self, DsmcError> {
+        let bad = |m: String| Err(DsmcError::Invalid(m));
+        if D != 2 && D != 3 {
+            return bad(format!("dimension {D} is not supported (2 or 3)"));
+        }
+        if n == 0 || n >= u32::MAX as usize {
+            return bad(format!("{n} particles (between 1 and 2^32 - 2)"));
+        }
+        if !positive(radius) || !positive(mass) {
+            return bad(format!("radius {radius} and mass {mass} must be > 0"));
+        }
+        check_law(&config.law)?;
+        if !config.gravity.is_empty() && config.gravity.len() != D {
+            return bad(format!(
+                "gravity has {} components, expected {D}",
+                config.gravity.len()
+            ));
+        }
+        if sim_box.lengths.0.iter().any(|&l| !positive(l)) {
+            return bad("box lengths must be > 0".into());
+        }
+        let gravity = Vector::from_slice(&config.gravity).unwrap_or_default();
+        let density = n as f64 / sim_box.volume();
+        let phi = haff::packing_fraction(D, density, radius);
+        if (config.enskog || config.free_volume) && phi >= haff::random_close_packing(D) {
+            return bad(format!(
+                "packing fraction {phi} exceeds random close packing"
+            ));
+        }
+        let chi_global = if config.enskog {
+            haff::contact_value(D, phi)
+        } else {
+            1.0
+        };
+        let lambda = haff::mean_free_path(D, density, radius, chi_global);
+        let cell_size = match config.cell_size {
+            Some(l) if l > 0.0 => l,
+            Some(l) => return bad(format!("cell_size {l} must be > 0")),
+            None => lambda.min((10.0 / density).powf(1.0 / D as f64)),
+        };
+        let tau = match config.time_step {
+            Some(t) if t > 0.0 => t,
+            Some(t) => return bad(format!("time_step {t} must be > 0")),
+            None => {
+                let omega = haff::collision_frequency(D, density, radius, t0(), mass, chi_global);
+                if omega > 0.0 {
+                    STEP_FRACTION / omega
+                } else {
+                    1.0
+                }
+            }
+        };
+        let grid = CellGrid::new(sim_box, cell_size);
+        if grid.len() >= u32::MAX as usize {
+            return bad(format!("{} cells are too many", grid.len()));
+        }
+        Ok(Derived {
+            gravity,
+            chi_global,
+            tau,
+            grid,
+        })
+    }
+
+    /// Wraps `x` into the box (periodic axes) and refuses a position outside it.
+    pub(super) fn place(
+        &self,
+        sim_box: &SimulationBox<D>,
+        x: &mut Vector<D>,
+    ) -> Result<(), DsmcError> {
+        sim_box.wrap(x);
+        if (0..D).all(|k| (0.0..=sim_box.lengths[k]).contains(&x[k])) {
+            Ok(())
+        } else {
+            Err(DsmcError::Invalid(format!(
+                "position {:?} outside the box",
+                x.0
+            )))
+        }
+    }
 }
 
 impl<const D: usize> Engine for DsmcEngine<D> {

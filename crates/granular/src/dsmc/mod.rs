@@ -37,7 +37,7 @@ pub mod parts;
 
 pub use config::{DensityScope, DsmcConfig, VmaxMode};
 pub use domain::{Communicator, Domain, DomainError, Traffic};
-pub use engine::{DsmcEngine, DsmcError};
+pub use engine::{DsmcEngine, DsmcError, UniformGas};
 pub use guards::{GuardKind, ValidityWarning};
 pub use observables::{DensityMap, StructureFactor};
 pub use parts::{EnginePart, IdBlock, PartInfo};
