@@ -655,6 +655,7 @@ fn decomposed_outputs_gather_no_rank_and_match_the_threaded_run() {
         }
     }
     let _ = std::fs::remove_dir_all(threaded);
+}
 
 /// `new_decomposed` on each of `k = 1..=4` ranks creates exactly the slab that
 /// `decompose` keeps of the whole `new` engine (particles, storage order, cell ranges, TC
