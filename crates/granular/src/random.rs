@@ -313,7 +313,11 @@ mod tests {
         ];
         for k in 0..400_000 {
             let n = ns[k % ns.len()];
-            assert_eq!(uniform_index(&mut a, n), b.random_range(0..n), "draw {k}, n = {n}");
+            assert_eq!(
+                uniform_index(&mut a, n),
+                b.random_range(0..n),
+                "draw {k}, n = {n}"
+            );
         }
         assert_eq!(a.random::<u64>(), b.random::<u64>());
     }
