@@ -117,6 +117,7 @@ impl<const D: usize> CellLookup<D> {
     /// `f < n_k - 1 ? f : n_k - 1`; the clamped value is an integer or lies in
     /// `[0, n_k - 1)`, so its truncation is the truncation of the original clamped.
     #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // four arrays indexed by the axis, as measured
     pub(crate) fn index(&self, x: &[f64; D]) -> u32 {
         let mut idx = 0u32;
         for k in 0..D {
