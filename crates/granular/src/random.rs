@@ -59,6 +59,28 @@ pub fn stream_from_key(key: u64) -> Stream {
     Stream::from_seed(seed)
 }
 
+/// `rng.random_range(0..n)` for `n >= 1`, the same value and the same use of the stream:
+/// rand's single-sample Canon method on 32 bits (the high half of one `u64`, widened
+/// product with `n`, a second draw only when the low half of the product falls in the
+/// top `n` values), written out so that it inlines into a loop that keeps the generator
+/// in registers (unit test against `random_range`). Ranges beyond `u32::MAX` go through
+/// `random_range` itself.
+#[inline(always)]
+pub fn uniform_index(rng: &mut Stream, n: usize) -> usize {
+    use rand::Rng;
+    if n > u32::MAX as usize || n == 0 {
+        return rng.random_range(0..n);
+    }
+    let range = n as u64;
+    let m = (rng.next_u64() >> 32) * range;
+    let (mut hi, lo) = ((m >> 32) as u32, m as u32);
+    if lo > (n as u32).wrapping_neg() {
+        let extra = (((rng.next_u64() >> 32) * range) >> 32) as u32;
+        hi += lo.checked_add(extra).is_none() as u32;
+    }
+    hi as usize
+}
+
 /// Path prefix for the initial-state construction.
 pub const INITIAL_STATE: u64 = 0;
 /// Path prefix for the dynamics of an engine.
@@ -267,6 +289,37 @@ mod tests {
         assert_eq!(a.random::<u64>(), b.random::<u64>());
         let u = unit_f64(a.random::<u64>());
         assert_eq!(u.to_bits(), b.random::<f64>().to_bits());
+    }
+
+    /// `uniform_index` is `random_range(0..n)`, value for value and stream position,
+    /// including ranges where the second draw happens often (close to `2^32`).
+    #[test]
+    fn uniform_index_is_random_range() {
+        let mut a = stream(5, &[9]);
+        let mut b = a.clone();
+        let ns = [
+            1usize,
+            2,
+            3,
+            7,
+            10,
+            11,
+            1000,
+            (1 << 31) + 1,
+            u32::MAX as usize - 1,
+            u32::MAX as usize,
+            u32::MAX as usize + 1,
+            1 << 40,
+        ];
+        for k in 0..400_000 {
+            let n = ns[k % ns.len()];
+            assert_eq!(
+                uniform_index(&mut a, n),
+                b.random_range(0..n),
+                "draw {k}, n = {n}"
+            );
+        }
+        assert_eq!(a.random::<u64>(), b.random::<u64>());
     }
 
     const GOLDEN: [u64; 2] = [16842389006524088220, 2581731596818908892];

@@ -84,6 +84,52 @@ impl<const D: usize> CellGrid<D> {
     }
 }
 
+/// [`CellGrid::index`] with the grid's constants held in locals, for the free flight's
+/// loop: the same cell for every position (NaN, infinite and out-of-box ones included,
+/// unit test), with the clamp done on the `f64` before its conversion to an integer.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct CellLookup<const D: usize> {
+    inv_edges: [f64; D],
+    /// `n_k - 1` as `f64` (exact: cell counts are far below `2^53`).
+    last: [f64; D],
+    strides: [u32; D],
+}
+
+impl<const D: usize> CellLookup<D> {
+    pub(crate) fn new(grid: &CellGrid<D>) -> Self {
+        let mut last = [0.0; D];
+        let mut strides = [0u32; D];
+        let mut stride = 1usize;
+        for k in 0..D {
+            last[k] = (grid.dims[k] - 1) as f64;
+            strides[k] = stride as u32;
+            stride *= grid.dims[k];
+        }
+        Self {
+            inv_edges: grid.inv_edges,
+            last,
+            strides,
+        }
+    }
+
+    /// The cell of `x`, equal to [`CellGrid::index`]: `trunc(x_k / h_k)` clamped to
+    /// `[0, n_k - 1]`, NaN to 0. Here `f > 0 ? f : 0` (NaN and negatives to 0), then
+    /// `f < n_k - 1 ? f : n_k - 1`; the clamped value is an integer or lies in
+    /// `[0, n_k - 1)`, so its truncation is the truncation of the original clamped.
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // four arrays indexed by the axis, as measured
+    pub(crate) fn index(&self, x: &[f64; D]) -> u32 {
+        let mut idx = 0u32;
+        for k in 0..D {
+            let f = x[k] * self.inv_edges[k];
+            let f = if f > 0.0 { f } else { 0.0 };
+            let f = if f < self.last[k] { f } else { self.last[k] };
+            idx += (f as u32) * self.strides[k];
+        }
+        idx
+    }
+}
+
 /// Scratch permutation of the counting sort (atomic so that chunks can scatter into it
 /// in parallel without `unsafe`); cloning yields an empty buffer.
 #[derive(Debug, Default)]
@@ -248,5 +294,64 @@ mod tests {
         let mut one = vec![0u32; n];
         scatter1(&cell_of, &start, &ids, &mut one);
         assert_eq!(one, by_perm);
+    }
+
+    /// The flight's lookup gives the grid's cell for every position, including the
+    /// faces, just inside and outside them, NaN and infinities.
+    #[test]
+    fn lookup_matches_the_grid_index() {
+        use crate::boundary::AxisKind;
+        use crate::vector::Vector;
+        let bx = SimulationBox::uniform(Vector([10.0, 7.3, 3.1]), AxisKind::Periodic);
+        for size in [0.69, 1.0, 0.1, 2.5, 100.0] {
+            let grid = CellGrid::<3>::new(&bx, size);
+            let lookup = CellLookup::new(&grid);
+            let mut values = vec![
+                0.0,
+                -0.0,
+                f64::MIN_POSITIVE,
+                -f64::MIN_POSITIVE,
+                f64::NAN,
+                f64::INFINITY,
+                f64::NEG_INFINITY,
+                1e300,
+                -1e300,
+                f64::MAX,
+            ];
+            for k in 0..3 {
+                let l = bx.lengths[k];
+                for j in 0..=grid.dims[k] + 1 {
+                    let face = j as f64 * grid.edges[k];
+                    let mut y = face;
+                    for _ in 0..4 {
+                        values.push(y);
+                        y = f64::from_bits(y.to_bits().wrapping_sub(1));
+                    }
+                    let mut y = face;
+                    for _ in 0..4 {
+                        values.push(y);
+                        y = f64::from_bits(y.to_bits() + 1);
+                    }
+                }
+                let mut y = l;
+                for _ in 0..8 {
+                    values.push(y);
+                    y = f64::from_bits(y.to_bits() - 1);
+                }
+            }
+            // A fixed pseudo-random set inside and around the box.
+            let mut s = 0x1234_5678_9abc_def0u64;
+            for _ in 0..20_000 {
+                s = s.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+                values.push(((s >> 11) as f64 / (1u64 << 53) as f64) * 14.0 - 2.0);
+            }
+            for (i, &a) in values.iter().enumerate() {
+                let b = values[(i * 7 + 3) % values.len()];
+                let c = values[(i * 13 + 5) % values.len()];
+                for x in [[a, b, c], [b, c, a], [c, a, b]] {
+                    assert_eq!(lookup.index(&x), grid.index(&x), "{x:?}");
+                }
+            }
+        }
     }
 }

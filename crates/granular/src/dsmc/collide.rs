@@ -5,7 +5,7 @@
 use super::config::VmaxMode;
 use crate::collision_law::{CollisionLaw, normal_velocity_change};
 use crate::random::{
-    DYNAMICS, RngExt, Stream, derive_key, extend_key, std_normal, stream_from_key,
+    DYNAMICS, RngExt, Stream, derive_key, extend_key, std_normal, stream_from_key, uniform_index,
 };
 use crate::vector::Vector;
 
@@ -117,7 +117,10 @@ pub(crate) fn relative_speed_bound<const D: usize>(v: &[Vector<D>]) -> f64 {
     u = u * (1.0 / v.len() as f64);
     let mut m2: f64 = 0.0;
     for x in v {
-        m2 = m2.max((*x - u).norm_squared());
+        // `m2.max(d)`: `d >= 0` is never a negative zero and `m2` never NaN, so the
+        // comparison (one `maxsd`) gives the same value, NaN `d` skipped as by `max`.
+        let d = (*x - u).norm_squared();
+        m2 = if d > m2 { d } else { m2 };
     }
     2.0 * m2.sqrt()
 }
@@ -164,8 +167,9 @@ fn collide_cell<const D: usize>(
     tally.candidates += m;
     let d = 2.0 * p.radius;
     for _ in 0..m {
-        let i = rng.random_range(0..n);
-        let mut j = rng.random_range(0..n - 1);
+        // `random_range(0..n)` and `random_range(0..n - 1)`, inlined.
+        let i = uniform_index(rng, n);
+        let mut j = uniform_index(rng, n - 1);
         if j >= i {
             j += 1;
         }

@@ -2,7 +2,7 @@
 //! acceleration, and hard walls apply the shared wall law (HD-3, HD-4 with the TC rule of
 //! [`crate::collision_law`]); periodic axes wrap.
 
-use super::cells::CellGrid;
+use super::cells::{CellGrid, CellLookup};
 use super::engine::DsmcError;
 use crate::boundary::{AxisKind, SimulationBox};
 use crate::collision_law::CollisionLaw;
@@ -83,24 +83,34 @@ impl<const D: usize> Flight<'_, D> {
         let (g, dt) = (self.gravity, self.dt);
         let accelerated = g.0.iter().any(|&a| a != 0.0);
         let lengths = self.bx.lengths.0;
+        let cells = CellLookup::new(self.grid);
         let mut cnt = vec![0u32; self.grid.len()];
         for ((x, u), ci) in p.iter_mut().zip(v.iter_mut()).zip(c.iter_mut()) {
             let mut y = x.add_scaled(dt, u).add_scaled(0.5 * dt * dt, &g);
             if accelerated {
                 *u = u.add_scaled(dt, &g);
             }
-            for (yk, &l) in y.0.iter_mut().zip(&lengths) {
-                if *yk >= l || *yk < 0.0 {
-                    *yk = yk.rem_euclid(l);
-                    if *yk >= l {
-                        *yk = 0.0;
+            // One test for all axes (non-short-circuit `|`), the wrap itself is rare.
+            let mut out = false;
+            for (&yk, &l) in y.0.iter().zip(&lengths) {
+                out |= (yk >= l) | (yk < 0.0);
+            }
+            if out {
+                for (yk, &l) in y.0.iter_mut().zip(&lengths) {
+                    if *yk >= l || *yk < 0.0 {
+                        *yk = yk.rem_euclid(l);
+                        if *yk >= l {
+                            *yk = 0.0;
+                        }
                     }
                 }
             }
             *x = y;
-            let cell = self.grid.index(&y.0);
+            let cell = cells.index(&y.0);
             *ci = cell;
-            cnt[cell as usize] += 1;
+            if let Some(k) = cnt.get_mut(cell as usize) {
+                *k += 1;
+            }
         }
         cnt
     }
