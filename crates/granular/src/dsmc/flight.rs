@@ -80,20 +80,38 @@ impl<const D: usize> Flight<'_, D> {
     /// back (`u + dt * 0` is `u`, up to the sign of an exact zero component, which no
     /// result depends on), which saves a store stream.
     fn fly_periodic(&self, p: &mut [Vector<D>], v: &mut [Vector<D>], c: &mut [u32]) -> Vec<u32> {
+        if self.gravity.0.iter().any(|&a| a != 0.0) {
+            self.fly_periodic_with::<true>(p, v, c)
+        } else {
+            self.fly_periodic_with::<false>(p, v, c)
+        }
+    }
+
+    /// [`Self::fly_periodic`] with the presence of gravity fixed at compile time.
+    #[inline(always)]
+    fn fly_periodic_with<const ACCELERATED: bool>(
+        &self,
+        p: &mut [Vector<D>],
+        v: &mut [Vector<D>],
+        c: &mut [u32],
+    ) -> Vec<u32> {
         let (g, dt) = (self.gravity, self.dt);
-        let accelerated = g.0.iter().any(|&a| a != 0.0);
         let lengths = self.bx.lengths.0;
+        // For `y >= 0` (not a negative zero) the bit patterns order like the values, and
+        // a negative number, a negative zero or NaN has a pattern above `L`'s: so
+        // `bits(y) >= bits(L)` holds whenever `y >= L || y < 0` does (the wrap's test),
+        // and for a few more values (-0.0, NaN) that the exact test below leaves alone.
+        let length_bits = lengths.map(f64::to_bits);
         let cells = CellLookup::new(self.grid);
         let mut cnt = vec![0u32; self.grid.len()];
         for ((x, u), ci) in p.iter_mut().zip(v.iter_mut()).zip(c.iter_mut()) {
             let mut y = x.add_scaled(dt, u).add_scaled(0.5 * dt * dt, &g);
-            if accelerated {
+            if ACCELERATED {
                 *u = u.add_scaled(dt, &g);
             }
-            // One test for all axes (non-short-circuit `|`), the wrap itself is rare.
             let mut out = false;
-            for (&yk, &l) in y.0.iter().zip(&lengths) {
-                out |= (yk >= l) | (yk < 0.0);
+            for (&yk, &lb) in y.0.iter().zip(&length_bits) {
+                out |= yk.to_bits() >= lb;
             }
             if out {
                 for (yk, &l) in y.0.iter_mut().zip(&lengths) {
