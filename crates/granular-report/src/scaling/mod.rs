@@ -264,7 +264,8 @@ fn figure(
     .log_x(true)
     .log_y(true)
     .x_range(0.8, 1300.0)
-    .y_range(0.1, 2000.0)
+    // Three decades below S = 1 leave the lower right corner to the legend, off the data.
+    .y_range(1e-3, 2000.0)
     .legend(LegendPosition::LowerRight)
     .series(Series::theory("ideal S = K", vec![1.0, 1024.0], vec![1.0, 1024.0]).dashed(true));
     let n0 = m.n0;
