@@ -8,8 +8,6 @@ use super::guards::{self, ValidityWarning};
 use super::observables::{self, DensityMap, StructureFactor};
 use crate::boundary::SimulationBox;
 use crate::collision_law::CollisionLaw;
-use crate::engine::{Engine, EngineError, Progress, Snapshot};
-use crate::observation::{DsmcCounters, Observation};
 use crate::particles::ParticleSet;
 use crate::random::{INITIAL_STATE, RngExt, stream};
 use crate::stats::Histogram;
@@ -18,6 +16,8 @@ use crate::vector::Vector;
 use rand_distr::{Distribution, StandardNormal};
 use rayon::prelude::*;
 
+mod as_engine;
+mod moments;
 mod slab;
 pub use slab::UniformGas;
 
@@ -458,95 +458,6 @@ impl<const D: usize> DsmcEngine<D> {
         observables::density_map(&self.pos, &self.sim_box.lengths.0, dims)
     }
 
-    /// Mean velocity (deterministic chunked sum).
-    pub fn mean_velocity(&self) -> Vector<D> {
-        if let Some(d) = &self.domain {
-            return self.mean_velocity_decomposed(d);
-        }
-        let parts: Vec<Vector<D>> = self
-            .vel
-            .par_chunks(SUM_CHUNK)
-            .map(|c| c.iter().fold(Vector::zero(), |a, v| a + *v))
-            .collect();
-        let s = parts.into_iter().fold(Vector::zero(), |a, v| a + v);
-        s * (1.0 / self.vel.len() as f64)
-    }
-
-    /// Total momentum `m sum_i v_i`.
-    pub fn momentum(&self) -> Vector<D> {
-        self.mean_velocity() * (self.mass * self.n_global() as f64)
-    }
-
-    /// Moments `(<c^2>, <c^4>)` of the peculiar velocity `c = v - u`.
-    fn peculiar_moments(&self) -> (f64, f64) {
-        let u = self.mean_velocity();
-        if let Some(d) = &self.domain {
-            let (s2, s4) = self.peculiar_sums_decomposed(d, u);
-            let n = d.n_global as f64;
-            return (s2 / n, s4 / n);
-        }
-        let parts: Vec<(f64, f64)> = self
-            .vel
-            .par_chunks(SUM_CHUNK)
-            .map(|c| {
-                c.iter().fold((0.0, 0.0), |(a, b), v| {
-                    let c2 = (*v - u).norm_squared();
-                    (a + c2, b + c2 * c2)
-                })
-            })
-            .collect();
-        let (s2, s4) = parts
-            .into_iter()
-            .fold((0.0, 0.0), |(a, b), (x, y)| (a + x, b + y));
-        let n = self.vel.len() as f64;
-        (s2 / n, s4 / n)
-    }
-
-    /// Granular temperature `T = m <|v - u|^2> / D`.
-    pub fn temperature(&self) -> f64 {
-        self.mass * self.peculiar_moments().0 / D as f64
-    }
-
-    /// Fourth cumulant `a2 = D/(D+2) <c^4>/<c^2>^2 - 1` of the peculiar velocity.
-    pub fn a2(&self) -> f64 {
-        let (c2, c4) = self.peculiar_moments();
-        D as f64 / (D as f64 + 2.0) * c4 / (c2 * c2) - 1.0
-    }
-
-    /// Total kinetic energy `m/2 sum_i |v_i|^2` (deterministic chunked sum).
-    pub fn kinetic_energy_now(&self) -> f64 {
-        if let Some(d) = &self.domain {
-            return 0.5 * self.mass * self.speed_squares_decomposed(d);
-        }
-        let parts: Vec<f64> = self
-            .vel
-            .par_chunks(SUM_CHUNK)
-            .map(|c| c.iter().map(|v| v.norm_squared()).sum::<f64>())
-            .collect();
-        0.5 * self.mass * parts.into_iter().sum::<f64>()
-    }
-
-    /// The identity of a particle whose velocity has a non-finite component (the smallest
-    /// such identity), or `None` when every velocity is finite. Checks every particle
-    /// (in parallel chunks).
-    pub fn first_non_finite(&self) -> Option<u32> {
-        let finite = |v: &Vector<D>| v.0.iter().all(|c| c.is_finite());
-        let local = if self.vel.par_chunks(SUM_CHUNK).all(|c| c.iter().all(finite)) {
-            None
-        } else {
-            self.vel
-                .iter()
-                .zip(&self.ids)
-                .filter(|(v, _)| !finite(v))
-                .map(|(_, &id)| id)
-                .min()
-        };
-        match &self.domain {
-            Some(d) => self.first_non_finite_decomposed(d, local),
-            None => local,
-        }
-    }
-
     /// The validity conditions of the DSMC seed (Sec. 2) violated by the initial state,
     /// with numbers: computed once when the engine is built. See [`Self::check_validity`]
     /// for the current state.
@@ -896,137 +807,5 @@ impl<const D: usize> Derived<D> {
                 x.0
             )))
         }
-    }
-}
-
-impl<const D: usize> Engine for DsmcEngine<D> {
-    fn name(&self) -> &'static str {
-        "dsmc"
-    }
-
-    fn time(&self) -> f64 {
-        self.time
-    }
-
-    /// Time steps plus collisions.
-    fn events(&self) -> u64 {
-        self.steps + self.tally.collisions
-    }
-
-    fn collisions(&self) -> u64 {
-        self.tally.collisions
-    }
-
-    fn particle_count(&self) -> usize {
-        self.n_global()
-    }
-
-    /// Steps of `tau` (the last one shortened to land exactly on `until`); stops after the
-    /// first step at which the events of this call reach `max_events`. Without an explicit
-    /// `time_step`, `tau` is recomputed before every step as [`STEP_FRACTION`] of the
-    /// current mean free time (see [`DsmcEngine::follow_mean_free_time`]). A steady-state
-    /// driving ([`DsmcEngine::set_driving`]) acts after every step.
-    fn advance(&mut self, until: f64, max_events: u64) -> Result<Progress, EngineError> {
-        let e0 = self.events();
-        while self.time < until {
-            if self.config.time_step.is_none() {
-                self.follow_mean_free_time();
-            }
-            let left = until - self.time;
-            let dt = if left <= self.tau * (1.0 + 1e-9) {
-                left
-            } else {
-                self.tau
-            };
-            self.step(dt);
-            self.drive(dt);
-            if left <= self.tau * (1.0 + 1e-9) {
-                self.time = until;
-            }
-            if let Some(id) = self.first_non_finite() {
-                return Err(EngineError::Numerical(format!(
-                    "non-finite velocity of particle {id} at t = {}",
-                    self.time
-                )));
-            }
-            if self.time < until && self.events() - e0 >= max_events {
-                return Ok(Progress::BudgetExhausted);
-            }
-        }
-        Ok(Progress::Reached)
-    }
-
-    fn observe(&self) -> Observation {
-        let (c2, c4) = self.peculiar_moments();
-        let n = self.n_global();
-        let d = D as f64;
-        let kinetic = self.kinetic_energy_now();
-        let volume = self.sim_box.volume();
-        let wall_area: f64 = (0..D)
-            .filter(|&k| !self.sim_box.is_periodic(k))
-            .map(|k| 2.0 * volume / self.sim_box.lengths[k])
-            .sum();
-        Observation {
-            engine: "dsmc".into(),
-            dimension: D,
-            particles: n,
-            time: self.time,
-            events: self.events(),
-            collisions: self.tally.collisions,
-            collisions_per_particle: 2.0 * self.tally.collisions as f64 / n as f64,
-            kinetic_energy: kinetic,
-            temperature: self.mass * c2 / d,
-            species: Vec::new(),
-            wall_collisions: None,
-            dissipated_energy: self.driving.as_ref().map(|s| s.dissipated(kinetic)),
-            tc_elastic_collisions: Some(self.tc_elastic_collisions()),
-            virial: None,
-            wall_impulse: None,
-            volume,
-            wall_area,
-            a2: Some(d / (d + 2.0) * c4 / (c2 * c2) - 1.0),
-            dsmc: Some(DsmcCounters {
-                steps: self.steps,
-                vmax_exceeded: self.tally.vmax_exceeded,
-            }),
-            engine_specific: self
-                .driving
-                .as_ref()
-                .map(|s| vec![("injected_energy".to_string(), s.injected_energy)])
-                .unwrap_or_default(),
-        }
-    }
-
-    fn kinetic_energy(&self) -> f64 {
-        self.kinetic_energy_now()
-    }
-
-    fn impact_histogram(&self) -> Option<Histogram> {
-        Some(DsmcEngine::impact_histogram(self))
-    }
-
-    /// The stored order is the cells' (sorted every step); scattered by grain id.
-    fn state_into(&self, velocities: bool, out: &mut [f64]) -> bool {
-        if self.domain.is_some() {
-            return self.whole().state_into(velocities, out);
-        }
-        let stored = if velocities { &self.vel } else { &self.pos };
-        crate::particles::scatter_by_id::<D>(&self.ids, out, |s| stored[s].0);
-        true
-    }
-
-    fn snapshot(&self) -> Option<Snapshot> {
-        let (p, v) = self.state_by_id();
-        let n = p.len();
-        Some(Snapshot {
-            time: self.time,
-            dimension: D,
-            positions: p.iter().flat_map(|x| x.0).collect(),
-            velocities: v.iter().flat_map(|x| x.0).collect(),
-            radii: vec![self.radius; n],
-            masses: vec![self.mass; n],
-            species: vec![0; n],
-            species_names: vec![self.species_name.clone()],
-        })
     }
 }
