@@ -77,6 +77,10 @@ def _interrupt_during(call, delay: float, how: str) -> tuple[float, float]:  # t
         else:
             _thread.interrupt_main()
 
+    # A process started in the background by a shell without job control inherits SIGINT
+    # ignored, and then Python installs no handler: neither the signal nor interrupt_main()
+    # would reach it and the call would never end. Install Python's own handler for the test.
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     timer = threading.Timer(delay, fire)
     timer.start()
     try:
@@ -85,6 +89,7 @@ def _interrupt_during(call, delay: float, how: str) -> tuple[float, float]:  # t
         raised = time.perf_counter()
     finally:
         timer.cancel()
+        signal.signal(signal.SIGINT, previous)
     return raised, fired[0]
 
 
