@@ -213,6 +213,29 @@ fn freely_cooling_dsmc_a2_follows_the_second_estimate() {
     assert_within_errors("a2 (second estimate)", (a2, sd), second, SONINE_TRUNCATION);
 }
 
+/// Runs `scenario` to its end in a fresh run directory named after `tag` and the process,
+/// checks that the time series has every one of `columns`, removes the directory and
+/// returns the summary.
+pub(crate) fn run_with_columns(
+    tag: &str,
+    scenario: granular::scenario::Scenario,
+    columns: &[&str],
+) -> granular::run::Summary {
+    let dir = std::env::temp_dir().join(format!("{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let summary = granular::run::Run::create(&dir, scenario)
+        .unwrap()
+        .run_to_end(&mut |_| {}, None)
+        .unwrap();
+    let header = std::fs::read_to_string(dir.join("timeseries.csv")).unwrap();
+    let header = header.lines().next().unwrap();
+    for c in columns {
+        assert!(header.split(',').any(|h| h == *c), "{c} in {header}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    summary
+}
+
 /// A bundled driven scenario, shrunk by `overrides`.
 pub(crate) fn bundled(name: &str, overrides: &[&str]) -> granular::scenario::Scenario {
     let text = scenario_text(&format!("{name}.toml"));
@@ -249,23 +272,17 @@ fn white_noise_run_reports_its_steady_state() {
         "dsmc-white-noise",
         &["species[0].count=4000", "stop.collisions_per_particle=30"],
     );
-    let dir = std::env::temp_dir().join(format!("granular-steady-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    let summary = granular::run::Run::create(&dir, s)
-        .unwrap()
-        .run_to_end(&mut |_| {}, None)
-        .unwrap();
-    let header = std::fs::read_to_string(dir.join("timeseries.csv")).unwrap();
-    let header = header.lines().next().unwrap();
-    for c in [
-        "dissipated_energy",
-        "injected_energy",
-        "driving_power",
-        "dissipation_rate",
-        "cooling_rate",
-    ] {
-        assert!(header.split(',').any(|h| h == c), "{c} in {header}");
-    }
+    let summary = run_with_columns(
+        "granular-steady",
+        s,
+        &[
+            "dissipated_energy",
+            "injected_energy",
+            "driving_power",
+            "dissipation_rate",
+            "cooling_rate",
+        ],
+    );
     let st = summary.steady_state.expect("steady_state block");
     assert_eq!(st.kind, "white_noise");
     assert_eq!(st.theory_a2, sonine::white_noise_a2(2, 0.5));
@@ -295,5 +312,4 @@ fn white_noise_run_reports_its_steady_state() {
     assert_eq!(st.a2.as_ref(), averages.observables.get("a2"));
     let zeta = st.cooling_rate.expect("cooling rate averaged");
     assert!(zeta.samples > 10 && zeta.mean > 0.0, "{zeta:?}");
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -183,22 +183,16 @@ fn white_noise_edmd_run_reports_its_steady_state() {
         "edmd-white-noise",
         &["stop.collisions_per_particle=40", "output.interval=0.1"],
     );
-    let dir = std::env::temp_dir().join(format!("granular-steady-edmd-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    let summary = granular::run::Run::create(&dir, s)
-        .unwrap()
-        .run_to_end(&mut |_| {}, None)
-        .unwrap();
-    let header = std::fs::read_to_string(dir.join("timeseries.csv")).unwrap();
-    let header = header.lines().next().unwrap();
-    for c in [
-        "injected_energy",
-        "driving_power",
-        "dissipation_rate",
-        "cooling_rate",
-    ] {
-        assert!(header.split(',').any(|h| h == c), "{c} in {header}");
-    }
+    let summary = crate::steady::run_with_columns(
+        "granular-steady-edmd",
+        s,
+        &[
+            "injected_energy",
+            "driving_power",
+            "dissipation_rate",
+            "cooling_rate",
+        ],
+    );
     let st = summary.steady_state.expect("steady_state block");
     assert_eq!(st.kind, "white_noise");
     assert_eq!(st.theory_a2, sonine::white_noise_a2(2, 0.5));
@@ -213,5 +207,4 @@ fn white_noise_edmd_run_reports_its_steady_state() {
     );
     let zeta = st.cooling_rate.expect("cooling rate averaged");
     assert!(zeta.samples > 10 && zeta.mean > 0.0, "{zeta:?}");
-    let _ = std::fs::remove_dir_all(&dir);
 }
