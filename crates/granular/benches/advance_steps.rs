@@ -10,32 +10,13 @@
 //! `one` or `many` it only runs that way once, for counting instructions under valgrind.
 //! Results and the machine: docs/performance.md.
 
+mod common;
+
 use granular::prelude::*;
 use std::time::Instant;
 
 fn gas(n: usize) -> Simulation {
-    let text = format!(
-        r#"
-engine = "edmd"
-dimension = 2
-seed = 1
-[box]
-lengths = [1.0, 1.0]
-boundary = "periodic"
-[[species]]
-name = "disk"
-count = {n}
-packing_fraction = 0.2
-velocity = {{ distribution = "maxwell_boltzmann", temperature = 1.0 }}
-[initial]
-placement = "random"
-[stop]
-time = 1e9
-wall_seconds = 86400.0
-"#
-    );
-    let scenario = Scenario::from_toml_insisting(&text, &[]).expect("benchmark scenario");
-    Simulation::new(scenario).expect("benchmark state")
+    Simulation::new(common::unit_square_gas("edmd", n, 0.2, "random")).expect("benchmark state")
 }
 
 /// Advances a fresh gas to `total` in `steps` equal calls; the wall seconds and the

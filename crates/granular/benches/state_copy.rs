@@ -13,6 +13,8 @@
 //! valgrind: the counts of REPEAT = 3 less those of REPEAT = 1 are two calls.
 //! Results and the machine: docs/performance.md.
 
+mod common;
+
 use granular::prelude::*;
 use std::time::Instant;
 
@@ -28,27 +30,7 @@ fn main() {
     let placement = args.get(1).map_or("lattice", String::as_str);
     let repeat: usize = args.get(2).and_then(|a| a.parse().ok()).unwrap_or(15);
     let engine = args.get(3).map_or("edmd", String::as_str);
-    let text = format!(
-        r#"
-engine = "{engine}"
-dimension = 2
-seed = 1
-[box]
-lengths = [1.0, 1.0]
-boundary = "periodic"
-[[species]]
-name = "disk"
-count = {n}
-packing_fraction = 0.1
-velocity = {{ distribution = "maxwell_boltzmann", temperature = 1.0 }}
-[initial]
-placement = "{placement}"
-[stop]
-time = 1e9
-wall_seconds = 86400.0
-"#
-    );
-    let scenario = Scenario::from_toml_insisting(&text, &[]).expect("benchmark scenario");
+    let scenario = common::unit_square_gas(engine, n, 0.1, placement);
     let start = Instant::now();
     let mut sim = Simulation::new(scenario).expect("benchmark state");
     sim.advance(0.001).expect("advance");
