@@ -59,6 +59,7 @@
 
 pub mod averaging;
 pub mod boundary;
+pub mod build;
 pub mod collision_law;
 pub mod driving;
 pub mod dsmc;

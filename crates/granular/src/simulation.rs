@@ -1,11 +1,11 @@
 //! A simulation held in memory: built from a [`Scenario`], advanced to a time or until the
 //! scenario's stop rule, read through typed observations and its particle state. The
-//! command line, the Python package and the run directory ([`crate::run`]) all drive
+//! command line, the Python package and the run directory (`run::Run`) all drive
 //! this one type; nothing here touches a file.
 
+use crate::build::{AnyEngine, BuildError, build};
 use crate::engine::{Engine, EngineError, Progress, Snapshot};
 use crate::observation::Observation;
-use crate::run::{AnyEngine, BuildError, build};
 use crate::scenario::{Scenario, StopSpec};
 use crate::stats::Histogram;
 use serde::{Deserialize, Serialize};

@@ -17,18 +17,18 @@
 //! | `.lock` | the process id of the run writing the directory (removed when it ends; see `docs/output.md`) |
 //! | `log.txt` | what happened, with wall-clock times |
 
-mod build;
 pub mod checkpoint;
 pub(crate) mod grains;
-pub mod intruder;
 mod lock;
 pub mod outputs;
 pub mod parts;
 pub mod summary;
 pub mod sweep;
 
+/// The intruder engines behind one type (moved to [`crate::build::intruder`]).
+pub use crate::build::intruder;
+pub use crate::build::{AnyEngine, BuildError, build, initial_particles};
 pub use crate::output::npz::{read_snapshot, write_snapshot};
-pub use build::{AnyEngine, BuildError, build, initial_particles};
 pub use outputs::{Output, StandardOutputs};
 pub use summary::{AverageValue, AveragesSummary, Resolved, Summary};
 

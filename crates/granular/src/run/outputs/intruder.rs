@@ -4,10 +4,10 @@
 //! Gaussian bath, the exact power-law case, equipartition for the elastic needle).
 
 use super::Output;
+use crate::build::intruder::{IntruderEngine, theory_ratio};
 use crate::intruder::BathConfig;
 use crate::observation::Observation;
 use crate::output::npz::{NpzArray, write_npz};
-use crate::run::intruder::{IntruderEngine, theory_ratio};
 use crate::run::summary::IntruderSummary;
 use crate::run::{AnyEngine, RunError, Summary, io_err};
 use crate::scenario::IntruderSpec;

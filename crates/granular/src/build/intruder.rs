@@ -1,7 +1,7 @@
 //! The intruder engines behind one type: building them from `[intruder]`, and the theory
 //! value of their temperature ratio. Equation numbers refer to the Gillespie intruder
 //! paper (`docs/intruder.md`); the files of an intruder run are written by
-//! [`super::outputs::IntruderStatistics`].
+//! `run::outputs::IntruderStatistics`.
 
 use serde::{Deserialize, Serialize};
 

@@ -1,4 +1,8 @@
-//! Turns a validated [`Scenario`] into an engine with its initial state.
+//! Turns a validated [`Scenario`] into an engine with its initial state: the engines of
+//! every kind behind one type ([`AnyEngine`]), built below [`crate::Simulation`] (nothing
+//! here imports the simulation or the run directory).
+
+pub mod intruder;
 
 use crate::boundary::SimulationBox;
 use crate::dsmc::config::DsmcConfig;
@@ -26,7 +30,7 @@ pub enum AnyEngine {
     /// DSMC, 3D.
     Dsmc3(DsmcEngine<3>),
     /// Gillespie intruder (1D, needle or DSMC twin), `engine = "intruder"`.
-    Intruder(super::intruder::IntruderEngine),
+    Intruder(self::intruder::IntruderEngine),
 }
 
 macro_rules! each_engine {
@@ -171,7 +175,7 @@ pub fn build(scenario: &Scenario) -> Result<AnyEngine, BuildError> {
     scenario.validate()?;
     Ok(match (scenario.engine, scenario.dimension) {
         (EngineKind::Intruder, _) => {
-            AnyEngine::Intruder(super::intruder::build(scenario).map_err(BuildError::Intruder)?)
+            AnyEngine::Intruder(self::intruder::build(scenario).map_err(BuildError::Intruder)?)
         }
         (EngineKind::Edmd, 2) => AnyEngine::Edmd2(build_edmd::<2>(scenario)?),
         (EngineKind::Edmd, _) => AnyEngine::Edmd3(build_edmd::<3>(scenario)?),
