@@ -282,7 +282,7 @@ fn run_decomposed<const D: usize>(
         }
         let seconds = t.elapsed().as_secs_f64();
         let used = traffic(&e).since(&t0);
-        let all = comm.all_gather(&rank_words(seconds, &used, e.pos.len()));
+        let all = comm.all_gather(&rank_words(seconds, &used, e.grains().len()));
         let slowest = all.iter().map(|v| v[0]).fold(0.0, f64::max);
         if best.as_ref().is_none_or(|(s, _)| slowest < *s) {
             best = Some((slowest, all));

@@ -6,6 +6,7 @@
 use super::collide::Tally;
 use super::domain::{Communicator, Domain, DomainError};
 use super::engine::DsmcEngine;
+use super::grains::Grains;
 use crate::vector::Vector;
 use std::sync::Arc;
 
@@ -19,16 +20,11 @@ impl<const D: usize> DsmcEngine<D> {
         if self.domain.is_some() {
             return Ok(());
         }
-        let domain = Domain::new(comm, &self.grid.dims, self.pos.len())?;
+        let domain = Domain::new(comm, &self.grid.dims, self.grains.len())?;
         // The owned cells are one contiguous storage range (sorted by cell).
         let a = self.start[domain.cells.start] as usize;
         let b = self.start[domain.cells.end] as usize;
-        self.pos = self.pos[a..b].to_vec();
-        self.vel = self.vel[a..b].to_vec();
-        self.ids = self.ids[a..b].to_vec();
-        if !self.last.is_empty() {
-            self.last = self.last[a..b].to_vec();
-        }
+        self.grains = self.grains.range(a..b);
         self.cell_of = self.cell_of[a..b].to_vec();
         for s in self.start.iter_mut() {
             *s = (*s as usize).clamp(a, b) as u32 - a as u32;
@@ -44,13 +40,9 @@ impl<const D: usize> DsmcEngine<D> {
 
     /// Particles on all ranks.
     pub(super) fn n_global(&self) -> usize {
-        self.domain.as_ref().map_or(self.pos.len(), |d| d.n_global)
-    }
-
-    /// Words per migrating particle: id, position, velocity (and the last collision time
-    /// with the TC model).
-    fn record_words(&self) -> usize {
-        1 + 2 * D + usize::from(!self.last.is_empty())
+        self.domain
+            .as_ref()
+            .map_or(self.grains.len(), |d| d.n_global)
     }
 
     /// Sends every particle whose cell (`cell_of`, from the free flight) belongs to another
@@ -62,46 +54,26 @@ impl<const D: usize> DsmcEngine<D> {
             return;
         };
         let (me, k) = (domain.rank(), domain.size());
-        let tc = !self.last.is_empty();
+        let g = &mut self.grains;
         let mut out: Vec<Vec<f64>> = vec![Vec::new(); k];
         let mut kept = 0;
-        for i in 0..self.pos.len() {
+        for i in 0..g.len() {
             let q = domain.owner(self.cell_of[i]);
             if q == me {
-                self.pos[kept] = self.pos[i];
-                self.vel[kept] = self.vel[i];
-                self.ids[kept] = self.ids[i];
-                if tc {
-                    self.last[kept] = self.last[i];
-                }
+                g.copy(i, kept);
                 kept += 1;
                 continue;
             }
-            let o = &mut out[q];
-            o.push(f64::from_bits(u64::from(self.ids[i])));
-            o.extend_from_slice(&self.pos[i].0);
-            o.extend_from_slice(&self.vel[i].0);
-            if tc {
-                o.push(self.last[i]);
-            }
+            g.pack(i, &mut out[q]);
         }
         let incoming = domain.exchange(out);
-        let w = self.record_words();
+        let w = g.words();
         let arrivals: usize = incoming.iter().map(|v| v.len() / w).sum();
         let total = kept + arrivals;
         let before: usize = incoming[..me].iter().map(|v| v.len() / w).sum();
         // Own particles move up behind the arrivals from lower ranks.
-        let pad = Vector::<D>::zero();
-        self.pos.resize(total.max(self.pos.len()), pad);
-        self.vel.resize(total.max(self.vel.len()), pad);
-        self.ids.resize(total.max(self.ids.len()), 0);
-        self.pos.copy_within(0..kept, before);
-        self.vel.copy_within(0..kept, before);
-        self.ids.copy_within(0..kept, before);
-        if tc {
-            self.last.resize(total.max(self.last.len()), 0.0);
-            self.last.copy_within(0..kept, before);
-        }
+        g.resize(total.max(g.len()));
+        g.copy_within(0..kept, before);
         let mut slot = 0;
         for (q, words) in incoming.iter().enumerate() {
             if q == me {
@@ -109,21 +81,11 @@ impl<const D: usize> DsmcEngine<D> {
                 continue;
             }
             for r in words.chunks_exact(w) {
-                self.ids[slot] = r[0].to_bits() as u32;
-                self.pos[slot] = Vector::from_slice(&r[1..1 + D]).unwrap_or_default();
-                self.vel[slot] = Vector::from_slice(&r[1 + D..1 + 2 * D]).unwrap_or_default();
-                if tc {
-                    self.last[slot] = r[1 + 2 * D];
-                }
+                g.set_packed(slot, r);
                 slot += 1;
             }
         }
-        self.pos.truncate(total);
-        self.vel.truncate(total);
-        self.ids.truncate(total);
-        if tc {
-            self.last.truncate(total);
-        }
+        g.truncate(total);
         self.cell_of.resize(total, 0);
     }
 
@@ -151,10 +113,10 @@ impl<const D: usize> DsmcEngine<D> {
 
     /// The mean velocity over all ranks, bit-identical to the whole engine's chunked sum.
     pub(super) fn mean_velocity_decomposed(&self, domain: &Domain) -> Vector<D> {
-        let vel = &self.vel;
+        let g = &self.grains;
         let s = domain.ordered_fold::<D, D>(
-            vel.len(),
-            |i| vel[i].0,
+            g.len(),
+            |i| g.velocity(i).0,
             |a, v| *a = (Vector(*a) + Vector(*v)).0,
             |a, v| *a = (Vector(*a) + Vector(*v)).0,
         );
@@ -163,10 +125,10 @@ impl<const D: usize> DsmcEngine<D> {
 
     /// `(sum c^2, sum c^4)` of the peculiar velocity over all ranks, as the whole engine.
     pub(super) fn peculiar_sums_decomposed(&self, domain: &Domain, u: Vector<D>) -> (f64, f64) {
-        let vel = &self.vel;
+        let g = &self.grains;
         let [s2, s4] = domain.ordered_fold::<1, 2>(
-            vel.len(),
-            |i| [(vel[i] - u).norm_squared()],
+            g.len(),
+            |i| [(g.velocity(i) - u).norm_squared()],
             |a, &[c2]| *a = [a[0] + c2, a[1] + c2 * c2],
             |a, x| *a = [a[0] + x[0], a[1] + x[1]],
         );
@@ -175,10 +137,10 @@ impl<const D: usize> DsmcEngine<D> {
 
     /// `sum |v|^2` over all ranks, as the whole engine.
     pub(super) fn speed_squares_decomposed(&self, domain: &Domain) -> f64 {
-        let vel = &self.vel;
+        let g = &self.grains;
         domain.ordered_fold::<1, 1>(
-            vel.len(),
-            |i| [vel[i].norm_squared()],
+            g.len(),
+            |i| [g.velocity(i).norm_squared()],
             |a, x| a[0] += x[0],
             |a, x| a[0] += x[0],
         )[0]
@@ -216,36 +178,19 @@ impl<const D: usize> DsmcEngine<D> {
         let Some(domain) = self.domain.as_ref() else {
             return self.clone();
         };
-        let tc = !self.last.is_empty();
-        let w = self.record_words();
-        let mut words = Vec::with_capacity(self.pos.len() * w);
-        for i in 0..self.pos.len() {
-            words.push(f64::from_bits(u64::from(self.ids[i])));
-            words.extend_from_slice(&self.pos[i].0);
-            words.extend_from_slice(&self.vel[i].0);
-            if tc {
-                words.push(self.last[i]);
-            }
+        let g = &self.grains;
+        let w = g.words();
+        let mut words = Vec::with_capacity(g.len() * w);
+        for i in 0..g.len() {
+            g.pack(i, &mut words);
         }
         let parts = domain.all_gather(&words);
         let mut whole = self.clone();
         whole.domain = None;
         let n = domain.n_global;
-        whole.pos = Vec::with_capacity(n);
-        whole.vel = Vec::with_capacity(n);
-        whole.ids = Vec::with_capacity(n);
-        whole.last = Vec::with_capacity(if tc { n } else { 0 });
+        whole.grains = Grains::with_capacity(n, g.has_collision_times());
         for r in parts.iter().flat_map(|p| p.chunks_exact(w)) {
-            whole.ids.push(r[0].to_bits() as u32);
-            whole
-                .pos
-                .push(Vector::from_slice(&r[1..1 + D]).unwrap_or_default());
-            whole
-                .vel
-                .push(Vector::from_slice(&r[1 + D..1 + 2 * D]).unwrap_or_default());
-            if tc {
-                whole.last.push(r[1 + 2 * D]);
-            }
+            whole.grains.push_packed(r);
         }
         whole.cell_of = vec![0; n];
         // The cells' storage ranges of the last sort: each rank's owned cells, shifted by

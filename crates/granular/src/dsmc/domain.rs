@@ -42,7 +42,7 @@
 //! The communication itself is behind [`Communicator`], implemented over MPI by the
 //! command line's `mpi` feature: this crate needs no MPI.
 
-use super::engine::SUM_CHUNK;
+use super::sums::SUM_CHUNK;
 use rayon::prelude::*;
 use std::sync::{Arc, Mutex};
 use std::time::Instant;

@@ -4,7 +4,8 @@
 //! identity, and their mean is an ordered chunked sum over the storage order, so both are
 //! bit-identical for any number of threads or ranks.
 
-use super::engine::{DsmcEngine, SUM_CHUNK};
+use super::engine::DsmcEngine;
+use super::sums::SUM_CHUNK;
 use crate::driving::{Driving, DrivingState, KICKS, rescale_factor};
 use crate::random::{std_normal, stream};
 use crate::vector::Vector;
@@ -33,7 +34,8 @@ impl<const D: usize> DsmcEngine<D> {
             Driving::Rescale { temperature } => {
                 let u = self.mean_velocity();
                 let lambda = rescale_factor(temperature, self.temperature());
-                self.vel
+                self.grains
+                    .vel
                     .par_iter_mut()
                     .for_each(|v| *v = u + (*v - u) * lambda);
             }
@@ -41,6 +43,7 @@ impl<const D: usize> DsmcEngine<D> {
                 let width = (strength * dt).sqrt();
                 let (seed, k) = (self.seed, state.applications);
                 let kicks: Vec<Vector<D>> = self
+                    .grains
                     .ids
                     .par_iter()
                     .map(|&id| {
@@ -53,7 +56,8 @@ impl<const D: usize> DsmcEngine<D> {
                     })
                     .collect();
                 let mean = self.ordered_mean(&kicks);
-                self.vel
+                self.grains
+                    .vel
                     .par_iter_mut()
                     .zip(kicks.par_iter())
                     .for_each(|(v, kick)| *v += *kick - mean);

@@ -3,9 +3,11 @@
 use super::cells::{CellGrid, Permutation, cell_starts, counting_sort, gather, scatter1, scatter3};
 use super::collide::{StepParams, Tally, collide_group};
 use super::config::{DensityScope, DsmcConfig};
-use super::flight::{Flight, check_law};
+use super::flight::Flight;
+use super::grains::Grains;
 use super::guards::{self, ValidityWarning};
 use super::observables::{self, DensityMap, StructureFactor};
+use super::sums::SUM_CHUNK;
 use crate::boundary::SimulationBox;
 use crate::collision_law::CollisionLaw;
 use crate::particles::ParticleSet;
@@ -32,9 +34,6 @@ pub enum DsmcError {
     Domain(#[from] super::domain::DomainError),
 }
 
-/// Fixed chunk length of the deterministic reductions (independent of the thread count).
-pub(super) const SUM_CHUNK: usize = 4096;
-
 /// Direct Simulation Monte Carlo of `N` equal hard grains (disks for `D = 2`, spheres
 /// for `D = 3`), after Müller & Herrmann (the DSMC seed). See the module docs.
 /// The automatic time step as a fraction of the mean free time `1 / omega` (DSMC-3): 0.1,
@@ -52,11 +51,8 @@ pub struct DsmcEngine<const D: usize> {
     tau: f64,
     gravity: Vector<D>,
     chi_global: f64,
-    // Structure of arrays, sorted by cell (see `cells`).
-    pub(super) pos: Vec<Vector<D>>,
-    pub(super) vel: Vec<Vector<D>>,
-    pub(super) ids: Vec<u32>,
-    pub(super) last: Vec<f64>,
+    /// The grains' records, sorted by cell (see `cells`).
+    pub(super) grains: Grains<D>,
     pub(super) cell_of: Vec<u32>,
     pub(super) start: Vec<u32>,
     // Scratch buffers of the sort, kept between steps (no page faults per step); not part
@@ -249,11 +245,7 @@ impl<const D: usize> DsmcEngine<D> {
         domain: Option<super::domain::Domain>,
     ) -> Self {
         let n = pos.len();
-        let last = if config.law.has_tc() {
-            vec![f64::NEG_INFINITY; n]
-        } else {
-            Vec::new()
-        };
+        let grains = Grains::from_parts(pos, vel, ids, config.law.has_tc());
         let mut engine = Self {
             tally: Tally {
                 impact: vec![0; config.impact_bins],
@@ -268,10 +260,7 @@ impl<const D: usize> DsmcEngine<D> {
             tau: derived.tau,
             gravity: derived.gravity,
             chi_global: derived.chi_global,
-            pos,
-            vel,
-            ids,
-            last,
+            grains,
             cell_of: vec![0; n],
             start: Vec::new(),
             perm: Permutation::default(),
@@ -296,11 +285,7 @@ impl<const D: usize> DsmcEngine<D> {
     /// collision; turning it off forgets the collision times.
     pub fn set_collision_law(&mut self, law: CollisionLaw) -> Result<(), DsmcError> {
         check_law(&law)?;
-        if !law.has_tc() {
-            self.last = Vec::new();
-        } else if self.last.is_empty() {
-            self.last = vec![f64::NEG_INFINITY; self.pos.len()];
-        }
+        self.grains.set_collision_times(law.has_tc());
         self.config.law = law;
         Ok(())
     }
@@ -319,10 +304,7 @@ impl<const D: usize> DsmcEngine<D> {
             tau: self.tau,
             gravity: self.gravity,
             chi_global: self.chi_global,
-            pos: Vec::new(),
-            vel: Vec::new(),
-            ids: Vec::new(),
-            last: Vec::new(),
+            grains: Grains::new(self.grains.has_collision_times()),
             cell_of: Vec::new(),
             start: Vec::new(),
             perm: Default::default(),
@@ -407,19 +389,24 @@ impl<const D: usize> DsmcEngine<D> {
         self.tally.vmax_exceeded
     }
 
-    /// Positions in storage (cell) order.
-    pub fn positions(&self) -> &[Vector<D>] {
-        &self.pos
+    /// Positions in storage (cell) order (a copy).
+    pub fn positions(&self) -> Vec<Vector<D>> {
+        self.grains.positions()
     }
 
-    /// Velocities in storage (cell) order.
-    pub fn velocities(&self) -> &[Vector<D>] {
-        &self.vel
+    /// Velocities in storage (cell) order (a copy).
+    pub fn velocities(&self) -> Vec<Vector<D>> {
+        self.grains.velocities()
     }
 
-    /// Particle identities (their index at construction) in storage order.
-    pub fn ids(&self) -> &[u32] {
-        &self.ids
+    /// Particle identities (their index at construction) in storage order (a copy).
+    pub fn ids(&self) -> Vec<u32> {
+        self.grains.ids()
+    }
+
+    /// The grains' records (this rank's, when decomposed), in storage order.
+    pub fn grains(&self) -> &Grains<D> {
+        &self.grains
     }
 
     /// Positions and velocities in the order of construction (ids `0 .. N`).
@@ -427,12 +414,14 @@ impl<const D: usize> DsmcEngine<D> {
         if self.domain.is_some() {
             return self.whole().state_by_id();
         }
-        let n = self.pos.len();
+        let g = &self.grains;
+        let n = g.len();
         let mut p = vec![Vector::zero(); n];
         let mut v = vec![Vector::zero(); n];
-        for (k, &id) in self.ids.iter().enumerate() {
-            p[id as usize] = self.pos[k];
-            v[id as usize] = self.vel[k];
+        for k in 0..n {
+            let id = g.id(k) as usize;
+            p[id] = g.position(k);
+            v[id] = g.velocity(k);
         }
         (p, v)
     }
@@ -450,12 +439,12 @@ impl<const D: usize> DsmcEngine<D> {
     /// Static structure factor `S(k) = |sum_j exp(i k.x_j)|^2 / N` for the wave vectors
     /// `k = 2 pi (n_0 / L_0, ...)` with `0 < max_k |n_k| <= max_index`, binned by `|k|`.
     pub fn structure_factor(&self, max_index: usize) -> StructureFactor {
-        observables::structure_factor(&self.pos, &self.sim_box.lengths.0, max_index)
+        observables::structure_factor(&self.grains.positions(), &self.sim_box.lengths.0, max_index)
     }
 
     /// Number density on a regular grid of `dims` bins (axis 0 fastest).
     pub fn density_map(&self, dims: [usize; D]) -> DensityMap {
-        observables::density_map(&self.pos, &self.sim_box.lengths.0, dims)
+        observables::density_map(&self.grains.positions(), &self.sim_box.lengths.0, dims)
     }
 
     /// The validity conditions of the DSMC seed (Sec. 2) violated by the initial state,
@@ -516,7 +505,7 @@ impl<const D: usize> DsmcEngine<D> {
     /// cell, collisions cell by cell.
     pub fn step(&mut self, dt: f64) {
         let threads = rayon::current_num_threads().max(1);
-        let n = self.pos.len();
+        let n = self.grains.pos.len();
         let chunk = n.div_ceil(threads).max(1);
         let cells = self.grid.len();
         // 1. Free flight (analytic under constant acceleration), walls, cell index.
@@ -528,19 +517,21 @@ impl<const D: usize> DsmcEngine<D> {
             dt,
             t_end: self.time + dt,
         };
-        let moved: Vec<(Vec<u32>, u64)> = if self.last.is_empty() {
-            self.pos
+        let moved: Vec<(Vec<u32>, u64)> = if self.grains.last.is_empty() {
+            self.grains
+                .pos
                 .par_chunks_mut(chunk)
-                .zip(self.vel.par_chunks_mut(chunk))
+                .zip(self.grains.vel.par_chunks_mut(chunk))
                 .zip(self.cell_of.par_chunks_mut(chunk))
                 .map(|((p, v), c)| flight.fly(p, v, c, &mut []))
                 .collect()
         } else {
-            self.pos
+            self.grains
+                .pos
                 .par_chunks_mut(chunk)
-                .zip(self.vel.par_chunks_mut(chunk))
+                .zip(self.grains.vel.par_chunks_mut(chunk))
                 .zip(self.cell_of.par_chunks_mut(chunk))
-                .zip(self.last.par_chunks_mut(chunk))
+                .zip(self.grains.last.par_chunks_mut(chunk))
                 .map(|(((p, v), c), l)| flight.fly(p, v, c, l))
                 .collect()
         };
@@ -563,6 +554,7 @@ impl<const D: usize> DsmcEngine<D> {
             super::config::VmaxMode::Global => {
                 let u = self.mean_velocity();
                 let m2 = self
+                    .grains
                     .vel
                     .par_chunks(SUM_CHUNK)
                     .map(|c| {
@@ -612,9 +604,9 @@ impl<const D: usize> DsmcEngine<D> {
             c0 = c1;
         }
         let mut jobs = Vec::with_capacity(groups.len());
-        let mut rest_p = &mut self.pos[..];
-        let mut rest_v = &mut self.vel[..];
-        let mut rest_l = &mut self.last[..];
+        let mut rest_p = &mut self.grains.pos[..];
+        let mut rest_v = &mut self.grains.vel[..];
+        let mut rest_l = &mut self.grains.last[..];
         let tc = !rest_l.is_empty();
         for &(a, b) in &groups {
             let len = (self.start[b] - self.start[a]) as usize;
@@ -646,12 +638,12 @@ impl<const D: usize> DsmcEngine<D> {
     /// `None` recomputes the cell indices sequentially (construction).
     fn sort_by_cell(&mut self, counts: Option<(usize, Vec<Vec<u32>>)>) {
         let cells = self.grid.len();
-        let n = self.pos.len();
+        let n = self.grains.pos.len();
         let (chunk, counts) = match counts {
             Some(c) => c,
             None => {
                 let mut cnt = vec![0u32; cells];
-                for (x, c) in self.pos.iter().zip(self.cell_of.iter_mut()) {
+                for (x, c) in self.grains.pos.iter().zip(self.cell_of.iter_mut()) {
                     *c = self.grid.index(&x.0);
                     cnt[*c as usize] += 1;
                 }
@@ -668,39 +660,69 @@ impl<const D: usize> DsmcEngine<D> {
             scatter3(
                 &self.cell_of,
                 &start,
-                (&self.pos, &self.vel, &self.ids),
+                (&self.grains.pos, &self.grains.vel, &self.grains.ids),
                 (
                     &mut self.scratch_vec,
                     &mut self.scratch_vel,
                     &mut self.scratch_ids,
                 ),
             );
-            std::mem::swap(&mut self.pos, &mut self.scratch_vec);
-            std::mem::swap(&mut self.vel, &mut self.scratch_vel);
-            std::mem::swap(&mut self.ids, &mut self.scratch_ids);
-            if !self.last.is_empty() {
+            std::mem::swap(&mut self.grains.pos, &mut self.scratch_vec);
+            std::mem::swap(&mut self.grains.vel, &mut self.scratch_vel);
+            std::mem::swap(&mut self.grains.ids, &mut self.scratch_ids);
+            if !self.grains.last.is_empty() {
                 self.scratch_last.resize(n, 0.0);
-                scatter1(&self.cell_of, &start, &self.last, &mut self.scratch_last);
-                std::mem::swap(&mut self.last, &mut self.scratch_last);
+                scatter1(
+                    &self.cell_of,
+                    &start,
+                    &self.grains.last,
+                    &mut self.scratch_last,
+                );
+                std::mem::swap(&mut self.grains.last, &mut self.scratch_last);
             }
             self.start = start;
             return;
         }
         let start = counting_sort(&self.cell_of, chunk, counts, cells, &mut self.perm);
         let perm = &self.perm.0;
-        gather(&self.pos, perm, &mut self.scratch_vec);
-        std::mem::swap(&mut self.pos, &mut self.scratch_vec);
-        gather(&self.vel, perm, &mut self.scratch_vec);
-        std::mem::swap(&mut self.vel, &mut self.scratch_vec);
-        gather(&self.ids, perm, &mut self.scratch_ids);
-        std::mem::swap(&mut self.ids, &mut self.scratch_ids);
-        if !self.last.is_empty() {
+        gather(&self.grains.pos, perm, &mut self.scratch_vec);
+        std::mem::swap(&mut self.grains.pos, &mut self.scratch_vec);
+        gather(&self.grains.vel, perm, &mut self.scratch_vec);
+        std::mem::swap(&mut self.grains.vel, &mut self.scratch_vec);
+        gather(&self.grains.ids, perm, &mut self.scratch_ids);
+        std::mem::swap(&mut self.grains.ids, &mut self.scratch_ids);
+        if !self.grains.last.is_empty() {
             self.scratch_last.resize(n, 0.0);
-            gather(&self.last, perm, &mut self.scratch_last);
-            std::mem::swap(&mut self.last, &mut self.scratch_last);
+            gather(&self.grains.last, perm, &mut self.scratch_last);
+            std::mem::swap(&mut self.grains.last, &mut self.scratch_last);
         }
         self.start = start;
     }
+}
+
+/// Rejects restitutions outside `[0, 1]` and a negative or non-finite contact duration.
+fn check_law(law: &CollisionLaw) -> Result<(), DsmcError> {
+    for (key, x) in [
+        ("restitution", law.restitution),
+        ("wall_restitution", law.wall_restitution),
+        (
+            "wall_tangential_restitution",
+            law.wall_tangential_restitution,
+        ),
+    ] {
+        if !(0.0..=1.0).contains(&x) {
+            return Err(DsmcError::Invalid(format!(
+                "law.{key} is {x}; a restitution must lie in [0, 1] (1 = elastic)"
+            )));
+        }
+    }
+    let t = law.contact_duration;
+    if !(t.is_finite() && t >= 0.0) {
+        return Err(DsmcError::Invalid(format!(
+            "law.contact_duration is {t}; give a duration >= 0 (0: no TC model)"
+        )));
+    }
+    Ok(())
 }
 
 /// `x > 0` (false for NaN).

@@ -3,35 +3,9 @@
 //! [`crate::collision_law`]); periodic axes wrap.
 
 use super::cells::{CellGrid, CellLookup};
-use super::engine::DsmcError;
 use crate::boundary::{AxisKind, SimulationBox};
 use crate::collision_law::CollisionLaw;
 use crate::vector::Vector;
-
-/// Rejects restitutions outside `[0, 1]` and a negative or non-finite contact duration.
-pub(crate) fn check_law(law: &CollisionLaw) -> Result<(), DsmcError> {
-    for (key, x) in [
-        ("restitution", law.restitution),
-        ("wall_restitution", law.wall_restitution),
-        (
-            "wall_tangential_restitution",
-            law.wall_tangential_restitution,
-        ),
-    ] {
-        if !(0.0..=1.0).contains(&x) {
-            return Err(DsmcError::Invalid(format!(
-                "law.{key} is {x}; a restitution must lie in [0, 1] (1 = elastic)"
-            )));
-        }
-    }
-    let t = law.contact_duration;
-    if !(t.is_finite() && t >= 0.0) {
-        return Err(DsmcError::Invalid(format!(
-            "law.contact_duration is {t}; give a duration >= 0 (0: no TC model)"
-        )));
-    }
-    Ok(())
-}
 
 /// What the free flight of one step needs (the same for every grain).
 pub(crate) struct Flight<'a, const D: usize> {

@@ -31,13 +31,16 @@ pub mod domain;
 mod driving;
 pub mod engine;
 mod flight;
+pub mod grains;
 pub mod guards;
 pub mod observables;
 pub mod parts;
+mod sums;
 
 pub use config::{DensityScope, DsmcConfig, VmaxMode};
 pub use domain::{Communicator, Domain, DomainError, Traffic};
 pub use engine::{DsmcEngine, DsmcError, UniformGas};
+pub use grains::Grains;
 pub use guards::{GuardKind, ValidityWarning};
 pub use observables::{DensityMap, StructureFactor};
 pub use parts::{EnginePart, IdBlock, PartInfo};

@@ -12,6 +12,7 @@
 
 use super::domain::{Communicator, Domain};
 use super::engine::DsmcEngine;
+use super::grains::Grains;
 use crate::vector::Vector;
 use serde::{Deserialize, Serialize};
 use std::ops::Range;
@@ -24,11 +25,8 @@ pub struct EnginePart<const D: usize> {
     first_cell: usize,
     /// Storage offset of each cell of the part (relative to the part), then its length.
     start: Vec<u32>,
-    ids: Vec<u32>,
-    pos: Vec<Vector<D>>,
-    vel: Vec<Vector<D>>,
-    /// Time of the last collision of each particle (the TC model only).
-    last: Vec<f64>,
+    /// The particles, in storage order.
+    grains: Grains<D>,
 }
 
 impl<const D: usize> EnginePart<D> {
@@ -39,24 +37,22 @@ impl<const D: usize> EnginePart<D> {
 
     /// Particles in the part.
     pub fn len(&self) -> usize {
-        self.ids.len()
+        self.grains.len()
     }
 
     /// Whether the part holds no particle.
     pub fn is_empty(&self) -> bool {
-        self.ids.is_empty()
+        self.grains.is_empty()
     }
 
     /// Whether the part is consistent (offsets rising from 0 to its length, arrays of one
     /// length): a part that reads but fails this was not written by this engine.
     fn consistent(&self) -> bool {
-        let n = self.ids.len();
+        let n = self.grains.len();
         self.start.first() == Some(&0)
             && self.start.last().map(|&s| s as usize) == Some(n)
             && self.start.windows(2).all(|w| w[0] <= w[1])
-            && self.pos.len() == n
-            && self.vel.len() == n
-            && (self.last.is_empty() || self.last.len() == n)
+            && self.grains.consistent()
     }
 }
 
@@ -92,10 +88,7 @@ impl<const D: usize> DsmcEngine<D> {
                 .iter()
                 .map(|&s| s - a)
                 .collect(),
-            ids: self.ids.clone(),
-            pos: self.pos.clone(),
-            vel: self.vel.clone(),
-            last: self.last.clone(),
+            grains: self.grains.clone(),
         }
     }
 
@@ -132,8 +125,7 @@ impl<const D: usize> DsmcEngine<D> {
         let mine = domain.as_ref().map_or(0..cells, |d| d.cells.clone());
         let tc = self.config().law.has_tc();
         let mut start = vec![0u32; cells + 1];
-        let (mut ids, mut pos, mut vel, mut last) =
-            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let mut grains = Grains::new(tc);
         for info in parts {
             let lo = info.first_cell.max(mine.start);
             let hi = info.end_cell.min(mine.end);
@@ -144,7 +136,7 @@ impl<const D: usize> DsmcEngine<D> {
             if !part.consistent()
                 || part.cells() != (info.first_cell..info.end_cell)
                 || part.len() != info.particles
-                || (tc && part.last.len() != part.len())
+                || part.grains.has_collision_times() != tc
             {
                 return Err(format!(
                     "{} does not hold what the checkpoint lists (cells {}..{}, {} particles)",
@@ -154,21 +146,16 @@ impl<const D: usize> DsmcEngine<D> {
             let at = |c: usize| part.start[c - info.first_cell] as usize;
             let (a, b) = (at(lo), at(hi));
             for (c, s) in start.iter_mut().enumerate().take(hi).skip(lo) {
-                *s = (ids.len() + at(c) - a) as u32;
+                *s = (grains.len() + at(c) - a) as u32;
             }
-            ids.extend_from_slice(&part.ids[a..b]);
-            pos.extend_from_slice(&part.pos[a..b]);
-            vel.extend_from_slice(&part.vel[a..b]);
-            if tc {
-                last.extend_from_slice(&part.last[a..b]);
-            }
+            grains.extend_from(&part.grains, a..b);
         }
-        let n = ids.len();
+        let n = grains.len();
         for s in &mut start[mine.end..] {
             *s = n as u32;
         }
         self.cell_of = vec![0; n];
-        (self.ids, self.pos, self.vel, self.last) = (ids, pos, vel, last);
+        self.grains = grains;
         self.start = start;
         self.domain = domain;
         Ok(())
@@ -190,9 +177,10 @@ impl<const D: usize> DsmcEngine<D> {
         let (k, n) = (domain.size(), domain.n_global);
         let block = |q: usize| q * n / k..(q + 1) * n / k;
         let w = 1 + 2 * D;
+        let g = &self.grains;
         let mut out: Vec<Vec<f64>> = vec![Vec::new(); k];
-        for i in 0..self.ids.len() {
-            let id = self.ids[i] as usize;
+        for i in 0..g.len() {
+            let id = g.id(i) as usize;
             // The owner of id: the largest q with q n / k <= id.
             let mut q = (id * k / n).min(k - 1);
             while block(q).start > id {
@@ -203,8 +191,8 @@ impl<const D: usize> DsmcEngine<D> {
             }
             let o = &mut out[q];
             o.push(f64::from_bits(id as u64));
-            o.extend_from_slice(&self.pos[i].0);
-            o.extend_from_slice(&self.vel[i].0);
+            o.extend_from_slice(&g.position(i).0);
+            o.extend_from_slice(&g.velocity(i).0);
         }
         let mine = block(domain.rank());
         let incoming = domain.exchange(out);

@@ -117,8 +117,12 @@ impl<const D: usize> Engine for DsmcEngine<D> {
         if self.domain.is_some() {
             return self.whole().state_into(velocities, out);
         }
-        let stored = if velocities { &self.vel } else { &self.pos };
-        crate::particles::scatter_by_id::<D>(&self.ids, out, |s| stored[s].0);
+        let g = &self.grains;
+        if velocities {
+            crate::particles::scatter_by_id::<D>(&g.ids, out, |s| g.velocity(s).0);
+        } else {
+            crate::particles::scatter_by_id::<D>(&g.ids, out, |s| g.position(s).0);
+        }
         true
     }
 

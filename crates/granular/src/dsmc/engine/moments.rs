@@ -4,7 +4,8 @@
 //! so its bits do not depend on the number of threads; a decomposed engine reduces them
 //! over the ranks in the same order (`Domain::ordered_fold`).
 
-use super::{DsmcEngine, SUM_CHUNK};
+use super::DsmcEngine;
+use crate::dsmc::sums::SUM_CHUNK;
 use crate::vector::Vector;
 use rayon::prelude::*;
 
@@ -15,12 +16,13 @@ impl<const D: usize> DsmcEngine<D> {
             return self.mean_velocity_decomposed(d);
         }
         let parts: Vec<Vector<D>> = self
+            .grains
             .vel
             .par_chunks(SUM_CHUNK)
             .map(|c| c.iter().fold(Vector::zero(), |a, v| a + *v))
             .collect();
         let s = parts.into_iter().fold(Vector::zero(), |a, v| a + v);
-        s * (1.0 / self.vel.len() as f64)
+        s * (1.0 / self.grains.vel.len() as f64)
     }
 
     /// Total momentum `m sum_i v_i`.
@@ -37,6 +39,7 @@ impl<const D: usize> DsmcEngine<D> {
             return (s2 / n, s4 / n);
         }
         let parts: Vec<(f64, f64)> = self
+            .grains
             .vel
             .par_chunks(SUM_CHUNK)
             .map(|c| {
@@ -49,7 +52,7 @@ impl<const D: usize> DsmcEngine<D> {
         let (s2, s4) = parts
             .into_iter()
             .fold((0.0, 0.0), |(a, b), (x, y)| (a + x, b + y));
-        let n = self.vel.len() as f64;
+        let n = self.grains.vel.len() as f64;
         (s2 / n, s4 / n)
     }
 
@@ -70,6 +73,7 @@ impl<const D: usize> DsmcEngine<D> {
             return 0.5 * self.mass * self.speed_squares_decomposed(d);
         }
         let parts: Vec<f64> = self
+            .grains
             .vel
             .par_chunks(SUM_CHUNK)
             .map(|c| c.iter().map(|v| v.norm_squared()).sum::<f64>())
@@ -82,12 +86,18 @@ impl<const D: usize> DsmcEngine<D> {
     /// (in parallel chunks).
     pub fn first_non_finite(&self) -> Option<u32> {
         let finite = |v: &Vector<D>| v.0.iter().all(|c| c.is_finite());
-        let local = if self.vel.par_chunks(SUM_CHUNK).all(|c| c.iter().all(finite)) {
+        let local = if self
+            .grains
+            .vel
+            .par_chunks(SUM_CHUNK)
+            .all(|c| c.iter().all(finite))
+        {
             None
         } else {
-            self.vel
+            self.grains
+                .vel
                 .iter()
-                .zip(&self.ids)
+                .zip(&self.grains.ids)
                 .filter(|(v, _)| !finite(v))
                 .map(|(_, &id)| id)
                 .min()
