@@ -1,0 +1,29 @@
+//! Velocities changed from outside the event loop (a driving's kicks, the compression's
+//! thermostat): every prediction is redone.
+
+use super::Edmd;
+use crate::vector::Vector;
+
+impl<const D: usize> Edmd<D> {
+    /// Multiplies all velocities by `factor` (thermostat used during compression).
+    pub(crate) fn scale_velocities(&mut self, factor: f64) {
+        self.change_velocities(|_, v| v * factor);
+    }
+
+    /// Replaces every grain's velocity `v` by `f(id, v)` at the current time, then
+    /// predicts every grain's next event again and rebuilds the calendar (no event is
+    /// skipped: the positions do not move, only the future changes). Without gravity.
+    pub(crate) fn change_velocities(&mut self, mut f: impl FnMut(u32, Vector<D>) -> Vector<D>) {
+        for i in 0..self.len() {
+            self.advance_particle(i);
+            let id = self.id[i];
+            let g = &mut self.grains[i];
+            g.vel = f(id, g.vel);
+            g.counter = g.counter.wrapping_add(1);
+        }
+        for i in 0..self.len() {
+            self.predict(i);
+        }
+        self.queue.rebuild(self.now);
+    }
+}
