@@ -404,9 +404,9 @@ fn load_with(
 /// makes it absolute (so that validation reads it, and run directories, sweeps and
 /// resumes find it from any working directory), if there is one to make.
 fn bath_file_override(path: &Path, sc: &Scenario) -> Option<String> {
-    use granular::intruder::BathConfig;
+    use granular::scenario::BathTable;
     let cfg = sc.intruder.as_ref()?.one_d()?;
-    let BathConfig::Tabulated { file: Some(f), .. } = &cfg.bath else {
+    let BathTable::Tabulated { file: Some(f), .. } = &cfg.bath else {
         return None;
     };
     if Path::new(f).is_absolute() {

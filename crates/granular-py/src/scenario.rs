@@ -83,9 +83,9 @@ impl PyScenario {
 /// A tabulated intruder bath `file` is relative to the scenario file: the override that
 /// makes it absolute, as the command line does.
 fn bath_file_override(path: &Path, sc: &Scenario) -> Option<String> {
-    use granular::intruder::BathConfig;
+    use granular::scenario::BathTable;
     let cfg = sc.intruder.as_ref()?.one_d()?;
-    let BathConfig::Tabulated { file: Some(f), .. } = &cfg.bath else {
+    let BathTable::Tabulated { file: Some(f), .. } = &cfg.bath else {
         return None;
     };
     if Path::new(f).is_absolute() {

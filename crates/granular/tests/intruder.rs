@@ -15,6 +15,7 @@ use granular::intruder::one_d::{
 };
 use granular::intruder::theory::martin_piasecki_ratio;
 use granular::random::stream;
+use granular::scenario::bath_file;
 use granular::stats::{Histogram, chi_square_test};
 
 const Z: f64 = 4.0;
@@ -152,16 +153,16 @@ fn tabulated_fluxes_match_quadrature_and_bad_tables_are_reported() {
     std::fs::create_dir_all(&dir).unwrap();
     let good = dir.join("bath.csv");
     std::fs::write(&good, "v,f\n-1, 0\n0, 1 # peak\n1, 0\n").unwrap();
-    let b = Tabulated::from_file(&good).unwrap();
+    let b = Tabulated::new(&bath_file::read(&good).unwrap()).unwrap();
     assert!((b.density(0.0) - 1.0).abs() < 1e-12);
     let bad = dir.join("bad.csv");
     std::fs::write(&bad, "-1 0\n0 x\n1 0\n").unwrap();
-    match Tabulated::from_file(&bad) {
+    match bath_file::read(&bad) {
         Err(BathError::Parse { line, .. }) => assert_eq!(line, 2),
         other => panic!("expected a parse error, got {other:?}"),
     }
     assert!(matches!(
-        Tabulated::from_file(&dir.join("missing.csv")),
+        bath_file::read(&dir.join("missing.csv")),
         Err(BathError::Io { .. })
     ));
     assert!(matches!(
@@ -515,8 +516,7 @@ fn tabulated_bath_with_mass_ratio_alpha_gives_the_table() {
             mass: 0.6,
             restitution: 0.6,
             bath: BathConfig::Tabulated {
-                file: None,
-                points: Some(pts.clone()),
+                points: pts.iter().map(|p| (p[0], p[1])).collect(),
             },
             histogram_max: Some(3.0),
             histogram_bins: 60,

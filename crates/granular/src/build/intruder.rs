@@ -8,9 +8,9 @@ use serde::{Deserialize, Serialize};
 use crate::engine::{Engine, EngineError, Progress};
 use crate::intruder::dsmc_twin::DsmcTwin;
 use crate::intruder::theory::{martin_piasecki_ratio, power_law_exact_case};
-use crate::intruder::{BathConfig, Intruder1d, Needle};
+use crate::intruder::{Intruder1d, Needle};
 use crate::observation::Observation;
-use crate::scenario::{IntruderSpec, Scenario};
+use crate::scenario::{BathTable, IntruderSpec, Scenario};
 
 /// One of the intruder engines (the `model` of `[intruder]`).
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -39,13 +39,17 @@ macro_rules! each_model {
 pub fn build(scenario: &Scenario) -> Result<IntruderEngine, String> {
     let seed = scenario.seed;
     match &scenario.intruder {
-        Some(IntruderSpec::OneD(c)) => Intruder1d::new(c, seed)
+        Some(IntruderSpec::OneD(c)) => c
+            .config()
+            .and_then(|c| Intruder1d::new(&c, seed))
             .map(IntruderEngine::OneD)
             .map_err(|e| e.to_string()),
-        Some(IntruderSpec::Needle(c)) => Needle::new(c, seed)
+        Some(IntruderSpec::Needle(c)) => Needle::new(&c.config(), seed)
             .map(IntruderEngine::Needle)
             .map_err(|e| e.to_string()),
-        Some(IntruderSpec::DsmcTwin(c)) => DsmcTwin::new(c, seed)
+        Some(IntruderSpec::DsmcTwin(c)) => c
+            .config()
+            .and_then(|c| DsmcTwin::new(&c, seed))
             .map(IntruderEngine::DsmcTwin)
             .map_err(|e| e.to_string()),
         None => Err("engine = \"intruder\" needs an [intruder] table".into()),
@@ -117,7 +121,7 @@ impl Engine for IntruderEngine {
 pub fn theory_ratio(spec: &IntruderSpec) -> Option<(f64, &'static str)> {
     let c = spec.one_d()?;
     match c.bath {
-        BathConfig::Gaussian { .. } => Some((
+        BathTable::Gaussian { .. } => Some((
             martin_piasecki_ratio(c.restitution, c.mass, c.bath_mass),
             "Martin-Piasecki, Eq. 18: (1 + alpha)/(2 + (1 - alpha) m/M)",
         )),
@@ -141,7 +145,7 @@ pub fn automatic_values(scenario: &Scenario) -> Vec<(String, f64)> {
     };
     match &scenario.intruder {
         Some(IntruderSpec::Needle(c)) => {
-            if let Ok(n) = Needle::new(c, scenario.seed) {
+            if let Ok(n) = Needle::new(&c.config(), scenario.seed) {
                 add(c.sample_interval, "sample_interval", n.sample_interval());
                 add(c.transient, "transient", n.transient());
             }
@@ -149,7 +153,7 @@ pub fn automatic_values(scenario: &Scenario) -> Vec<(String, f64)> {
         Some(spec) => {
             // The twin resolves its defaults as the 1D engine of the same table does.
             if let Some(c) = spec.one_d()
-                && let Ok(e) = Intruder1d::new(c, scenario.seed)
+                && let Ok(e) = c.config().and_then(|c| Intruder1d::new(&c, scenario.seed))
             {
                 add(c.sample_interval, "sample_interval", e.sample_interval());
                 add(c.transient, "transient", e.transient());

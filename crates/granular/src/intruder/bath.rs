@@ -8,7 +8,6 @@
 //! that the intruder catches up with on its right; [`Side::Left`] is "-" (G-6).
 
 use std::f64::consts::{FRAC_1_SQRT_2, FRAC_2_SQRT_PI, PI, SQRT_2};
-use std::path::Path;
 
 use rand::Rng;
 use serde::{Deserialize, Serialize};
@@ -696,6 +695,11 @@ impl Table {
     }
 }
 
+/// Largest magnitude of a velocity or density of a tabulated bath: the moments `v^2 f`
+/// and `v^3 f` of the table stay finite. The same bound as the scenario format's
+/// `MAGNITUDE` for every dimensional number (a test checks that they agree).
+pub const MAX_TABLE_MAGNITUDE: f64 = 1e100;
+
 /// A bath density given by points `(v_k, f_k)`, linear in between, zero outside
 /// `[v_0, v_n]`, normalised to unit integral. A breakpoint at `v = 0` is inserted if needed.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -707,7 +711,7 @@ pub struct Tabulated {
 
 impl Tabulated {
     /// Builds the table; errors if the points are unsorted, negative, too few, of zero
-    /// integral, or beyond `1e100` in magnitude ([`crate::scenario::MAGNITUDE`]).
+    /// integral, or beyond [`MAX_TABLE_MAGNITUDE`] in magnitude.
     pub fn new(points: &[(f64, f64)]) -> Result<Self, BathError> {
         if points.len() < 2 {
             return Err(BathError::Invalid("need at least two points".into()));
@@ -718,7 +722,7 @@ impl Tabulated {
                     "point {i}: velocity must be finite and density finite and >= 0, got ({v}, {f})"
                 )));
             }
-            let big = crate::scenario::MAGNITUDE;
+            let big = MAX_TABLE_MAGNITUDE;
             if v.abs() > big || f > big {
                 return Err(BathError::Invalid(format!(
                     "point {i}: ({v:e}, {f:e}) lies outside the range the engine can integrate (velocities between -1e100 and 1e100, densities at most 1e100, so that the moments v^2 f and v^3 f of the table stay finite); rescale the table to units in which the bath's speeds are of order 1"
@@ -759,56 +763,6 @@ impl Tabulated {
             f.iter().rev().copied().collect(),
         );
         Ok(Self { pos, neg })
-    }
-
-    /// Parses a two-column table (`v f` per line, separated by whitespace, comma or
-    /// semicolon; `#` starts a comment; a non-numeric first line is taken as a header).
-    pub fn parse(text: &str, origin: &str) -> Result<Self, BathError> {
-        let mut points = Vec::new();
-        for (i, line) in text.lines().enumerate() {
-            let line = line.split('#').next().unwrap_or("").trim();
-            if line.is_empty() {
-                continue;
-            }
-            let fields: Vec<&str> = line
-                .split(|c: char| c == ',' || c == ';' || c.is_whitespace())
-                .filter(|s| !s.is_empty())
-                .collect();
-            let parsed: Vec<Result<f64, _>> = fields.iter().map(|s| s.parse::<f64>()).collect();
-            if points.is_empty() && parsed.iter().any(|p| p.is_err()) {
-                continue; // header
-            }
-            if fields.len() != 2 {
-                return Err(BathError::Parse {
-                    path: origin.into(),
-                    line: i + 1,
-                    message: format!("expected two columns (v, f), found {}", fields.len()),
-                });
-            }
-            match (&parsed[0], &parsed[1]) {
-                (Ok(v), Ok(f)) => points.push((*v, *f)),
-                _ => {
-                    return Err(BathError::Parse {
-                        path: origin.into(),
-                        line: i + 1,
-                        message: format!("not a number in {line:?}"),
-                    });
-                }
-            }
-        }
-        Self::new(&points).map_err(|e| match e {
-            BathError::Invalid(m) => BathError::Invalid(format!("{origin}: {m}")),
-            other => other,
-        })
-    }
-
-    /// Reads a two-column text/CSV file (see [`Tabulated::parse`]).
-    pub fn from_file(path: &Path) -> Result<Self, BathError> {
-        let text = std::fs::read_to_string(path).map_err(|source| BathError::Io {
-            path: path.display().to_string(),
-            source,
-        })?;
-        Self::parse(&text, &path.display().to_string())
     }
 
     /// Support `[v_min, v_max]`.
@@ -864,9 +818,9 @@ impl BathDistribution for Tabulated {
 // Configuration and the closed set of baths
 // ---------------------------------------------------------------------------------------
 
-/// Bath velocity distribution as written in a scenario (`[intruder.bath]`).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+/// Bath velocity distribution of an intruder engine (the scenario's `[intruder.bath]`
+/// table is read into it by `scenario::BathTable`).
+#[derive(Clone, Debug, PartialEq)]
 pub enum BathConfig {
     /// Gaussian, G-14, `a = m / (2 T_B)`.
     Gaussian {
@@ -878,14 +832,11 @@ pub enum BathConfig {
         /// Bath temperature `T_B = m <v^2>` (energy units, `k_B = 1`).
         temperature: f64,
     },
-    /// Piecewise-linear density through the given points, normalised.
+    /// Piecewise-linear density through the points `(v, f)` (velocity units, density in
+    /// 1/velocity), normalised ([`Tabulated::new`]).
     Tabulated {
-        /// Two-column text/CSV file `v f` (velocity units, density in 1/velocity).
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        file: Option<String>,
-        /// Inline points `[[v, f], ...]`, used when `file` is absent.
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        points: Option<Vec<[f64; 2]>>,
+        /// The points, velocities increasing.
+        points: Vec<(f64, f64)>,
     },
 }
 
@@ -908,9 +859,8 @@ pub enum Bath {
 }
 
 impl BathConfig {
-    /// Builds the bath for bath particles of mass `m`; relative file paths are resolved
-    /// against `base_dir`.
-    pub fn build(&self, m: f64, base_dir: Option<&Path>) -> Result<Bath, BathError> {
+    /// Builds the bath for bath particles of mass `m`.
+    pub fn build(&self, m: f64) -> Result<Bath, BathError> {
         Ok(match self {
             BathConfig::Gaussian { temperature } => {
                 Bath::Gaussian(Gaussian::with_temperature(*temperature, m)?)
@@ -918,25 +868,7 @@ impl BathConfig {
             BathConfig::PowerLaw { temperature } => {
                 Bath::PowerLaw(PowerLaw::with_temperature(*temperature, m)?)
             }
-            BathConfig::Tabulated { file, points } => match (file, points) {
-                (Some(f), _) => {
-                    let p = Path::new(f);
-                    let full = match base_dir {
-                        Some(b) if p.is_relative() => b.join(p),
-                        _ => p.to_path_buf(),
-                    };
-                    Bath::Tabulated(Box::new(Tabulated::from_file(&full)?))
-                }
-                (None, Some(pts)) => {
-                    let pts: Vec<(f64, f64)> = pts.iter().map(|p| (p[0], p[1])).collect();
-                    Bath::Tabulated(Box::new(Tabulated::new(&pts)?))
-                }
-                (None, None) => {
-                    return Err(BathError::Parameter(
-                        "a tabulated bath needs `file` or `points`".into(),
-                    ));
-                }
-            },
+            BathConfig::Tabulated { points } => Bath::Tabulated(Box::new(Tabulated::new(points)?)),
         })
     }
 }
@@ -1058,9 +990,7 @@ mod tests {
     }
 
     #[test]
-    fn bath_config_rejects_unknown_fields() {
-        let ok: BathConfig = toml::from_str("kind = \"power-law\"\ntemperature = 2.0").unwrap();
-        assert_eq!(ok, BathConfig::PowerLaw { temperature: 2.0 });
-        assert!(toml::from_str::<BathConfig>("kind = \"gaussian\"\ntemp = 1.0").is_err());
+    fn table_bound_is_the_scenario_bound() {
+        assert_eq!(MAX_TABLE_MAGNITUDE, crate::scenario::MAGNITUDE);
     }
 }

@@ -28,9 +28,10 @@ use crate::observation::Observation;
 use crate::random::{DYNAMICS, INITIAL_STATE, RngExt, Stream, stream};
 use crate::stats::Histogram;
 
-/// Configuration of the DSMC twin: the 1D intruder's parameters plus the bath sample size.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+/// Configuration of the DSMC twin: the 1D intruder's parameters plus the bath sample size
+/// (the scenario's `[intruder]` table with `model = "dsmc-twin"`, read by
+/// `scenario::DsmcTwinTable`).
+#[derive(Clone, Debug, PartialEq)]
 pub struct DsmcTwinConfig {
     /// The physical system (same fields as the Gillespie 1D intruder; `method` is ignored).
     pub intruder: Intruder1dConfig,

@@ -2,8 +2,11 @@
 //!
 //! * [`npz`]: NumPy `.npy` / `.npz` arrays, including whole [`crate::engine::Snapshot`]s.
 //! * [`number`]: numbers for the terminal and `log.txt` ([`format_number`]).
+//! * [`trajectory_format`]: the names of the trajectory formats ([`TrajectoryFormat`]).
 
 pub mod npz;
 pub mod number;
+pub mod trajectory_format;
 
 pub use number::format_number;
+pub use trajectory_format::TrajectoryFormat;

@@ -20,7 +20,7 @@ mod tables;
 mod validate;
 
 pub use driving::{DrivingKind, DrivingSpec};
-pub use intruder::IntruderSpec;
+pub use intruder::{BathTable, DsmcTwinTable, IntruderSpec, NeedleTable, OneDTable, bath_file};
 pub use overrides::apply_override;
 pub use preflight::{
     Cost, EDMD_EVENTS_PER_COLLISION, FALLBACK_MEMORY, MAX_BYTES, MAX_COLLISIONS, MAX_OUTPUTS,
@@ -555,7 +555,7 @@ pub struct OutputSpec {
     /// Trajectory formats written at every snapshot (`trajectory/`): any of `"xyz"`,
     /// `"lammps"`, `"gsd"`, `"vtk"`; empty: none.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub trajectory: Vec<crate::trajectory::Format>,
+    pub trajectory: Vec<crate::output::TrajectoryFormat>,
     /// Spacing of the output times: `"linear"` (every `interval`) or `"log"` (the first
     /// at `interval`, then `per_decade` per decade of time).
     #[serde(default)]

@@ -7,9 +7,8 @@
 //! `docs/scenario.md`.
 
 use super::validate::num;
-use super::{EngineKind, IntruderSpec, Scenario, ScenarioError, VelocitySpec};
+use super::{BathTable, EngineKind, IntruderSpec, Scenario, ScenarioError, VelocitySpec};
 use crate::boundary::AxisKind;
-use crate::intruder::BathConfig;
 
 /// Most outputs (rows of `timeseries.csv`) a run may write.
 pub const MAX_OUTPUTS: f64 = 1e6;
@@ -592,10 +591,10 @@ fn intruder_cost(sc: &Scenario) -> Cost {
         }
         Some(spec) => match spec.one_d() {
             Some(c) => match &c.bath {
-                BathConfig::Gaussian { temperature } | BathConfig::PowerLaw { temperature } => {
+                BathTable::Gaussian { temperature } | BathTable::PowerLaw { temperature } => {
                     c.bath_density * mean_speed(*temperature, c.bath_mass)
                 }
-                BathConfig::Tabulated { .. } => f64::NAN,
+                BathTable::Tabulated { .. } => f64::NAN,
             },
             None => f64::NAN,
         },

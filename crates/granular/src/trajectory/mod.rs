@@ -26,52 +26,7 @@ use crate::engine::Snapshot;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
-/// A trajectory format (`[output] trajectory`, `granular export --format`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Format {
-    /// Extended XYZ, `trajectory/trajectory.xyz`.
-    Xyz,
-    /// LAMMPS text dump, `trajectory/trajectory.lammpstrj`.
-    Lammps,
-    /// GSD (HOOMD schema), `trajectory/trajectory.gsd`.
-    Gsd,
-    /// VTK PolyData, `trajectory/vtp/snapshot_NNNNNN.vtp` indexed by `trajectory/trajectory.pvd`.
-    Vtk,
-}
-
-impl Format {
-    /// Every format, in the order of the documentation.
-    pub const ALL: [Format; 4] = [Format::Xyz, Format::Lammps, Format::Gsd, Format::Vtk];
-
-    /// The name in scenario files and on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            Format::Xyz => "xyz",
-            Format::Lammps => "lammps",
-            Format::Gsd => "gsd",
-            Format::Vtk => "vtk",
-        }
-    }
-
-    /// The format named `s` (`"xyz"`, `"lammps"`, `"gsd"`, `"vtk"`).
-    pub fn parse(s: &str) -> Result<Format, String> {
-        Format::ALL
-            .into_iter()
-            .find(|f| f.name() == s.trim())
-            .ok_or_else(|| format!("unknown trajectory format `{s}`; use xyz, lammps, gsd or vtk"))
-    }
-
-    /// The file (relative to the trajectory folder) a viewer opens.
-    pub fn file_name(self) -> &'static str {
-        match self {
-            Format::Xyz => "trajectory.xyz",
-            Format::Lammps => "trajectory.lammpstrj",
-            Format::Gsd => "trajectory.gsd",
-            Format::Vtk => "trajectory.pvd",
-        }
-    }
-}
+pub use crate::output::TrajectoryFormat as Format;
 
 /// The simulation box as the trajectory formats see it: `[0, L_k]` along each axis, periodic
 /// or walled.

@@ -6,10 +6,10 @@
 
 use super::Output;
 use crate::averaging::Blocking;
-use crate::intruder::BathConfig;
 use crate::observation::{Observation, Rates};
 use crate::run::summary::{AverageValue, AveragesSummary};
 use crate::run::{AnyEngine, RunError, Summary};
+use crate::scenario::BathTable;
 use crate::simulation::Simulation;
 use serde::{Deserialize, Serialize};
 
@@ -157,7 +157,7 @@ impl Output for Averages {
             .intruder
             .as_ref()
             .and_then(|s| s.one_d())
-            .is_some_and(|c| matches!(c.bath, BathConfig::PowerLaw { .. }));
+            .is_some_and(|c| matches!(c.bath, BathTable::PowerLaw { .. }));
         let equilibration = rule(simulation).1;
         let observables = self
             .names

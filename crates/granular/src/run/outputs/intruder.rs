@@ -5,11 +5,11 @@
 
 use super::Output;
 use crate::build::intruder::{IntruderEngine, theory_ratio};
-use crate::intruder::BathConfig;
 use crate::observation::Observation;
 use crate::output::npz::{NpzArray, write_npz};
 use crate::run::summary::IntruderSummary;
 use crate::run::{AnyEngine, RunError, Summary, io_err};
+use crate::scenario::BathTable;
 use crate::scenario::IntruderSpec;
 use crate::simulation::Simulation;
 use crate::stats::Histogram;
@@ -121,7 +121,7 @@ fn write_statistics(
             let theory = theory_ratio(spec);
             let (sd, reference) = match theory {
                 Some((r, _))
-                    if matches!(cfg.map(|c| &c.bath), Some(BathConfig::Gaussian { .. })) =>
+                    if matches!(cfg.map(|c| &c.bath), Some(BathTable::Gaussian { .. })) =>
                 {
                     ((r * bath_temperature / mass).sqrt(), "gaussian_eq18")
                 }

@@ -1,35 +1,40 @@
 //! `[intruder]`: the Gillespie intruder engine in the scenario format (`engine = "intruder"`).
 //!
-//! The table names the model and then holds the fields of that model's library
-//! configuration, flat and with unknown keys rejected:
+//! The table names the model and then holds the fields of that model, flat and with
+//! unknown keys rejected ([`tables`]); they are read into the engines' plain
+//! configurations by [`OneDTable::config`] and the like (a tabulated bath's file is read
+//! then, [`bath_file`]):
 //!
-//! * `model = "1d"`: [`Intruder1dConfig`] (the 1D intruder, G-8 to G-17 of the Gillespie
+//! * `model = "1d"`: [`OneDTable`] (the 1D intruder, G-8 to G-17 of the Gillespie
 //!   intruder paper; G-18 checks it in a Gaussian bath);
-//! * `model = "needle"`: [`NeedleConfig`] (the 2D needle, G-20 to G-30);
-//! * `model = "dsmc-twin"`: the fields of [`Intruder1dConfig`] plus `bath_particles`
-//!   ([`DsmcTwinConfig`], section 4 of the paper).
+//! * `model = "needle"`: [`NeedleTable`] (the 2D needle, G-20 to G-30);
+//! * `model = "dsmc-twin"`: the fields of [`OneDTable`] plus `bath_particles`
+//!   ([`DsmcTwinTable`], section 4 of the paper).
 //!
 //! The grain tables (`[box]`, `[[species]]`, `[initial]`, `[collisions]`) do not apply.
+
+pub mod bath_file;
+pub mod tables;
+
+pub use tables::{BathTable, DsmcTwinTable, NeedleTable, OneDTable};
 
 use serde::de::Error as _;
 use serde::ser::Error as _;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 use super::{Scenario, ScenarioError};
-use crate::intruder::dsmc_twin::DsmcTwinConfig;
 use crate::intruder::needle::NeedleParams;
 use crate::intruder::one_d::Intruder1dParams;
-use crate::intruder::{BathConfig, Intruder1dConfig, NeedleConfig};
 
 /// The `[intruder]` table: which model, with that model's configuration.
 #[derive(Clone, Debug, PartialEq)]
 pub enum IntruderSpec {
     /// `model = "1d"`: one-dimensional intruder (section 3.1).
-    OneD(Intruder1dConfig),
+    OneD(OneDTable),
     /// `model = "needle"`: two-dimensional needle (section 3.2).
-    Needle(NeedleConfig),
+    Needle(NeedleTable),
     /// `model = "dsmc-twin"`: DSMC version of the 1D intruder (section 4).
-    DsmcTwin(DsmcTwinConfig),
+    DsmcTwin(DsmcTwinTable),
 }
 
 /// The accepted `model` values.
@@ -54,8 +59,8 @@ impl IntruderSpec {
         }
     }
 
-    /// The 1D system (for the `1d` and `dsmc-twin` models).
-    pub fn one_d(&self) -> Option<&Intruder1dConfig> {
+    /// The 1D system's table (for the `1d` and `dsmc-twin` models).
+    pub fn one_d(&self) -> Option<&OneDTable> {
         match self {
             IntruderSpec::OneD(c) => Some(c),
             IntruderSpec::DsmcTwin(c) => Some(&c.intruder),
@@ -72,7 +77,7 @@ impl IntruderSpec {
             IntruderSpec::DsmcTwin(c) => &mut c.intruder,
             IntruderSpec::Needle(_) => return,
         };
-        if let BathConfig::Tabulated { file: Some(f), .. } = &mut cfg.bath
+        if let BathTable::Tabulated { file: Some(f), .. } = &mut cfg.bath
             && std::path::Path::new(f.as_str()).is_relative()
         {
             *f = base.join(&*f).to_string_lossy().into_owned();
@@ -123,15 +128,15 @@ impl<'de> Deserialize<'de> for IntruderSpec {
             D::Error::custom(format!("{msg} (in [intruder], model = \"{model}\")"))
         };
         match model.as_str() {
-            "1d" => Intruder1dConfig::deserialize(table)
+            "1d" => OneDTable::deserialize(table)
                 .map(IntruderSpec::OneD)
                 .map_err(wrap),
-            "needle" => NeedleConfig::deserialize(table)
+            "needle" => NeedleTable::deserialize(table)
                 .map(IntruderSpec::Needle)
                 .map_err(wrap),
             "dsmc-twin" => {
                 let bath_particles = match table.remove("bath_particles") {
-                    None => DsmcTwinConfig::default().bath_particles,
+                    None => DsmcTwinTable::default().bath_particles,
                     Some(toml::Value::Integer(n)) if n >= 1 => n as usize,
                     Some(other) => {
                         return Err(D::Error::custom(format!(
@@ -139,8 +144,8 @@ impl<'de> Deserialize<'de> for IntruderSpec {
                         )));
                     }
                 };
-                let intruder = Intruder1dConfig::deserialize(table).map_err(wrap)?;
-                Ok(IntruderSpec::DsmcTwin(DsmcTwinConfig {
+                let intruder = OneDTable::deserialize(table).map_err(wrap)?;
+                Ok(IntruderSpec::DsmcTwin(DsmcTwinTable {
                     intruder,
                     bath_particles,
                 }))
@@ -209,7 +214,7 @@ fn grid(
     Ok(())
 }
 
-fn validate_1d(c: &Intruder1dConfig) -> Result<(), ScenarioError> {
+fn validate_1d(c: &OneDTable) -> Result<(), ScenarioError> {
     positive("mass", c.mass, "the intruder mass M")?;
     positive("bath_mass", c.bath_mass, "the bath particle mass m")?;
     positive("bath_density", c.bath_density, "the bath density rho")?;
@@ -225,10 +230,10 @@ fn validate_1d(c: &Intruder1dConfig) -> Result<(), ScenarioError> {
     }
     grid(c.sample_interval, c.transient, c.histogram_bins)?;
     match &c.bath {
-        BathConfig::Gaussian { temperature } | BathConfig::PowerLaw { temperature } => {
+        BathTable::Gaussian { temperature } | BathTable::PowerLaw { temperature } => {
             positive("bath.temperature", *temperature, "the bath temperature T_B")?;
         }
-        BathConfig::Tabulated { file, points } => {
+        BathTable::Tabulated { file, points } => {
             if file.is_some() && points.is_some() {
                 return Err(err(
                     "bath",
@@ -245,20 +250,22 @@ fn validate_1d(c: &Intruder1dConfig) -> Result<(), ScenarioError> {
     }
     // Everything else (tabulated points, files given by absolute path) by the engine's
     // own constructor; relative files are checked when the run starts.
-    let relative_file = matches!(&c.bath, BathConfig::Tabulated { file: Some(f), .. }
+    let relative_file = matches!(&c.bath, BathTable::Tabulated { file: Some(f), .. }
         if std::path::Path::new(f.as_str()).is_relative());
     if !relative_file {
-        Intruder1dParams::new(c).map_err(|e| {
-            err(
-                "bath",
-                format!("{e}; fix the bath description (docs/scenario.md, [intruder])"),
-            )
-        })?;
+        c.config()
+            .and_then(|c| Intruder1dParams::new(&c))
+            .map_err(|e| {
+                err(
+                    "bath",
+                    format!("{e}; fix the bath description (docs/scenario.md, [intruder])"),
+                )
+            })?;
     }
     Ok(())
 }
 
-fn validate_needle(c: &NeedleConfig) -> Result<(), ScenarioError> {
+fn validate_needle(c: &NeedleTable) -> Result<(), ScenarioError> {
     positive("mass", c.mass, "the needle mass M")?;
     positive("bath_mass", c.bath_mass, "the bath particle mass m")?;
     positive("length", c.length, "the needle length L")?;
@@ -283,7 +290,8 @@ fn validate_needle(c: &NeedleConfig) -> Result<(), ScenarioError> {
     )?;
     restitution(c.restitution)?;
     grid(c.sample_interval, c.transient, c.histogram_bins)?;
-    NeedleParams::new(c).map_err(|e| err("model", format!("{e}; fix that field of [intruder]")))?;
+    NeedleParams::new(&c.config())
+        .map_err(|e| err("model", format!("{e}; fix that field of [intruder]")))?;
     Ok(())
 }
 
