@@ -1,10 +1,16 @@
 //! The collision law every engine calls: the pair impulse with normal restitution (HD-11),
 //! the wall law with normal and tangential restitution (HD-3, HD-4), and the TC rule
-//! against inelastic collapse (section 2.3 of the hard-disk seed) with its counter.
+//! against inelastic collapse (section 2.3 of the hard-disk seed) with its counter; for
+//! rough (spinning) grains the rule on the velocity of the contact point with normal and
+//! tangential restitution (RS-1, [`rough`]).
 //!
 //! The event-driven engine resolves a collision at its exact contact; DSMC at the end of
 //! its free flight (walls) or of its time step (pairs). Both call the functions below, so
 //! that the same scenario applies the same law in both.
+
+pub mod rough;
+
+pub use rough::{Body, Spin, Tangential};
 
 use crate::vector::Vector;
 use serde::{Deserialize, Serialize};
@@ -24,12 +30,29 @@ pub struct CollisionLaw {
     pub wall_restitution: f64,
     /// Factor applied to the wall-tangential components in a wall collision
     /// (`v_t' = e_t v_t`). The seed's HD-3 and HD-4 multiply them by ξ too (so that with
-    /// ξ = 0 a grain stops dead, test B.1); set it to 1 for smooth walls.
+    /// ξ = 0 a grain stops dead, test B.1); set it to 1 for smooth walls. For rough grains
+    /// it multiplies the tangential velocity of the contact point instead (RS-1 at a wall
+    /// with `β_w = -e_t`), which is the same thing for a grain that does not spin.
     pub wall_tangential_restitution: f64,
     /// Contact duration `t_c` of the TC model (section 2.3 of the hard-disk seed, Luding and
     /// McNamara 1998): a collision of a grain less than `t_c` after its previous collision is
     /// elastic. Zero disables the model.
     pub contact_duration: f64,
+    /// Tangential restitution β of grain-grain collisions, `-1 <= β <= 1` (RS-1): the
+    /// tangential velocity of the contact point becomes `-β` times itself. `-1` (the
+    /// default) is smooth grains, which never spin; `+1` perfectly rough. With
+    /// [`Self::friction`] it is Walton's sticking value `β₀`.
+    #[serde(skip_serializing_if = "is_smooth")]
+    pub tangential_restitution: f64,
+    /// Coulomb friction coefficient μ of Walton's rule (RS-7): the tangential impulse is at
+    /// most μ times the normal one, so that β depends on the angle of impact. `None`: the
+    /// constant β of [`Self::tangential_restitution`].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub friction: Option<f64>,
+}
+
+fn is_smooth(beta: &f64) -> bool {
+    *beta == -1.0
 }
 
 impl Default for CollisionLaw {
@@ -39,6 +62,8 @@ impl Default for CollisionLaw {
             wall_restitution: 1.0,
             wall_tangential_restitution: 1.0,
             contact_duration: 0.0,
+            tangential_restitution: -1.0,
+            friction: None,
         }
     }
 }
@@ -51,14 +76,81 @@ impl CollisionLaw {
             wall_restitution: restitution,
             wall_tangential_restitution: restitution,
             contact_duration: 0.0,
+            tangential_restitution: -1.0,
+            friction: None,
         }
     }
 
-    /// Whether every collision is elastic.
+    /// Whether every collision conserves the total (translational plus rotational)
+    /// energy: `ξ = 1` with smooth walls, and for rough grains `β = ±1` without friction
+    /// and `e_t = ±1` at the walls.
     pub fn is_elastic(&self) -> bool {
+        if self.is_rough() {
+            self.restitution == 1.0
+                && self.friction.is_none()
+                && self.tangential_restitution.abs() == 1.0
+                && self.wall_restitution == 1.0
+                && self.wall_tangential_restitution.abs() == 1.0
+        } else {
+            self.restitution == 1.0
+                && self.wall_restitution == 1.0
+                && self.wall_tangential_restitution == 1.0
+        }
+    }
+
+    /// Whether grains are rough (they spin, and collisions exchange translational and
+    /// rotational energy): `β > -1` or a friction coefficient. Smooth grains carry no
+    /// angular velocities and no engine does any rotational work for them.
+    pub fn is_rough(&self) -> bool {
+        self.tangential_restitution != -1.0 || self.friction.is_some()
+    }
+
+    /// The tangential law of a grain-grain collision at restitution `beta` (the constant
+    /// β of RS-1, or Walton's rule RS-7 with sticking value `beta`).
+    #[inline(always)]
+    pub fn tangential(&self, beta: f64) -> Tangential {
+        match self.friction {
+            None => Tangential::Constant(beta),
+            Some(friction) => Tangential::Coulomb {
+                friction,
+                sticking: beta,
+            },
+        }
+    }
+
+    /// The TC rule with its counter for a collision of rough grains at `now` whose
+    /// previous collisions happened at `last` (empty without the TC model): the normal
+    /// restitution and the tangential law, or `(1, smooth)` within `t_c` of a previous
+    /// collision: an elastic collision of smooth grains, which neither dissipates energy
+    /// nor exchanges it between translation and rotation (McNamara and Luding, Phys. Rev.
+    /// E 58, 2247 (1998)). A collision so made elastic that would otherwise have lost
+    /// energy adds one to `tc_elastic`.
+    #[inline(always)]
+    pub fn rough_pair_now(
+        &self,
+        now: f64,
+        last: &[f64],
+        tc_elastic: &mut u64,
+    ) -> (f64, Tangential) {
+        if self.contact_duration > 0.0 && last.iter().any(|&t| now - t < self.contact_duration) {
+            if !self.is_elastic_pair() {
+                *tc_elastic += 1;
+            }
+            (1.0, Tangential::Constant(-1.0))
+        } else {
+            (
+                self.restitution,
+                self.tangential(self.tangential_restitution),
+            )
+        }
+    }
+
+    /// Whether a grain-grain collision conserves energy (`ξ = 1`, and `β = ±1` without
+    /// friction for rough grains).
+    fn is_elastic_pair(&self) -> bool {
         self.restitution == 1.0
-            && self.wall_restitution == 1.0
-            && self.wall_tangential_restitution == 1.0
+            && (!self.is_rough()
+                || (self.friction.is_none() && self.tangential_restitution.abs() == 1.0))
     }
 
     /// Whether the TC model is on (`contact_duration > 0`): the engines then keep every
@@ -141,6 +233,31 @@ impl WallRestitution {
         }
         out
     }
+
+    /// A wall collision of a rough grain (`body`, velocity `v`, spin `w`) with the wall
+    /// perpendicular to `axis` on its `upper` (coordinate `L`) or lower side: RS-1 at a
+    /// wall with `α_w` the normal factor and `β_w = -e_t` (the tangential factor
+    /// multiplies the velocity of the contact point). Returns the energy dissipated.
+    #[inline]
+    pub fn apply_rough<const D: usize>(
+        &self,
+        axis: usize,
+        upper: bool,
+        body: &Body,
+        v: &mut Vector<D>,
+        w: &mut Spin,
+    ) -> f64 {
+        let mut n = Vector::<D>::zero();
+        n[axis] = if upper { 1.0 } else { -1.0 };
+        rough::collide_wall(
+            self.normal,
+            Tangential::Constant(-self.tangential),
+            &n,
+            body,
+            v,
+            w,
+        )
+    }
 }
 
 /// The change of the normal relative velocity in a pair collision with restitution `xi`
@@ -182,6 +299,51 @@ mod tests {
         };
         assert_eq!(elastic.pair_restitution(1.0, &[0.9, 0.9], &mut m), 1.0);
         assert_eq!(m, 0);
+    }
+
+    /// The TC rule for rough grains: within `t_c` a collision is elastic and smooth
+    /// (`α = 1`, `β = -1`), counted when it would otherwise have lost energy.
+    #[test]
+    fn tc_rule_makes_rough_collisions_elastic_and_smooth() {
+        let law = CollisionLaw {
+            contact_duration: 0.5,
+            tangential_restitution: 0.4,
+            ..CollisionLaw::uniform(0.8)
+        };
+        assert!(law.is_rough() && !law.is_elastic());
+        let mut n = 0;
+        assert_eq!(
+            law.rough_pair_now(1.0, &[0.0, 0.2], &mut n),
+            (0.8, Tangential::Constant(0.4))
+        );
+        assert_eq!(n, 0);
+        assert_eq!(
+            law.rough_pair_now(1.0, &[0.7, 0.0], &mut n),
+            (1.0, Tangential::Constant(-1.0))
+        );
+        assert_eq!(n, 1);
+        // Elastic perfectly rough grains lose nothing: not counted.
+        let rough_elastic = CollisionLaw {
+            contact_duration: 0.5,
+            tangential_restitution: 1.0,
+            ..CollisionLaw::default()
+        };
+        assert!(rough_elastic.is_elastic());
+        rough_elastic.rough_pair_now(1.0, &[0.9], &mut n);
+        assert_eq!(n, 1);
+        // Walton's rule carries β as its sticking value.
+        let walton = CollisionLaw {
+            friction: Some(0.3),
+            ..law.clone()
+        };
+        assert_eq!(
+            walton.rough_pair_now(1.0, &[], &mut n).1,
+            Tangential::Coulomb {
+                friction: 0.3,
+                sticking: 0.4
+            }
+        );
+        assert!(!CollisionLaw::uniform(0.5).is_rough());
     }
 
     #[test]

@@ -146,6 +146,7 @@ fn both_engines_lose_the_expected_energy_at_walls() {
         wall_restitution: 0.8,
         wall_tangential_restitution: 0.3,
         contact_duration: 0.0,
+        ..CollisionLaw::default()
     };
     let bx = SimulationBox::<2> {
         lengths: Vector([1.0, 1.0]),

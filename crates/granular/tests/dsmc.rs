@@ -367,6 +367,7 @@ fn bitwise<const D: usize>() {
                 wall_restitution: 0.9,
                 wall_tangential_restitution: 0.95,
                 contact_duration: 1e-3,
+                ..CollisionLaw::default()
             },
             gravity: g,
             enskog: true,

@@ -177,6 +177,7 @@ pub fn fluid<const D: usize>(case: &FluidCase, seed: u64) -> Result<Edmd<D>, Ben
             wall_restitution: restitution,
             wall_tangential_restitution: 1.0,
             contact_duration: 1e-3 * e.mean_free_time_so_far(),
+            ..CollisionLaw::default()
         });
     }
     Ok(e)

@@ -475,6 +475,7 @@ impl CollisionSpec {
             wall_restitution: wall,
             wall_tangential_restitution: self.wall_tangential_restitution.unwrap_or(wall),
             contact_duration: self.contact_duration,
+            ..Default::default()
         }
     }
 }
