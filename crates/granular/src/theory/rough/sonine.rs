@@ -639,10 +639,10 @@ mod tests {
             }
         }
         let nf = samples as f64;
-        for p in 0..5 {
-            for t in 0..4 {
-                let mean = sums[p][t][0] / nf;
-                let err = ((sums[p][t][1] / nf - mean * mean) / nf).sqrt();
+        for (p, row) in sums.iter().enumerate() {
+            for (t, sum) in row.iter().enumerate() {
+                let mean = sum[0] / nf;
+                let err = ((sum[1] / nf - mean * mean) / nf).sqrt();
                 let exact = rates.rates[p][t].at(r) / MEAN_FLUX;
                 assert!(
                     (mean - exact).abs() < 4.0 * err + 1e-12,
