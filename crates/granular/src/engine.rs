@@ -9,10 +9,78 @@ use serde::{Deserialize, Serialize};
 pub enum EngineError {
     /// Inelastic collapse: events pile up in a vanishing time interval.
     #[error("{0}")]
-    Collapse(String),
+    Collapse(Box<Collapse>),
     /// The state became inconsistent (a bug or a numerical breakdown); the message says which.
     #[error("{0}")]
     Numerical(String),
+}
+
+/// An inelastic collapse, as the event-driven engine detects it: a window of `events`
+/// events advanced the time by only `elapsed` (grains collide ever faster in a shrinking
+/// cluster; `docs/edmd.md`, "Inelastic collapse").
+#[derive(Clone, Debug, PartialEq)]
+pub struct Collapse {
+    /// Time of the detection (the engine's absolute time).
+    pub time: f64,
+    /// Events of the window that detected it.
+    pub events: u64,
+    /// Time those events advanced.
+    pub elapsed: f64,
+    /// Restitution of the pair collisions.
+    pub restitution: f64,
+    /// Mean free time of a grain before the collapse began (measured up to two windows
+    /// before the one that detected it), time units.
+    pub mean_free_time: f64,
+    /// What would stop it.
+    pub remedy: CollapseRemedy,
+    /// The remedy in the words of the input that set the engine up (the scenario's keys),
+    /// added by that layer ([`Simulation`](crate::Simulation)); `None` from the engine.
+    pub advice: Option<String>,
+}
+
+/// What would stop an inelastic collapse. Collisions closer than the contact duration
+/// `t_c` of the TC model are elastic (section 2.3 of the hard-disk seed), so every remedy
+/// but the first trades some dissipation for stability.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CollapseRemedy {
+    /// Gravity presses grains onto a wall of restitution 0: a grain that lands keeps no
+    /// normal velocity and hits the wall again at zero intervals, which no TC model can
+    /// stop; a wall restitution above 0 does.
+    WallRestitutionAboveZero,
+    /// The TC model is on with `contact_duration` but too short: `advised` is ten times
+    /// longer (one taken from the mean free time could be shorter than the one that
+    /// failed, when the collapse has shrunk it).
+    LongerContactDuration {
+        /// The present `t_c`, time units.
+        contact_duration: f64,
+        /// Ten times `contact_duration`.
+        advised: f64,
+    },
+    /// The TC model is off: it would stop the collapse with the contact duration
+    /// `advised`, 10^-3 of the mean free time in a freely cooling gas and 0.1 of it under
+    /// gravity, where the grains come to rest in a bed that rattles ever faster (there
+    /// 10^-3 only delays the collapse until the bed forms; measured in `docs/edmd.md`).
+    EnableContactDuration {
+        /// The advised `t_c`, time units.
+        advised: f64,
+        /// Whether the grains are under gravity.
+        under_gravity: bool,
+    },
+}
+
+impl std::fmt::Display for Collapse {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "inelastic collapse at t = {:.6e}: the last {} events advanced the time by only \
+             {:.3e} (grains collide ever faster in a shrinking cluster; restitution {}).",
+            self.time, self.events, self.elapsed, self.restitution
+        )?;
+        if let Some(advice) = &self.advice {
+            write!(f, " {advice}")?;
+        }
+        Ok(())
+    }
 }
 
 /// How far a call to [`Engine::advance`] got.

@@ -360,7 +360,10 @@ impl Simulation {
     /// Advances towards `until`, processing at most `max_events` events: the step of a
     /// loop that does something between chunks (report progress, check for Ctrl-C).
     pub fn advance_chunk(&mut self, until: f64, max_events: u64) -> Result<Progress, EngineError> {
-        self.engine.as_engine().advance(until, max_events.max(1))
+        self.engine
+            .as_engine()
+            .advance(until, max_events.max(1))
+            .map_err(in_scenario_words)
     }
 
     /// The next time of the output grid (`(k + 1) × output.interval`, or its logarithmic
@@ -400,6 +403,7 @@ impl Simulation {
                 let progress = match self.engine.as_engine().advance(next, budget) {
                     Ok(p) => p,
                     Err(e) => {
+                        let e = in_scenario_words(e);
                         hooks.on_engine_error(self, &e);
                         return Err(e.into());
                     }
@@ -485,5 +489,17 @@ impl Simulation {
             f = f.max(self.wall_seconds() / w);
         }
         f.clamp(0.0, 1.0)
+    }
+}
+
+/// An engine's error as the user of a scenario reads it: an inelastic collapse with the
+/// advice in the scenario's keys ([`crate::scenario::advice`]).
+fn in_scenario_words(error: EngineError) -> EngineError {
+    match error {
+        EngineError::Collapse(mut collapse) => {
+            collapse.advice = Some(crate::scenario::advice::collapse(&collapse));
+            EngineError::Collapse(collapse)
+        }
+        other => other,
     }
 }

@@ -5,7 +5,7 @@ use granular::boundary::{AxisKind, SimulationBox};
 use granular::collision_law::CollisionLaw;
 use granular::edmd::init::{self, Region};
 use granular::edmd::{Edmd, EdmdOptions, ParticleSet};
-use granular::engine::{Engine, EngineError, Progress};
+use granular::engine::{CollapseRemedy, Engine, EngineError, Progress};
 use granular::random::stream;
 use granular::stats::{Histogram, RunningStats, batch_means, chi_square_test};
 use granular::theory::equilibrium;
@@ -413,7 +413,15 @@ fn collapsing_gas(contact_duration: f64) -> Result<u64, EngineError> {
 #[test]
 fn collapse_detector_fires_and_names_the_tc_model() {
     match collapsing_gas(0.0) {
-        Err(EngineError::Collapse(msg)) => assert!(msg.contains("contact_duration"), "{msg}"),
+        // The engine's judgement, typed: the TC model at 1e-3 of the mean free time (the
+        // scenario layer words it with `collisions.contact_duration`, unit-tested there).
+        Err(EngineError::Collapse(c)) => match c.remedy {
+            CollapseRemedy::EnableContactDuration {
+                advised,
+                under_gravity: false,
+            } => assert_eq!(advised, 1e-3 * c.mean_free_time, "{c:?}"),
+            _ => panic!("expected the TC model as the remedy: {c:?}"),
+        },
         other => panic!("expected a collapse, got {other:?}"),
     }
     // With the TC model the same gas runs on.
@@ -518,8 +526,8 @@ fn a_perfectly_inelastic_floor_is_named_as_the_cause() {
     );
     let mut e = Edmd::new(bx, grain, law, options);
     match e.advance(10.0, 1 << 20) {
-        Err(EngineError::Collapse(msg)) => {
-            assert!(msg.contains("collisions.wall_restitution above 0"), "{msg}")
+        Err(EngineError::Collapse(c)) => {
+            assert_eq!(c.remedy, CollapseRemedy::WallRestitutionAboveZero, "{c:?}")
         }
         other => panic!("expected the zero-interval wall collisions to be caught: {other:?}"),
     }

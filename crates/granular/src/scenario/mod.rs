@@ -7,6 +7,7 @@
 //! typed [`Scenario`] (serde, unknown keys rejected) → [`Scenario::validate`]. Every error
 //! names the key, the value, the line when it comes from the file, and the fix.
 
+pub(crate) mod advice;
 mod de;
 mod driving;
 mod intruder;

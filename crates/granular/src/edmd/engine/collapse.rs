@@ -1,8 +1,10 @@
 //! The inelastic-collapse detector: a window of events that advances the time by far
-//! less than those events would take at the typical collision rate.
+//! less than those events would take at the typical collision rate. A collapse is
+//! reported as typed data ([`Collapse`], with its [`CollapseRemedy`]); the scenario layer
+//! words the advice in its keys.
 
 use super::Edmd;
-use crate::engine::EngineError;
+use crate::engine::{Collapse, CollapseRemedy, EngineError};
 use serde::{Deserialize, Serialize};
 
 /// Inelastic-collapse detector state.
@@ -13,8 +15,8 @@ pub(super) struct CollapseWatch {
     /// Pair collisions and time since the start of the run at the starts of the last two
     /// windows (the earlier one first), for the mean free time before a collapse: the
     /// collapse's own collisions, in the window that detects it and perhaps the one before,
-    /// would shrink it by orders of magnitude. Only for the advice, so not in checkpoints:
-    /// the first windows after a resume fall back to the run's mean free time.
+    /// would shrink it by orders of magnitude. Only for the report of a collapse, so not in
+    /// checkpoints: the first windows after a resume fall back to the run's mean free time.
     #[serde(skip)]
     pub(super) starts: [Option<(u64, f64)>; 2],
 }
@@ -69,58 +71,45 @@ impl<const D: usize> Edmd<D> {
             } else {
                 2.0 * self.min_radius / v_typ
             };
-            return Err(EngineError::Collapse(format!(
-                "inelastic collapse at t = {:.6e}: the last {events} events advanced the time by \
-                 only {elapsed:.3e} (grains collide ever faster in a shrinking cluster; \
-                 restitution {}). {}",
-                self.origin + self.now,
-                self.law.restitution,
-                self.collapse_advice(tau),
-            )));
+            return Err(EngineError::Collapse(Box::new(Collapse {
+                time: self.origin + self.now,
+                events,
+                elapsed,
+                restitution: self.law.restitution,
+                mean_free_time: tau,
+                remedy: self.collapse_remedy(tau),
+                advice: None,
+            })));
         }
         Ok(())
     }
 
-    /// What to change after a collapse, given the mean free time `tau` before it. Without
-    /// the TC model: `t_c` = 10^-3 `tau` for a freely cooling gas, and 0.1 `tau` under
-    /// gravity, where the grains come to rest in a bed that rattles ever faster (there
-    /// 10^-3 `tau` only delays the collapse until the bed forms; measured in
-    /// `docs/edmd.md`). With the model on, ten times its `t_c`: one taken from `tau` could
-    /// be shorter than the `t_c` that failed, when the collapse has shrunk `tau`.
-    /// Collisions closer than `t_c` are elastic (section 2.3 of the hard-disk seed), so
-    /// every advice trades some dissipation for stability.
-    pub(super) fn collapse_advice(&self, tau: f64) -> String {
+    /// What would stop a collapse, given the mean free time `tau` before it
+    /// ([`CollapseRemedy`]): without the TC model `t_c` = 10^-3 `tau` for a freely cooling
+    /// gas, and 0.1 `tau` under gravity; with the model on, ten times its `t_c`; under
+    /// gravity towards a wall of restitution 0, a wall restitution above 0.
+    pub(super) fn collapse_remedy(&self, tau: f64) -> CollapseRemedy {
         let t_c = self.law.contact_duration;
         let falls_on_a_wall = (0..D).any(|k| self.gravity[k] != 0.0 && !self.bx.is_periodic(k));
         if falls_on_a_wall && self.law.wall_restitution == 0.0 {
             // A grain that lands keeps no normal velocity, gravity presses it into the wall
             // again at once, and an elastic reflection of nothing is nothing: no t_c helps.
-            "With collisions.wall_restitution = 0 under gravity, a grain that lands on a wall \
-             stops there and hits it again at zero intervals, which no TC model can stop: \
-             set collisions.wall_restitution above 0 (a landed grain then bounces ever lower \
-             until the TC model makes its bounces elastic)."
-                .to_string()
+            CollapseRemedy::WallRestitutionAboveZero
         } else if t_c > 0.0 {
-            format!(
-                "The TC model is on (t_c = {t_c}) but too short to stop it: set \
-                 collisions.contact_duration = {:.1e} (ten times longer; keep it well below \
-                 the mean free time of the grains in motion, since collisions closer than t_c \
-                 are elastic), or raise the restitution.",
-                10.0 * t_c
-            )
+            CollapseRemedy::LongerContactDuration {
+                contact_duration: t_c,
+                advised: 10.0 * t_c,
+            }
         } else if self.has_gravity {
-            format!(
-                "Enable the TC model: grains that come to rest under gravity need \
-                 collisions.contact_duration = {:.1e} (about 0.1 of the mean free time \
-                 {tau:.3e}; collisions closer than t_c are elastic), or raise the restitution.",
-                0.1 * tau
-            )
+            CollapseRemedy::EnableContactDuration {
+                advised: 0.1 * tau,
+                under_gravity: true,
+            }
         } else {
-            format!(
-                "Enable the TC model with collisions.contact_duration = {:.1e} (about 1e-3 of \
-                 the mean free time {tau:.3e}), or raise the restitution.",
-                1e-3 * tau
-            )
+            CollapseRemedy::EnableContactDuration {
+                advised: 1e-3 * tau,
+                under_gravity: false,
+            }
         }
     }
 }
