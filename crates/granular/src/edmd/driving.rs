@@ -16,10 +16,11 @@
 //! as `N` collisions, so a run takes about `1 / KICK_FRACTION` times longer than a free one.
 //! The kick of grain `id` at application `k` comes from the stream
 //! `(seed, [KICKS, k, id])`, as in DSMC: reproducible and independent of storage order.
+//!
+//! This module holds the driving's rule (the interval, the kicks); the engine applies it
+//! (`engine/drive.rs`: the stops of the event loop, the new velocities, the predictions).
 
-use super::engine::Edmd;
-use crate::driving::{Driving, DrivingState, GasTheory, KICKS, rescale_factor};
-use crate::engine::{Engine, EngineError, Progress};
+use crate::driving::{Driving, DrivingState, GasTheory, KICKS};
 use crate::random::{std_normal, stream};
 use crate::theory::haff;
 use crate::vector::Vector;
@@ -52,27 +53,19 @@ pub struct EdmdDriving {
     pub interval: f64,
 }
 
-impl<const D: usize> Edmd<D> {
-    /// Attaches a steady-state driving from now on (replacing any earlier one), with kick
-    /// streams under `seed` and `dt_kick` = [`KICK_FRACTION`] (white noise) or
-    /// [`RESCALE_FRACTION`] (rescale) of the Enskog mean free time at the state's
-    /// temperature ([`Edmd::gas_theory`]). Requires a gas without gravity.
-    pub fn set_driving(&mut self, driving: Option<Driving>, seed: u64) {
-        let fraction = match driving {
-            Some(Driving::WhiteNoise { .. }) => KICK_FRACTION,
-            _ => RESCALE_FRACTION,
-        };
-        self.set_driving_every(driving, seed, fraction);
-    }
-
-    /// [`Edmd::set_driving`] with `dt_kick = fraction` mean free times at the state's
-    /// temperature.
-    pub fn set_driving_every(&mut self, driving: Option<Driving>, seed: u64, fraction: f64) {
-        let Some(driving) = driving else {
-            self.driving = None;
-            return;
-        };
-        let theory = self.gas_theory();
+impl EdmdDriving {
+    /// The driving attached at absolute time `start` to a gas of kinetic energy
+    /// `kinetic_energy` and kinetic theory `theory`, with kick streams under `seed` and
+    /// `dt_kick = fraction` mean free times of the Enskog theory at the state's temperature
+    /// (`T*`, or the white-noise energy-balance temperature).
+    pub(crate) fn new(
+        driving: Driving,
+        theory: &GasTheory,
+        kinetic_energy: f64,
+        seed: u64,
+        start: f64,
+        fraction: f64,
+    ) -> Self {
         let temperature = match driving {
             Driving::Rescale { temperature } => temperature,
             Driving::WhiteNoise { strength } => {
@@ -80,121 +73,36 @@ impl<const D: usize> Edmd<D> {
             }
         };
         let omega = haff::collision_frequency(
-            D,
+            theory.dimension,
             theory.number_density,
             theory.radius,
             temperature,
             theory.mass,
             theory.chi,
         );
-        let k = self.kinetic_energy_now();
-        self.driving = Some(EdmdDriving {
-            state: DrivingState::new(driving, k),
+        Self {
+            state: DrivingState::new(driving, kinetic_energy),
             seed,
-            start: self.time(),
+            start,
             interval: fraction / omega,
-        });
-    }
-
-    /// The driving and its tally, if any.
-    pub fn driving(&self) -> Option<&DrivingState> {
-        self.driving.as_ref().map(|d| &d.state)
-    }
-
-    /// The interval `dt_kick` between applications of the driving (time units).
-    pub fn driving_interval(&self) -> Option<f64> {
-        self.driving.as_ref().map(|d| d.interval)
-    }
-
-    /// The kinetic theory of the gas: grain 0's radius and mass (one species), the number
-    /// density `N / V` and the Enskog contact value `chi(phi)` ([`haff::contact_value`]).
-    pub fn gas_theory(&self) -> GasTheory {
-        let n = self.particle_count();
-        let radius = self.radii().first().copied().unwrap_or(0.0);
-        let volume = self.simulation_box().volume();
-        let grain = if D == 2 {
-            std::f64::consts::PI * radius * radius
-        } else {
-            4.0 / 3.0 * std::f64::consts::PI * radius.powi(3)
-        };
-        let phi = n as f64 * grain / volume;
-        GasTheory {
-            dimension: D,
-            restitution: self.collision_law().restitution,
-            number_density: n as f64 / volume,
-            radius,
-            mass: if n > 0 { self.mass_of(0) } else { 1.0 },
-            chi: haff::contact_value(D, phi),
-            particles: n,
         }
     }
 
-    /// Events up to `until`, stopping at every application time of the driving on the way
-    /// to apply it (at most `max_events` events in all).
-    pub(super) fn advance_driven(
-        &mut self,
-        until: f64,
-        max_events: u64,
-    ) -> Result<Progress, EngineError> {
-        let first = self.events();
-        loop {
-            let Some(d) = self.driving.as_ref() else {
-                return self.advance_events(until, max_events);
-            };
-            let next = d.start + (d.state.applications + 1) as f64 * d.interval;
-            let target = next.min(until);
-            let left = max_events.saturating_sub(self.events() - first);
-            if let Progress::BudgetExhausted = self.advance_events(target, left)? {
-                return Ok(Progress::BudgetExhausted);
-            }
-            if next > until {
-                return Ok(Progress::Reached);
-            }
-            self.drive();
-            if next == until {
-                return Ok(Progress::Reached);
-            }
-        }
+    /// Absolute time of the next application.
+    pub(crate) fn next_time(&self) -> f64 {
+        self.start + (self.state.applications + 1) as f64 * self.interval
     }
 
-    /// Applies the driving once, at the current time.
-    fn drive(&mut self) {
-        let Some(d) = self.driving.as_ref() else {
-            return;
-        };
-        let before = self.kinetic_energy_now();
-        let n = self.particle_count();
-        let total_mass: f64 = (0..n).map(|i| self.mass_of(i)).sum();
-        let u = self.momentum() * (1.0 / total_mass);
-        match d.state.driving {
-            Driving::Rescale { temperature } => {
-                // Peculiar temperature, `sum m (v - u)² / (D N)`.
-                let peculiar = before - 0.5 * total_mass * u.norm_squared();
-                let t = 2.0 * peculiar / (D as f64 * n as f64);
-                let lambda = rescale_factor(temperature, t);
-                self.change_velocities(|_, v| u + (v - u) * lambda);
-            }
-            Driving::WhiteNoise { strength } => {
-                let width = (strength * d.interval).sqrt();
-                let (seed, k) = (d.seed, d.state.applications);
-                let kick = |id: u32| {
-                    let mut rng = stream(seed, &[KICKS, k, u64::from(id)]);
-                    let mut v = Vector::<D>::zero();
-                    for c in 0..D {
-                        v[c] = width * std_normal(&mut rng);
-                    }
-                    v
-                };
-                // The mean over ids in id order (independent of the storage order).
-                let mean = (0..n as u32).fold(Vector::<D>::zero(), |a, id| a + kick(id))
-                    * (1.0 / n as f64);
-                self.change_velocities(|id, v| v + kick(id) - mean);
-            }
+    /// The white-noise kick of grain `id` at the next application, for a noise of
+    /// `strength` (each component Gaussian, of variance `strength * dt_kick`), before the
+    /// mean kick is taken off.
+    pub(crate) fn kick<const D: usize>(&self, strength: f64, id: u32) -> Vector<D> {
+        let width = (strength * self.interval).sqrt();
+        let mut rng = stream(self.seed, &[KICKS, self.state.applications, u64::from(id)]);
+        let mut v = Vector::<D>::zero();
+        for c in 0..D {
+            v[c] = width * std_normal(&mut rng);
         }
-        let after = self.kinetic_energy_now();
-        if let Some(d) = self.driving.as_mut() {
-            d.state.applications += 1;
-            d.state.injected_energy += after - before;
-        }
+        v
     }
 }

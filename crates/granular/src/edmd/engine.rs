@@ -39,6 +39,7 @@ mod compress;
 mod construct;
 mod diagnostics;
 mod dispatch;
+mod drive;
 mod events;
 mod layout;
 mod look_ahead;
@@ -179,9 +180,10 @@ pub struct Edmd<const D: usize> {
     /// Scratch list of neighbour candidates of one prediction.
     #[serde(skip)]
     candidates: Candidates,
-    /// The steady-state driving ([`crate::driving`], `super::driving`); `None`: free.
+    /// The steady-state driving ([`crate::driving`], `super::driving`, applied by
+    /// `engine/drive.rs`); `None`: free.
     #[serde(default)]
-    pub(super) driving: Option<super::driving::EdmdDriving>,
+    driving: Option<super::driving::EdmdDriving>,
 }
 
 #[cfg(test)]

@@ -68,7 +68,7 @@ impl<const D: usize> Edmd<D> {
 
 impl<const D: usize> Edmd<D> {
     /// The event loop: events up to `until` (absolute time), at most `max_events`.
-    pub(in crate::edmd) fn advance_events(
+    pub(super) fn advance_events(
         &mut self,
         until: f64,
         max_events: u64,

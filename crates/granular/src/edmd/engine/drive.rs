@@ -1,0 +1,135 @@
+//! The engine under a steady-state driving (`edmd/driving.rs`): the event loop stops at
+//! every application time, the driving changes every velocity there (positions do not
+//! move), and every prediction is redone (`velocities.rs`): no overlap is created and no
+//! event is skipped.
+
+use super::Edmd;
+use crate::driving::{Driving, DrivingState, GasTheory, rescale_factor};
+use crate::edmd::driving::{EdmdDriving, KICK_FRACTION, RESCALE_FRACTION};
+use crate::engine::{Engine, EngineError, Progress};
+use crate::theory::haff;
+use crate::vector::Vector;
+
+impl<const D: usize> Edmd<D> {
+    /// Attaches a steady-state driving from now on (replacing any earlier one), with kick
+    /// streams under `seed` and `dt_kick` = [`KICK_FRACTION`] (white noise) or
+    /// [`RESCALE_FRACTION`] (rescale) of the Enskog mean free time at the state's
+    /// temperature ([`Edmd::gas_theory`]). Requires a gas without gravity.
+    pub fn set_driving(&mut self, driving: Option<Driving>, seed: u64) {
+        let fraction = match driving {
+            Some(Driving::WhiteNoise { .. }) => KICK_FRACTION,
+            _ => RESCALE_FRACTION,
+        };
+        self.set_driving_every(driving, seed, fraction);
+    }
+
+    /// [`Edmd::set_driving`] with `dt_kick = fraction` mean free times at the state's
+    /// temperature.
+    pub fn set_driving_every(&mut self, driving: Option<Driving>, seed: u64, fraction: f64) {
+        let Some(driving) = driving else {
+            self.driving = None;
+            return;
+        };
+        self.driving = Some(EdmdDriving::new(
+            driving,
+            &self.gas_theory(),
+            self.kinetic_energy_now(),
+            seed,
+            self.time(),
+            fraction,
+        ));
+    }
+
+    /// The driving and its tally, if any.
+    pub fn driving(&self) -> Option<&DrivingState> {
+        self.driving.as_ref().map(|d| &d.state)
+    }
+
+    /// The interval `dt_kick` between applications of the driving (time units).
+    pub fn driving_interval(&self) -> Option<f64> {
+        self.driving.as_ref().map(|d| d.interval)
+    }
+
+    /// The kinetic theory of the gas: grain 0's radius and mass (one species), the number
+    /// density `N / V` and the Enskog contact value `chi(phi)` ([`haff::contact_value`]).
+    pub fn gas_theory(&self) -> GasTheory {
+        let n = self.particle_count();
+        let radius = self.radii().first().copied().unwrap_or(0.0);
+        let volume = self.simulation_box().volume();
+        let grain = if D == 2 {
+            std::f64::consts::PI * radius * radius
+        } else {
+            4.0 / 3.0 * std::f64::consts::PI * radius.powi(3)
+        };
+        let phi = n as f64 * grain / volume;
+        GasTheory {
+            dimension: D,
+            restitution: self.collision_law().restitution,
+            number_density: n as f64 / volume,
+            radius,
+            mass: if n > 0 { self.mass_of(0) } else { 1.0 },
+            chi: haff::contact_value(D, phi),
+            particles: n,
+        }
+    }
+
+    /// Events up to `until`, stopping at every application time of the driving on the way
+    /// to apply it (at most `max_events` events in all).
+    pub(super) fn advance_driven(
+        &mut self,
+        until: f64,
+        max_events: u64,
+    ) -> Result<Progress, EngineError> {
+        let first = self.events();
+        loop {
+            let Some(d) = self.driving.as_ref() else {
+                return self.advance_events(until, max_events);
+            };
+            let next = d.next_time();
+            let target = next.min(until);
+            let left = max_events.saturating_sub(self.events() - first);
+            if let Progress::BudgetExhausted = self.advance_events(target, left)? {
+                return Ok(Progress::BudgetExhausted);
+            }
+            if next > until {
+                return Ok(Progress::Reached);
+            }
+            self.drive();
+            if next == until {
+                return Ok(Progress::Reached);
+            }
+        }
+    }
+
+    /// Applies the driving once, at the current time.
+    fn drive(&mut self) {
+        let Some(d) = self.driving.clone() else {
+            return;
+        };
+        let before = self.kinetic_energy_now();
+        let n = self.particle_count();
+        let total_mass: f64 = (0..n).map(|i| self.mass_of(i)).sum();
+        let u = self.momentum() * (1.0 / total_mass);
+        match d.state.driving {
+            Driving::Rescale { temperature } => {
+                // Peculiar temperature, `sum m (v - u)² / (D N)`.
+                let peculiar = before - 0.5 * total_mass * u.norm_squared();
+                let t = 2.0 * peculiar / (D as f64 * n as f64);
+                let lambda = rescale_factor(temperature, t);
+                self.change_velocities(|_, v| u + (v - u) * lambda);
+            }
+            Driving::WhiteNoise { strength } => {
+                let kick = |id: u32| d.kick::<D>(strength, id);
+                // The mean over ids in id order (independent of the storage order).
+                let mean = (0..n as u32).fold(Vector::<D>::zero(), |a, id| a + kick(id))
+                    * (1.0 / n as f64);
+                self.change_velocities(|id, v| v + kick(id) - mean);
+            }
+        }
+        let after = self.kinetic_energy_now();
+        if let Some(d) = self.driving.as_mut() {
+            d.state.applications += 1;
+            d.state.injected_energy += after - before;
+        }
+    }
+}
