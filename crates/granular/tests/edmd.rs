@@ -908,7 +908,7 @@ fn long_runs_stay_exact() {
         10_000_000,
     );
     // Three intruders 8 times larger (and 64 times heavier) among 10^4 disks, kept out of
-    // the cell lists (`cells::large_grain_cut`): elastic, periodic, 2 x 10^7 collisions.
+    // the cell lists (`neighbours::large_grain_cut`): elastic, periodic, 2 x 10^7 collisions.
     let (bx, mut p) = gas::<2>(10_000, 0.3, AxisKind::Periodic, 31, false);
     let r0 = p.radii[0];
     let intruders = [[0.25, 0.25], [0.75, 0.5], [0.4, 0.8]];

@@ -155,7 +155,7 @@ fn small_gas<const D: usize>(
 
 /// `n` small grains and `large` grains `ratio` times larger (and `ratio^D` heavier),
 /// placed largest first: a few intruders that the engine keeps out of its cell lists
-/// (`cells::large_grain_cut`).
+/// (`neighbours::large_grain_cut`).
 fn intruder_gas<const D: usize>(
     n: usize,
     large: usize,
@@ -309,7 +309,7 @@ fn optimised_engine_matches_the_reference_away_from_the_faces() {
 /// A few large grains among many small ones: the engine keeps them out of its cell lists
 /// (cells sized for the small grains; every small grain's prediction tests all large
 /// grains, each large grain searches the cells within its reach), a path the gases above
-/// never take (`cells::large_grain_cut` returns a cut here, checked first).
+/// never take (`neighbours::large_grain_cut` returns a cut here, checked first).
 #[test]
 fn optimised_engine_matches_the_reference_with_large_intruders() {
     use granular::edmd::internals::large_grain_cut;

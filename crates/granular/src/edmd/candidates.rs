@@ -11,8 +11,8 @@
 //! operations in the same order (no fused multiply-add), so they give the same contact
 //! times to the last bit (tested): trajectories do not depend on the processor.
 
-use super::cells::NONE;
 use crate::boundary::SimulationBox;
+use crate::neighbours::NONE;
 use crate::vector::Vector;
 use serde::{Deserialize, Serialize};
 

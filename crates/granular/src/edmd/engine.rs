@@ -51,11 +51,11 @@ pub use collide::CollisionRecord;
 pub use events::EventKind;
 
 use super::candidates::Grain;
-use super::cells::{Candidates, CellGrid};
-use super::prefetch::CACHE_LINE;
 use super::queue::EventQueue;
 use crate::boundary::SimulationBox;
 use crate::collision_law::CollisionLaw;
+use crate::neighbours::{Candidates, CellGrid};
+use crate::prefetch::CACHE_LINE;
 use crate::stats::Histogram;
 use crate::vector::Vector;
 use aligned_vec::{AVec, ConstAlign};

@@ -1,7 +1,8 @@
 //! Initial states shared by every engine: the region grains are placed in, non-overlapping
 //! placements (random, lattice), initial velocities and the overlap check of a finished
-//! state. The event-driven compression to dense states (Lubachevsky-Stillinger) needs the
-//! event-driven engine and lives in `crate::edmd::init`.
+//! state (on the neighbour search's cell grid, `neighbours`). The event-driven
+//! compression to dense states (Lubachevsky-Stillinger) needs the event-driven engine and
+//! lives with it (`edmd::init`), above this module.
 //!
 //! * [`placement`]: random sequential and lattice placement in a [`Region`];
 //! * [`velocities`]: fixed speed, Maxwell-Boltzmann, drift removal;

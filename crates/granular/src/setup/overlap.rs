@@ -29,7 +29,7 @@ pub fn check_overlaps<const D: usize>(
     set: &ParticleSet<D>,
 ) -> Result<(), Overlap> {
     let n = set.len();
-    let (mut grid, cut) = crate::edmd::cells::CellGrid::<D>::for_radii(bx, &set.radii, 1.0, true);
+    let (mut grid, cut) = crate::neighbours::CellGrid::<D>::for_radii(bx, &set.radii, 1.0, true);
     for i in 0..n {
         let c = grid.coords_of(&set.positions[i].0);
         grid.insert_grain(i, c, set.radii[i], cut);

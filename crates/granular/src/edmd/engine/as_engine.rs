@@ -107,7 +107,7 @@ impl<const D: usize> Engine for Edmd<D> {
     /// per worker and wrote each row at random.)
     fn state_into(&self, velocities: bool, out: &mut [f64]) -> bool {
         let grains: &[Grain<D>] = &self.grains;
-        let ahead = |next: &[u32]| crate::edmd::prefetch::prefetch_all(grains, next);
+        let ahead = |next: &[u32]| crate::prefetch::prefetch_all(grains, next);
         if velocities {
             crate::particles::gather_by_slot::<D>(self.slots(), out, ahead, |s| {
                 self.velocity_slot(s).0

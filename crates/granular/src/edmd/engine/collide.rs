@@ -5,7 +5,7 @@
 
 use super::Edmd;
 use crate::collision_law::{WallRestitution, normal_velocity_change};
-use crate::edmd::cells::NONE;
+use crate::neighbours::NONE;
 
 /// One collision in the optional collision log ([`Edmd::record_collisions`]).
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -7,15 +7,15 @@ use super::{Edmd, EdmdOptions, RECORD_ALIGN, Records, Totals};
 use crate::boundary::SimulationBox;
 use crate::collision_law::CollisionLaw;
 use crate::edmd::candidates::Grain;
-use crate::edmd::cells::{Candidates, CellGrid, NONE};
 use crate::edmd::queue::EventQueue;
+use crate::neighbours::{Candidates, CellGrid, NONE};
 use crate::particles::ParticleSet;
 use crate::stats::Histogram;
 use crate::vector::Vector;
 
 impl<const D: usize> Edmd<D> {
     /// Builds the engine from grains in a box. The grains must not overlap (see
-    /// [`crate::edmd::init`] for placements); the caller validates inputs.
+    /// [`crate::setup`] for placements); the caller validates inputs.
     pub fn new(
         bx: SimulationBox<D>,
         particles: ParticleSet<D>,
@@ -77,7 +77,7 @@ impl<const D: usize> Edmd<D> {
             });
         }
         // A few grains much larger than the rest stay out of the cell lists, so that
-        // the cells fit the others (`cells::large_grain_cut`; not while radii grow).
+        // the cells fit the others (`neighbours::large_grain_cut`; not while radii grow).
         let (cells, cut) = CellGrid::for_radii(&bx, &particles.radii, radius_scale, growth == 0.0);
         let impact = Histogram::new(0.0, 1.0 + 1e-12, options.impact_bins.max(1));
         let last_collision = if law.contact_duration > 0.0 {

@@ -2,7 +2,7 @@
 
 use super::Edmd;
 use super::events::FIRST_SPECIAL;
-use crate::edmd::prefetch::prefetch_all;
+use crate::prefetch::prefetch_all;
 
 impl<const D: usize> Edmd<D> {
     /// Prefetch in stages for the events about to come, which in large systems are cache

@@ -7,9 +7,9 @@ use super::events::{
     CROSSING, CROSSING_END, HINT_NO_PAIR, HINT_NONE, NOTHING, Scheduled, WALL, crossing_code,
 };
 use crate::edmd::candidates::{Grain, Probe, earliest_contact, earliest_contacts_pair};
-use crate::edmd::cells::{Candidates, NONE};
 use crate::edmd::prediction::{downward_crossing, pair_contact_time, upward_crossing};
-use crate::edmd::prefetch::prefetch_all;
+use crate::neighbours::{Candidates, NONE};
+use crate::prefetch::prefetch_all;
 use std::hint::select_unpredictable;
 
 /// `if condition { a } else { b }`, without a branch in 2D (`D == 2`). A boundary
@@ -126,7 +126,7 @@ impl<const D: usize> Edmd<D> {
     }
 
     /// The candidates of slot `i` (in cell `coords`) in a system with large grains
-    /// (`cells::large_grain_cut`): for a large grain, the cells within its reach and the
+    /// (`neighbours::large_grain_cut`): for a large grain, the cells within its reach and the
     /// other large grains; for any other grain, what `search` says and every large grain.
     /// Out of line, so that the usual systems' predictions stay as they were.
     #[inline(never)]
@@ -168,7 +168,7 @@ impl<const D: usize> Edmd<D> {
     /// the neighbourhood first, which changes no velocity), and a pair beyond the grain's
     /// own crossing only becomes the crossing's hint, whose bound then holds over more
     /// grains than the layer search needs. Grains with growing radii, and systems with
-    /// large grains (`cells::large_grain_cut`), take the one-grain path.
+    /// large grains (`neighbours::large_grain_cut`), take the one-grain path.
     pub(super) fn predict_pair(&mut self, i: usize, j: usize) {
         if D != 2 || self.growth != 0.0 || !self.cells.large().is_empty() {
             let key_i = self.predict_with(i, Search::Full);

@@ -17,7 +17,7 @@
 //! every few collisions per particle) sets it from the mean time to the pending events.
 
 use super::LOOK_AHEAD_MIN_GRAINS;
-use crate::edmd::prefetch::prefetch_all;
+use crate::prefetch::prefetch_all;
 use serde::{Deserialize, Serialize};
 
 /// `prev` of a particle whose entry is in the current-bucket heap (`next` then holds its
