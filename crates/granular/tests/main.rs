@@ -10,6 +10,7 @@ mod edmd_reference;
 mod engines;
 mod golden;
 mod intruder;
+mod intruder_ball;
 mod intruder_scenario;
 mod observables;
 mod preflight;

@@ -14,6 +14,7 @@
 //! Units: `k_B = 1`; a temperature is `mass * <v_component^2>`. The bath mass `m`
 //! (default 1) and the bath density `rho` set the collision rate.
 
+pub mod ball;
 pub mod bath;
 #[doc(hidden)]
 pub mod bench;
