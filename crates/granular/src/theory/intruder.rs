@@ -6,9 +6,9 @@
 //! parameter is `a = m / (2 T_B)` as in G-14. Speeds are in velocity units, rates in
 //! collisions per unit time.
 //!
-//! The one-dimensional forms of these results are G-5 to G-18 (`crate::intruder::bath`,
-//! `crate::intruder::theory`); the Martin-Piasecki ratio G-18 holds unchanged in any
-//! dimension (G-40) and is `crate::intruder::theory::martin_piasecki_ratio`.
+//! The one-dimensional forms of these results are G-5 to G-18 (`intruder::bath`,
+//! `intruder::theory`); the Martin-Piasecki ratio G-18 holds unchanged in any
+//! dimension (G-40) and is `intruder::theory::martin_piasecki_ratio`.
 
 use std::f64::consts::PI;
 
@@ -83,7 +83,7 @@ fn scaled_bessel_i0_i1(z: f64) -> (f64, f64) {
 /// * 2D: `sqrt(pi/(4a)) e^{-x^2/2} [(1 + x^2) I_0(x^2/2) + x^2 I_1(x^2/2)]` (Rice mean);
 /// * 3D: `[e^{-x^2}/sqrt(pi) + (x + 1/(2x)) erf(x)] / sqrt(a)`, `2/sqrt(pi a)` at `x = 0`.
 ///
-/// The 1D form is G-16, `crate::intruder::Gaussian::flux`. Units: velocity.
+/// The 1D form is G-16, `intruder::Gaussian::flux`. Units: velocity.
 pub fn gaussian_mean_relative_speed(dimension: usize, a: f64, speed: f64) -> f64 {
     assert!(
         dimension == 2 || dimension == 3,
@@ -191,7 +191,7 @@ pub fn direction_averaged_relative_speed(dimension: usize, c: f64, v: f64) -> f6
 /// panels graded geometrically towards `c = |V|`, where `K_d` has a kink (3D) or a
 /// logarithmic second derivative (2D); the infinite piece is mapped by
 /// `c = c_0 + s t / (1 - t)`, `s = max(c_0, scale)`. Relative accuracy about 1e-10 for the baths of
-/// `crate::intruder::ball` (unit tests). Units: velocity.
+/// `intruder::ball` (unit tests). Units: velocity.
 pub fn isotropic_mean_relative_speed(
     dimension: usize,
     speed: f64,
@@ -275,7 +275,7 @@ fn graded_piece(g: &dyn Fn(f64) -> f64, lo: f64, hi: f64, v: f64, scale: f64) ->
 }
 
 /// Kurtosis `<|V|^4> / <|V|^2>^2 = (d + 2)/d` of a `d`-dimensional Maxwellian (G-41): 3 in
-/// 1D (`crate::intruder::theory::GAUSSIAN_KURTOSIS`), 2 for a disk, 5/3 for a sphere.
+/// 1D (`intruder::theory::GAUSSIAN_KURTOSIS`), 2 for a disk, 5/3 for a sphere.
 pub fn maxwellian_kurtosis(dimension: usize) -> f64 {
     check_dimension(dimension);
     (dimension as f64 + 2.0) / dimension as f64
@@ -285,7 +285,7 @@ pub fn maxwellian_kurtosis(dimension: usize) -> f64 {
 /// bath (G-42): the relative velocity `u - V` is Gaussian with variance
 /// `T_B/m + T/M` per component, so
 /// `<phi> = rho sigma_d sqrt(2 (T_B/m + T/M)) Gamma((d+1)/2) / Gamma(d/2)`
-/// (`crate::theory::equilibrium::mean_speed` of unit mass at temperature `T_B/m + T/M`).
+/// (`theory::equilibrium::mean_speed` of unit mass at temperature `T_B/m + T/M`).
 /// With `T/T_B` from G-40 this is the stationary rate. Units: collisions per unit time.
 pub fn maxwellian_mean_collision_rate(
     dimension: usize,
