@@ -75,6 +75,8 @@ pub(crate) fn plot_run(dir: &Path) -> Result<Vec<PathBuf>, String> {
     let reference = match block.as_ref().map(|b| b.histogram_reference.as_str()) {
         Some("gaussian_eq18") => "Gaussian at the temperature of Eq. 18".to_string(),
         Some("gaussian_best_fit") => "best-fit zero-mean Gaussian".to_string(),
+        Some("maxwellian_g40") => "Maxwellian at the temperature of G-40".to_string(),
+        Some("maxwellian_best_fit") => "Maxwellian at the measured temperature".to_string(),
         Some(other) => other.replace('_', " "),
         None => "reference".into(),
     };
@@ -107,6 +109,14 @@ pub(crate) fn plot_run(dir: &Path) -> Result<Vec<PathBuf>, String> {
                 "probability density [τ/L]",
             ),
             "angular_velocity" => ("angular velocity ω [1/τ]", "probability density p(ω) [τ]"),
+            "velocity_x" | "velocity_y" | "velocity_z" => (
+                "intruder velocity component [L/τ]",
+                "probability density [τ/L]",
+            ),
+            "speed" => (
+                "intruder speed |V| [L/τ]",
+                "probability density p(|V|) [τ/L]",
+            ),
             _ => (name.as_str(), "probability density"),
         };
         for log in [false, true] {

@@ -77,6 +77,8 @@ golden! {
     edmd_white_noise: "edmd-white-noise", &[];
     intruder_1d: "intruder-1d", &[];
     intruder_needle: "intruder-needle", &[];
+    intruder_disk: "intruder-disk", &[];
+    intruder_sphere: "intruder-sphere", &[];
 }
 
 /// Runs the bundled scenario `name` with `overrides` and compares its run directory with

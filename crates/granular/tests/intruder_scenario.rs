@@ -65,6 +65,108 @@ fn intruder_scenarios_round_trip_for_every_model() {
     }
 }
 
+/// A disk (`dimension = 2`) or sphere (`dimension = 3`) scenario, with `overrides`.
+fn ball(model: &str, bath: &str, overrides: &[&str]) -> Scenario {
+    let d = if model == "sphere" { 3 } else { 2 };
+    let text = format!(
+        "engine = \"intruder\"\ndimension = {d}\nseed = 3\n[intruder]\nmodel = \"{model}\"\nrestitution = 0.5\nbath = {bath}\n[stop]\ncollisions = 100000\n[output]\ninterval = 500.0\ncheckpoint_seconds = 1e-9\n"
+    );
+    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+    Scenario::from_toml(&text, &o).unwrap()
+}
+
+#[test]
+fn disk_and_sphere_scenarios_round_trip_and_resume() {
+    let gaussian = "{ kind = \"gaussian\", temperature = 0.5 }";
+    for (model, bath, o) in [
+        (
+            "disk",
+            "{ kind = \"power-law\", temperature = 0.5 }",
+            &[][..],
+        ),
+        ("sphere", gaussian, &["intruder.method=\"direct\""][..]),
+        (
+            "sphere",
+            gaussian,
+            &[
+                "intruder.method=\"dsmc-twin\"",
+                "intruder.bath_particles=300",
+            ][..],
+        ),
+        (
+            "disk",
+            "{ kind = \"tabulated\", points = [[0.0, 0.0], [1.0, 1.0], [3.0, 0.0]] }",
+            &[][..],
+        ),
+    ] {
+        let s = ball(model, bath, o);
+        let again = Scenario::from_toml(&s.to_toml(), &[]).expect("resolved scenario is valid");
+        assert_eq!(s, again, "{model} {o:?}");
+        let name = format!("{model}-{}", bath.len() + o.len());
+        let (full, cut) = (tmp(&format!("{name}-full")), tmp(&format!("{name}-cut")));
+        let a = run(&full, s.clone());
+        assert!(
+            Run::create(&cut, s)
+                .unwrap()
+                .run_to_end(&mut |_| {}, Some(5))
+                .is_err()
+        );
+        let b = Run::resume(&cut)
+            .unwrap()
+            .run_to_end(&mut |_| {}, None)
+            .unwrap();
+        assert_eq!(
+            crate::spine::final_bits(&a),
+            crate::spine::final_bits(&b),
+            "{name}"
+        );
+        assert_eq!(a.intruder, b.intruder, "{name}");
+        let block = a.intruder.as_ref().expect("intruder block");
+        assert_eq!(block.model, model);
+        assert!(block.samples > 100, "{name}: {}", block.samples);
+        let csv = |d: &PathBuf, f: &str| std::fs::read_to_string(d.join(f)).unwrap();
+        assert_eq!(
+            csv(&full, "timeseries.csv"),
+            csv(&cut, "timeseries.csv"),
+            "{name}"
+        );
+        let hist = csv(&full, "intruder_histograms.csv");
+        assert!(
+            hist.contains("\nspeed,") && hist.contains("\nvelocity_y,"),
+            "{name}"
+        );
+        assert_eq!(hist.contains("\nvelocity_z,"), model == "sphere", "{name}");
+    }
+}
+
+/// A disk in a Gaussian bath through the scenario spine: the summary's block carries
+/// G-40 to G-42 and the run meets them (4 batch-means errors).
+#[test]
+fn disk_scenario_summary_meets_martin_piasecki() {
+    let s = ball(
+        "disk",
+        "{ kind = \"gaussian\", temperature = 0.5 }",
+        &["stop.collisions=400000", "output.interval=5000.0"],
+    );
+    let a = run(&tmp("disk-theory"), s);
+    let b = a.intruder.expect("intruder block");
+    let (ratio, err) = (
+        b.value("temperature_ratio").unwrap(),
+        b.value("temperature_ratio_error").unwrap(),
+    );
+    assert_eq!(b.theory_temperature_ratio, Some(0.6));
+    assert!((ratio - 0.6).abs() <= 4.0 * err, "{ratio} +- {err}");
+    assert_eq!(b.theory_kurtosis, Some(2.0));
+    let rate = b.value("collision_rate").unwrap();
+    let rate_err = b.value("collision_rate_error").unwrap();
+    let want = b.theory_collision_rate.unwrap();
+    assert!(
+        (rate - want).abs() <= 4.0 * rate_err,
+        "{rate} +- {rate_err} vs {want}"
+    );
+    assert_eq!(b.histogram_reference, "maxwellian_g40");
+}
+
 #[test]
 fn intruder_errors_name_the_field_value_and_fix() {
     let err = |o: &[&str]| {

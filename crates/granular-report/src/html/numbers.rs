@@ -314,23 +314,35 @@ pub(crate) fn intruder(summary: &Summary) -> Vec<Comparison> {
             ),
         );
         let gaussian = b.histogram_reference == "gaussian_eq18";
+        // Disk and sphere: the summary carries G-41 and G-42 (Gaussian bath).
+        let (kurtosis_theory, kurtosis_source) = match b.theory_kurtosis {
+            Some(k) => (k, "Maxwellian in d dimensions, (d + 2)/d (G-41)"),
+            None if gaussian => (
+                GAUSSIAN_KURTOSIS,
+                "Gaussian (Martin-Piasecki: the stationary intruder is Gaussian)",
+            ),
+            None => (f64::NAN, ""),
+        };
         rows.push(
             Comparison::new(
                 "kurtosis <v⁴>/<v²>²",
                 v("kurtosis"),
                 v("kurtosis_error"),
-                if gaussian {
-                    GAUSSIAN_KURTOSIS
-                } else {
-                    f64::NAN
-                },
+                kurtosis_theory,
             )
-            .source(if gaussian {
-                "Gaussian (Martin-Piasecki: the stationary intruder is Gaussian)"
-            } else {
-                ""
-            }),
+            .source(kurtosis_source),
         );
+        if let Some(rate) = b.theory_collision_rate {
+            rows.push(
+                Comparison::new(
+                    "collision rate [1/τ]",
+                    v("collision_rate"),
+                    v("collision_rate_error"),
+                    rate,
+                )
+                .source("mean rate of the Maxwellian intruder at the G-40 temperature (G-42)"),
+            );
+        }
     }
     rows
 }

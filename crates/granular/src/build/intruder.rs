@@ -6,6 +6,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::engine::{Engine, EngineError, Progress};
+use crate::intruder::ball::{Ball, BallDsmcTwin, BallError};
 use crate::intruder::dsmc_twin::DsmcTwin;
 use crate::intruder::theory::{martin_piasecki_ratio, power_law_exact_case};
 use crate::intruder::{Intruder1d, Needle};
@@ -22,6 +23,14 @@ pub enum IntruderEngine {
     Needle(Needle),
     /// `model = "dsmc-twin"`.
     DsmcTwin(DsmcTwin),
+    /// `model = "disk"`.
+    Disk(Ball<2>),
+    /// `model = "sphere"`.
+    Sphere(Ball<3>),
+    /// `model = "disk"`, `method = "dsmc-twin"`.
+    DiskTwin(BallDsmcTwin<2>),
+    /// `model = "sphere"`, `method = "dsmc-twin"`.
+    SphereTwin(BallDsmcTwin<3>),
 }
 
 macro_rules! each_model {
@@ -30,8 +39,17 @@ macro_rules! each_model {
             IntruderEngine::OneD($e) => $body,
             IntruderEngine::Needle($e) => $body,
             IntruderEngine::DsmcTwin($e) => $body,
+            IntruderEngine::Disk($e) => $body,
+            IntruderEngine::Sphere($e) => $body,
+            IntruderEngine::DiskTwin($e) => $body,
+            IntruderEngine::SphereTwin($e) => $body,
         }
     };
+}
+
+/// A disk or sphere engine error in the words of the scenario (`intruder.<key>`).
+fn ball_error(e: BallError) -> String {
+    format!("`intruder.{}` {}", e.key, e.message)
 }
 
 /// Builds the engine of `[intruder]`; its random stream is `stream(seed, [DYNAMICS])` (and
@@ -52,6 +70,26 @@ pub fn build(scenario: &Scenario) -> Result<IntruderEngine, String> {
             .and_then(|c| DsmcTwin::new(&c, seed))
             .map(IntruderEngine::DsmcTwin)
             .map_err(|e| e.to_string()),
+        Some(IntruderSpec::Disk(c)) if c.is_twin() => c
+            .twin_config(2)
+            .and_then(|c| BallDsmcTwin::new(&c, seed))
+            .map(IntruderEngine::DiskTwin)
+            .map_err(ball_error),
+        Some(IntruderSpec::Disk(c)) => c
+            .config(2)
+            .and_then(|c| Ball::new(&c, seed))
+            .map(IntruderEngine::Disk)
+            .map_err(ball_error),
+        Some(IntruderSpec::Sphere(c)) if c.is_twin() => c
+            .twin_config(3)
+            .and_then(|c| BallDsmcTwin::new(&c, seed))
+            .map(IntruderEngine::SphereTwin)
+            .map_err(ball_error),
+        Some(IntruderSpec::Sphere(c)) => c
+            .config(3)
+            .and_then(|c| Ball::new(&c, seed))
+            .map(IntruderEngine::Sphere)
+            .map_err(ball_error),
         None => Err("engine = \"intruder\" needs an [intruder] table".into()),
     }
 }
@@ -116,9 +154,18 @@ impl Engine for IntruderEngine {
     }
 }
 
-/// The theory value of `T/T_B` for a 1D intruder, when one exists: G-18 (generalised
-/// to `m`) for the Gaussian bath, `alpha` in the exact power-law case `M/m = alpha`.
+/// The theory value of `T/T_B` when one exists: G-18 (generalised to `m`) for the
+/// Gaussian bath, `alpha` in the exact power-law case `M/m = alpha` (1D); G-40 for a disk
+/// or sphere in a Gaussian bath.
 pub fn theory_ratio(spec: &IntruderSpec) -> Option<(f64, &'static str)> {
+    if let Some((c, _)) = spec.ball() {
+        return matches!(c.bath, BathTable::Gaussian { .. }).then(|| {
+            (
+                martin_piasecki_ratio(c.restitution, c.mass, c.bath_mass),
+                "Martin-Piasecki in d dimensions, G-40: (1 + alpha) M/(2M + (1 - alpha) m)",
+            )
+        });
+    }
     let c = spec.one_d()?;
     match c.bath {
         BathTable::Gaussian { .. } => Some((
@@ -148,6 +195,31 @@ pub fn automatic_values(scenario: &Scenario) -> Vec<(String, f64)> {
             if let Ok(n) = Needle::new(&c.config(), scenario.seed) {
                 add(c.sample_interval, "sample_interval", n.sample_interval());
                 add(c.transient, "transient", n.transient());
+            }
+        }
+        Some(spec @ (IntruderSpec::Disk(_) | IntruderSpec::Sphere(_))) => {
+            if let Ok(e) = build(scenario) {
+                let c = spec.ball().map(|(c, _)| c);
+                let (dt, t0, h) = match &e {
+                    IntruderEngine::Disk(b) => {
+                        (b.sample_interval(), b.transient(), b.histogram_max())
+                    }
+                    IntruderEngine::Sphere(b) => {
+                        (b.sample_interval(), b.transient(), b.histogram_max())
+                    }
+                    IntruderEngine::DiskTwin(b) => {
+                        (b.sample_interval(), b.transient(), b.histogram_max())
+                    }
+                    IntruderEngine::SphereTwin(b) => {
+                        (b.sample_interval(), b.transient(), b.histogram_max())
+                    }
+                    _ => return out,
+                };
+                if let Some(c) = c {
+                    add(c.sample_interval, "sample_interval", dt);
+                    add(c.transient, "transient", t0);
+                    add(c.histogram_max, "histogram_max", h);
+                }
             }
         }
         Some(spec) => {

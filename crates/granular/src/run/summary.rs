@@ -91,14 +91,15 @@ pub struct CraterSummary {
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[allow(missing_docs)]
 pub struct IntruderSummary {
-    /// `"1d"`, `"needle"` or `"dsmc-twin"`.
+    /// `"1d"`, `"needle"`, `"dsmc-twin"`, `"disk"` or `"sphere"`.
     pub model: String,
     /// The reference density of `intruder_histograms.csv`.
     pub histogram_reference: String,
     /// Samples of the time averages.
     pub samples: u64,
     /// Mean and error of each average (1D and twin: temperature, temperature_ratio,
-    /// kurtosis, mean_velocity; needle: translational_temperature,
+    /// kurtosis, mean_velocity; disk and sphere: temperature, temperature_ratio, kurtosis,
+    /// collision_rate, truncated_temperature; needle: translational_temperature,
     /// rotational_temperature, their ratios to the bath, correlation_r), each with its
     /// `_error`, in the order written.
     #[serde(flatten)]
@@ -121,6 +122,13 @@ pub struct IntruderSummary {
     /// DSMC twin: trials per accepted collision.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub trials_per_collision: Option<f64>,
+    /// Disk or sphere in a Gaussian bath: the Maxwellian kurtosis `(d + 2)/d` (G-41).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub theory_kurtosis: Option<f64>,
+    /// Disk or sphere in a Gaussian bath: the mean collision rate at the G-40 temperature
+    /// (G-42, collisions per unit time).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub theory_collision_rate: Option<f64>,
     /// Needle: standard deviation of the best-fit Gaussian of a velocity component.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub velocity_component_sigma: Option<f64>,
@@ -137,6 +145,8 @@ impl IntruderSummary {
             "bath_temperature" => self.bath_temperature,
             "theory_temperature_ratio" => self.theory_temperature_ratio,
             "temperature_ratio_z" => self.temperature_ratio_z,
+            "theory_kurtosis" => self.theory_kurtosis,
+            "theory_collision_rate" => self.theory_collision_rate,
             "bound_raises" => self.bound_raises.map(|b| b as f64),
             "trials_per_collision" => self.trials_per_collision,
             "velocity_component_sigma" => self.velocity_component_sigma,

@@ -9,6 +9,7 @@
 use super::validate::num;
 use super::{BathTable, EngineKind, IntruderSpec, Scenario, ScenarioError, VelocitySpec};
 use crate::boundary::AxisKind;
+use crate::intruder::ball::BallParams;
 
 /// Most outputs (rows of `timeseries.csv`) a run may write.
 pub const MAX_OUTPUTS: f64 = 1e6;
@@ -581,13 +582,21 @@ pub(super) fn cost(sc: &Scenario) -> Cost {
     }
 }
 
-/// The intruder's cost: its collision rate ν ≈ ρ ⟨|v|⟩ (times the needle's length); for
+/// The intruder's cost: its collision rate ν ≈ ρ ⟨|v|⟩ (times the needle's length, the
+/// disk's or sphere's cross-section σ_d); for
 /// the limit, ten times that rate (an intruder faster than the bath collides more often).
 fn intruder_cost(sc: &Scenario) -> Cost {
     let mean_speed = |t: f64, m: f64| (2.0 * t / (std::f64::consts::PI * m)).sqrt();
     let rate = match &sc.intruder {
         Some(IntruderSpec::Needle(c)) => {
             c.bath_density * c.length * mean_speed(c.bath_temperature, c.bath_mass)
+        }
+        Some(spec @ (IntruderSpec::Disk(c) | IntruderSpec::Sphere(c))) => {
+            // rho sigma_d <c> (G-32 at rest); NaN for a bath file not read yet.
+            let d = spec.dimension();
+            c.config(d)
+                .and_then(|cfg| BallParams::new(&cfg, d))
+                .map_or(f64::NAN, |p| 1.0 / p.rest_collision_time())
         }
         Some(spec) => match spec.one_d() {
             Some(c) => match &c.bath {

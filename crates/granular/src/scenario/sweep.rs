@@ -44,6 +44,29 @@ const ONE_D: &[&str] = &[
     "kurtosis_error",
     "martin_piasecki_ratio",
 ];
+/// ... a disk's or sphere's (`velocity_z` added for the sphere) and its twin's.
+const BALL: &[&str] = &[
+    "time",
+    "velocity_x",
+    "velocity_y",
+    "speed",
+    "kinetic_energy",
+    "collisions",
+    "samples",
+    "temperature",
+    "temperature_error",
+    "temperature_ratio",
+    "temperature_ratio_error",
+    "kurtosis",
+    "kurtosis_error",
+    "collision_rate",
+    "collision_rate_error",
+    "truncated_temperature",
+    "truncated_temperature_error",
+    "martin_piasecki_ratio",
+    "maxwellian_kurtosis",
+    "theory_collision_rate",
+];
 /// ... the DSMC twin's own.
 const TWIN: &[&str] = &["bound_raises", "trials_per_collision"];
 /// ... the needle's.
@@ -86,6 +109,18 @@ pub fn sweep_observables(sc: &Scenario) -> Vec<String> {
             }
         }
         (EngineKind::Intruder, Some(super::IntruderSpec::Needle(_))) => add(NEEDLE),
+        (
+            EngineKind::Intruder,
+            Some(spec @ (super::IntruderSpec::Disk(c) | super::IntruderSpec::Sphere(c))),
+        ) => {
+            add(BALL);
+            if spec.dimension() == 3 {
+                add(&["velocity_z"]);
+            }
+            if c.is_twin() {
+                add(TWIN);
+            }
+        }
         (EngineKind::Intruder, Some(super::IntruderSpec::DsmcTwin(_))) => {
             add(ONE_D);
             add(TWIN);

@@ -1,10 +1,12 @@
 //! The intruder engines' statistics: `intruder_histograms.csv` and `.npz` (velocity
 //! histograms on the time grid with their reference densities) and the `intruder` block
 //! of the summary (stationary averages with errors, and the theory value: G-18 for the
-//! Gaussian bath, the exact power-law case, equipartition for the elastic needle).
+//! Gaussian bath, the exact power-law case, equipartition for the elastic needle; for a
+//! disk or sphere G-40 to G-42 in a Gaussian bath).
 
 use super::Output;
 use crate::build::intruder::{IntruderEngine, theory_ratio};
+use crate::intruder::ball::{BallParams, BallSummary};
 use crate::observation::Observation;
 use crate::output::npz::{NpzArray, write_npz};
 use crate::run::summary::IntruderSummary;
@@ -13,6 +15,7 @@ use crate::scenario::BathTable;
 use crate::scenario::IntruderSpec;
 use crate::simulation::Simulation;
 use crate::stats::Histogram;
+use crate::theory::equilibrium::speed_cdf;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -111,7 +114,7 @@ fn write_statistics(
             let s = match engine {
                 IntruderEngine::OneD(e) => e.summary(),
                 IntruderEngine::DsmcTwin(e) => e.summary(),
-                IntruderEngine::Needle(_) => unreachable!("handled below"),
+                _ => unreachable!("handled below"),
             };
             let cfg = spec.one_d();
             let bath_temperature = s.temperature.mean / s.temperature_ratio.mean;
@@ -155,6 +158,46 @@ fn write_statistics(
                 block.bound_raises = Some(t.bound_raises());
                 block.trials_per_collision = Some(t.trials_per_collision());
             }
+        }
+        IntruderEngine::Disk(e) => ball_statistics(
+            &e.summary(),
+            &e.params,
+            spec,
+            &mut block,
+            &mut csv,
+            &mut arrays,
+        ),
+        IntruderEngine::Sphere(e) => ball_statistics(
+            &e.summary(),
+            &e.params,
+            spec,
+            &mut block,
+            &mut csv,
+            &mut arrays,
+        ),
+        IntruderEngine::DiskTwin(t) => {
+            ball_statistics(
+                &t.summary(),
+                t.params(),
+                spec,
+                &mut block,
+                &mut csv,
+                &mut arrays,
+            );
+            block.bound_raises = Some(t.bound_raises());
+            block.trials_per_collision = Some(t.trials_per_collision());
+        }
+        IntruderEngine::SphereTwin(t) => {
+            ball_statistics(
+                &t.summary(),
+                t.params(),
+                spec,
+                &mut block,
+                &mut csv,
+                &mut arrays,
+            );
+            block.bound_raises = Some(t.bound_raises());
+            block.trials_per_collision = Some(t.trials_per_collision());
         }
         IntruderEngine::Needle(n) => {
             let s = n.summary();
@@ -200,4 +243,60 @@ fn write_statistics(
         .collect();
     write_npz(dir.join("intruder_histograms.npz"), &npz)?;
     Ok(block)
+}
+
+/// The disk's or sphere's histograms (`velocity_x`, `velocity_y` (, `velocity_z`) and
+/// `speed`) against the Maxwellian at the G-40 temperature in a Gaussian bath, else at the
+/// measured temperature; its averages, and the theory values G-40 to G-42 (Gaussian bath).
+fn ball_statistics(
+    s: &BallSummary,
+    params: &BallParams,
+    spec: &IntruderSpec,
+    block: &mut IntruderSummary,
+    csv: &mut String,
+    arrays: &mut Vec<(String, Vec<f64>)>,
+) {
+    let d = s.dimension;
+    let theory = theory_ratio(spec);
+    let (temperature, reference) = match theory {
+        Some((r, _)) => (r * params.bath_temperature, "maxwellian_g40"),
+        None => (s.temperature.mean, "maxwellian_best_fit"),
+    };
+    let sd = (temperature / params.mass).sqrt();
+    for (h, name) in s
+        .component_histograms
+        .iter()
+        .zip(["velocity_x", "velocity_y", "velocity_z"])
+    {
+        histogram_rows(name, h, &gaussian_bin(sd), csv, arrays);
+    }
+    let speed_bin = |a: f64, b: f64| {
+        if temperature > 0.0 && temperature.is_finite() {
+            (speed_cdf(d, b, params.mass, temperature) - speed_cdf(d, a, params.mass, temperature))
+                / (b - a)
+        } else {
+            f64::NAN
+        }
+    };
+    histogram_rows("speed", &s.speed_histogram, &speed_bin, csv, arrays);
+    block.histogram_reference = reference.into();
+    block.samples = s.samples;
+    for (k, e) in [
+        ("temperature", s.temperature),
+        ("temperature_ratio", s.temperature_ratio),
+        ("kurtosis", s.kurtosis),
+        ("collision_rate", s.collision_rate),
+        ("truncated_temperature", s.truncated_temperature),
+    ] {
+        block.averages.insert(k.into(), Some(e.mean));
+        block.averages.insert(format!("{k}_error"), Some(e.error));
+    }
+    block.bath_temperature = Some(params.bath_temperature);
+    if let Some((r, source)) = theory {
+        block.theory_temperature_ratio = Some(r);
+        block.theory = Some(source.into());
+        block.temperature_ratio_z = Some(s.temperature_ratio.z_score(r));
+        block.theory_kurtosis = Some(s.maxwellian_kurtosis);
+        block.theory_collision_rate = Some(s.theory_collision_rate);
+    }
 }

@@ -8,17 +8,38 @@ use crate::intruder::{BathError, Tabulated};
 
 /// Reads the two-column text/CSV file at `path` (see [`parse`]).
 pub fn read(path: &Path) -> Result<Vec<(f64, f64)>, BathError> {
-    let text = std::fs::read_to_string(path).map_err(|source| BathError::Io {
+    parse(&read_text(path)?, &path.display().to_string())
+}
+
+/// Reads the two columns of the file at `path` (see [`parse_columns`]) without checking
+/// them as a 1D velocity density: a disk or sphere intruder's table is a speed
+/// distribution, checked by its engine (G-44).
+pub fn read_columns(path: &Path) -> Result<Vec<(f64, f64)>, BathError> {
+    parse_columns(&read_text(path)?, &path.display().to_string())
+}
+
+fn read_text(path: &Path) -> Result<String, BathError> {
+    std::fs::read_to_string(path).map_err(|source| BathError::Io {
         path: path.display().to_string(),
         source,
+    })
+}
+
+/// Parses a two-column table (see [`parse_columns`]) and checks that the points make a
+/// bath density ([`Tabulated::new`]); errors name `origin` (the file).
+pub fn parse(text: &str, origin: &str) -> Result<Vec<(f64, f64)>, BathError> {
+    let points = parse_columns(text, origin)?;
+    Tabulated::new(&points).map_err(|e| match e {
+        BathError::Invalid(m) => BathError::Invalid(format!("{origin}: {m}")),
+        other => other,
     })?;
-    parse(&text, &path.display().to_string())
+    Ok(points)
 }
 
 /// Parses a two-column table (`v f` per line, separated by whitespace, comma or semicolon;
-/// `#` starts a comment; a non-numeric first line is taken as a header) and checks that
-/// the points make a bath density ([`Tabulated::new`]); errors name `origin` (the file).
-pub fn parse(text: &str, origin: &str) -> Result<Vec<(f64, f64)>, BathError> {
+/// `#` starts a comment; a non-numeric first line is taken as a header); errors name
+/// `origin` (the file) and the line.
+pub fn parse_columns(text: &str, origin: &str) -> Result<Vec<(f64, f64)>, BathError> {
     let mut points = Vec::new();
     for (i, line) in text.lines().enumerate() {
         let line = line.split('#').next().unwrap_or("").trim();
@@ -51,9 +72,5 @@ pub fn parse(text: &str, origin: &str) -> Result<Vec<(f64, f64)>, BathError> {
             }
         }
     }
-    Tabulated::new(&points).map_err(|e| match e {
-        BathError::Invalid(m) => BathError::Invalid(format!("{origin}: {m}")),
-        other => other,
-    })?;
     Ok(points)
 }

@@ -9,20 +9,25 @@
 //!   intruder paper; G-18 checks it in a Gaussian bath);
 //! * `model = "needle"`: [`NeedleTable`] (the 2D needle, G-20 to G-30);
 //! * `model = "dsmc-twin"`: the fields of [`OneDTable`] plus `bath_particles`
-//!   ([`DsmcTwinTable`], section 4 of the paper).
+//!   ([`DsmcTwinTable`], section 4 of the paper);
+//! * `model = "disk"` (with `dimension = 2`, the default) and `model = "sphere"` (with
+//!   `dimension = 3`): [`BallTable`], a smooth disk or sphere in an isotropic bath (G-31
+//!   to G-45, `docs/intruder.md`); `method = "dsmc-twin"` runs its DSMC twin.
 //!
 //! The grain tables (`[box]`, `[[species]]`, `[initial]`, `[collisions]`) do not apply.
 
 pub mod bath_file;
 pub mod tables;
 
-pub use tables::{BathTable, DsmcTwinTable, NeedleTable, OneDTable};
+pub use tables::{BallMethodKey, BallTable, BathTable, DsmcTwinTable, NeedleTable, OneDTable};
 
 use serde::de::Error as _;
 use serde::ser::Error as _;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
+use super::validate::positive as positive_in_range;
 use super::{Scenario, ScenarioError};
+use crate::intruder::ball::BallParams;
 use crate::intruder::needle::NeedleParams;
 use crate::intruder::one_d::Intruder1dParams;
 
@@ -35,10 +40,14 @@ pub enum IntruderSpec {
     Needle(NeedleTable),
     /// `model = "dsmc-twin"`: DSMC version of the 1D intruder (section 4).
     DsmcTwin(DsmcTwinTable),
+    /// `model = "disk"`: a disk in a 2D bath (G-31 to G-45).
+    Disk(BallTable),
+    /// `model = "sphere"`: a sphere in a 3D bath (G-31 to G-45).
+    Sphere(BallTable),
 }
 
 /// The accepted `model` values.
-pub const MODELS: &str = "\"1d\", \"needle\" or \"dsmc-twin\"";
+pub const MODELS: &str = "\"1d\", \"needle\", \"dsmc-twin\", \"disk\" or \"sphere\"";
 
 impl IntruderSpec {
     /// The `model` name as written in the scenario.
@@ -47,14 +56,17 @@ impl IntruderSpec {
             IntruderSpec::OneD(_) => "1d",
             IntruderSpec::Needle(_) => "needle",
             IntruderSpec::DsmcTwin(_) => "dsmc-twin",
+            IntruderSpec::Disk(_) => "disk",
+            IntruderSpec::Sphere(_) => "sphere",
         }
     }
 
     /// The dimension of the intruder's motion: 1 for the `1d` and `dsmc-twin` models, 2 for
-    /// the needle.
+    /// the needle and the disk, 3 for the sphere.
     pub fn dimension(&self) -> usize {
         match self {
-            IntruderSpec::Needle(_) => 2,
+            IntruderSpec::Needle(_) | IntruderSpec::Disk(_) => 2,
+            IntruderSpec::Sphere(_) => 3,
             IntruderSpec::OneD(_) | IntruderSpec::DsmcTwin(_) => 1,
         }
     }
@@ -64,6 +76,25 @@ impl IntruderSpec {
         match self {
             IntruderSpec::OneD(c) => Some(c),
             IntruderSpec::DsmcTwin(c) => Some(&c.intruder),
+            _ => None,
+        }
+    }
+
+    /// The disk's or sphere's table, with its dimension.
+    pub fn ball(&self) -> Option<(&BallTable, usize)> {
+        match self {
+            IntruderSpec::Disk(c) => Some((c, 2)),
+            IntruderSpec::Sphere(c) => Some((c, 3)),
+            _ => None,
+        }
+    }
+
+    /// The `bath` table of the models that have one (all but the needle).
+    pub fn bath(&self) -> Option<&BathTable> {
+        match self {
+            IntruderSpec::OneD(c) => Some(&c.bath),
+            IntruderSpec::DsmcTwin(c) => Some(&c.intruder.bath),
+            IntruderSpec::Disk(c) | IntruderSpec::Sphere(c) => Some(&c.bath),
             IntruderSpec::Needle(_) => None,
         }
     }
@@ -72,12 +103,13 @@ impl IntruderSpec {
     /// of the scenario file), so that run directories, sweeps and resumes find it from any
     /// working directory.
     pub fn resolve_paths(&mut self, base: &std::path::Path) {
-        let cfg = match self {
-            IntruderSpec::OneD(c) => c,
-            IntruderSpec::DsmcTwin(c) => &mut c.intruder,
+        let bath = match self {
+            IntruderSpec::OneD(c) => &mut c.bath,
+            IntruderSpec::DsmcTwin(c) => &mut c.intruder.bath,
+            IntruderSpec::Disk(c) | IntruderSpec::Sphere(c) => &mut c.bath,
             IntruderSpec::Needle(_) => return,
         };
-        if let BathTable::Tabulated { file: Some(f), .. } = &mut cfg.bath
+        if let BathTable::Tabulated { file: Some(f), .. } = bath
             && std::path::Path::new(f.as_str()).is_relative()
         {
             *f = base.join(&*f).to_string_lossy().into_owned();
@@ -91,6 +123,7 @@ impl Serialize for IntruderSpec {
             IntruderSpec::OneD(c) => toml::Table::try_from(c),
             IntruderSpec::Needle(c) => toml::Table::try_from(c),
             IntruderSpec::DsmcTwin(c) => toml::Table::try_from(&c.intruder),
+            IntruderSpec::Disk(c) | IntruderSpec::Sphere(c) => toml::Table::try_from(c),
         };
         let mut table = body.map_err(S::Error::custom)?;
         if let IntruderSpec::DsmcTwin(c) = self {
@@ -133,6 +166,12 @@ impl<'de> Deserialize<'de> for IntruderSpec {
                 .map_err(wrap),
             "needle" => NeedleTable::deserialize(table)
                 .map(IntruderSpec::Needle)
+                .map_err(wrap),
+            "disk" => BallTable::deserialize(table)
+                .map(IntruderSpec::Disk)
+                .map_err(wrap),
+            "sphere" => BallTable::deserialize(table)
+                .map(IntruderSpec::Sphere)
                 .map_err(wrap),
             "dsmc-twin" => {
                 let bath_particles = match table.remove("bath_particles") {
@@ -295,6 +334,76 @@ fn validate_needle(c: &NeedleTable) -> Result<(), ScenarioError> {
     Ok(())
 }
 
+/// A disk or sphere: the model against `dimension`, the magnitudes, `bath_particles`
+/// against `method`, then the engine's own checks (errors name `intruder.<key>`).
+fn validate_ball(
+    c: &BallTable,
+    model: &str,
+    dimension: usize,
+    scenario_dimension: usize,
+) -> Result<(), ScenarioError> {
+    if scenario_dimension != dimension {
+        let other = if dimension == 2 { "sphere" } else { "disk" };
+        return Err(err(
+            "model",
+            format!(
+                "is \"{model}\", which moves in {dimension} dimensions, but dimension is {scenario_dimension} (2 when not given); set dimension = {dimension} at the top of the scenario, or use model = \"{other}\""
+            ),
+        ));
+    }
+    let key = |k: &str| format!("intruder.{k}");
+    positive_in_range(&key("radius"), c.radius, "the intruder radius R")?;
+    positive_in_range(&key("mass"), c.mass, "the intruder mass M")?;
+    positive_in_range(&key("bath_mass"), c.bath_mass, "the bath particle mass m")?;
+    positive_in_range(
+        &key("bath_density"),
+        c.bath_density,
+        "the bath number density rho",
+    )?;
+    if let BathTable::Gaussian { temperature } | BathTable::PowerLaw { temperature } = &c.bath {
+        positive_in_range(
+            &key("bath.temperature"),
+            *temperature,
+            "the bath temperature T_B",
+        )?;
+    }
+    restitution(c.restitution)?;
+    grid(c.sample_interval, c.transient, c.histogram_bins)?;
+    match (c.method, c.bath_particles) {
+        (BallMethodKey::DsmcTwin, Some(0)) => {
+            return Err(err(
+                "bath_particles",
+                "is 0; store at least one bath velocity (e.g. 10000)".into(),
+            ));
+        }
+        (BallMethodKey::Thinning | BallMethodKey::Direct, Some(n)) => {
+            return Err(err(
+                "bath_particles",
+                format!(
+                    "is {n}, but it is the sample size of the DSMC twin and method is not \"dsmc-twin\"; remove bath_particles or set method = \"dsmc-twin\""
+                ),
+            ));
+        }
+        _ => {}
+    }
+    if let BathTable::Tabulated { file, points } = &c.bath {
+        if file.is_some() && points.is_some() {
+            return Err(err(
+                "bath",
+                "is tabulated with both file and points; keep one (file = \"path\" or points = [[c, P], ...])".into(),
+            ));
+        }
+        // A relative file is read when the run starts (relative to the scenario file).
+        if matches!(file, Some(f) if std::path::Path::new(f.as_str()).is_relative()) {
+            return Ok(());
+        }
+    }
+    c.config(dimension)
+        .and_then(|cfg| BallParams::new(&cfg, dimension))
+        .map_err(|e| err(&e.key, e.message))?;
+    Ok(())
+}
+
 /// Validates a scenario with `engine = "intruder"`: the `[intruder]` table and the stop
 /// rules that make sense for a single driven particle (the shared `[stop]` and `[output]`
 /// checks follow in `Scenario::validate`).
@@ -319,6 +428,9 @@ pub(super) fn validate(sc: &Scenario) -> Result<(), ScenarioError> {
             }
         }
         IntruderSpec::Needle(c) => validate_needle(c)?,
+        IntruderSpec::Disk(c) | IntruderSpec::Sphere(c) => {
+            validate_ball(c, spec.model(), spec.dimension(), sc.dimension)?
+        }
     }
     let stop = &sc.stop;
     if let Some(f) = stop.energy_fraction {

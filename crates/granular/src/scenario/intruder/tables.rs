@@ -1,6 +1,7 @@
 //! The tables of `[intruder]` as the scenario format writes them (serde, defaults, unknown
 //! keys rejected), one per model, and their conversion into the engines' plain
-//! configurations ([`Intruder1dConfig`], [`NeedleConfig`], [`DsmcTwinConfig`]). A
+//! configurations ([`Intruder1dConfig`], [`NeedleConfig`], [`DsmcTwinConfig`],
+//! [`BallConfig`], [`BallDsmcTwinConfig`]). A
 //! tabulated bath given by `file` is read here ([`super::bath_file`]): the engines read no
 //! file and know nothing of the scenario format.
 //!
@@ -10,6 +11,9 @@
 use serde::{Deserialize, Serialize};
 
 use super::bath_file;
+use crate::intruder::ball::{
+    BallConfig, BallDsmcTwinConfig, BallError, BallMethod, IsotropicBathConfig,
+};
 use crate::intruder::dsmc_twin::DsmcTwinConfig;
 use crate::intruder::needle::NeedleMethod;
 use crate::intruder::one_d::Method1d;
@@ -96,6 +100,167 @@ impl BathTable {
                     "a tabulated bath needs `file` or `points`".into(),
                 ));
             }
+        })
+    }
+}
+
+impl BathTable {
+    /// The bath of a disk or sphere intruder in `dimension` 2 or 3: a tabulated bath is
+    /// the speed distribution `P(c)` (G-44), a `file` read here and checked as one (errors
+    /// name `bath.file` and the file; inline `points` are checked by the engine, whose
+    /// errors name `bath.points`).
+    pub fn isotropic_config(&self, dimension: usize) -> Result<IsotropicBathConfig, BallError> {
+        Ok(match self {
+            BathTable::Gaussian { temperature } => IsotropicBathConfig::Gaussian {
+                temperature: *temperature,
+            },
+            BathTable::PowerLaw { temperature } => IsotropicBathConfig::PowerLaw {
+                temperature: *temperature,
+            },
+            BathTable::Tabulated {
+                file: Some(f),
+                points: _,
+            } => {
+                let file_error = |m: String| BallError::new("bath.file", m);
+                let points = bath_file::read_columns(std::path::Path::new(f)).map_err(|e| {
+                    file_error(format!(
+                        "cannot be used: {e}; give a two-column file of speeds c >= 0 and densities P(c) >= 0"
+                    ))
+                })?;
+                crate::intruder::ball::bath::SpeedTable::new(dimension, &points)
+                    .map_err(|e| file_error(format!("is {f:?}, whose table {}", e.message)))?;
+                IsotropicBathConfig::Tabulated { points }
+            }
+            BathTable::Tabulated {
+                file: None,
+                points: Some(pts),
+            } => IsotropicBathConfig::Tabulated {
+                points: pts.iter().map(|p| (p[0], p[1])).collect(),
+            },
+            BathTable::Tabulated {
+                file: None,
+                points: None,
+            } => {
+                return Err(BallError::new(
+                    "bath",
+                    "is tabulated without data; give file = \"path\" or points = [[c, P], ...] (speeds c >= 0)",
+                ));
+            }
+        })
+    }
+}
+
+/// `method` of a disk or sphere intruder: the Gillespie engine's event samplers, or its
+/// DSMC twin (section 4 of the paper in `d` dimensions, G-45).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum BallMethodKey {
+    /// Thinning against the bound G-38 (any bath).
+    #[default]
+    Thinning,
+    /// The paper's direct method in `d` dimensions (Gaussian bath only).
+    Direct,
+    /// The DSMC twin with `bath_particles` stored bath velocities.
+    DsmcTwin,
+}
+
+/// `[intruder]` with `model = "disk"` (2D) or `model = "sphere"` (3D): a smooth ball of
+/// radius `R` in an isotropic bath of point particles (G-31 to G-45). Field by field the
+/// engine's [`BallConfig`], whose documentation gives units and defaults, plus
+/// `bath_particles` for `method = "dsmc-twin"`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct BallTable {
+    /// Intruder radius `R`.
+    pub radius: f64,
+    /// Intruder mass `M`.
+    pub mass: f64,
+    /// Bath particle mass `m`.
+    pub bath_mass: f64,
+    /// Coefficient of restitution `alpha` in `[0, 1]` (G-37).
+    pub restitution: f64,
+    /// Bath number density `rho` (1/length^d).
+    pub bath_density: f64,
+    /// `[intruder.bath]`; a tabulated bath is a speed distribution `P(c)` (G-44).
+    pub bath: BathTable,
+    /// Initial intruder velocity `V(0)`, `d` components (empty: at rest).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub initial_velocity: Vec<f64>,
+    /// Averaging grid spacing; default the engine's.
+    pub sample_interval: Option<f64>,
+    /// Time discarded before averaging; default the engine's.
+    pub transient: Option<f64>,
+    /// `"thinning"`, `"direct"` or `"dsmc-twin"`.
+    pub method: BallMethodKey,
+    /// Histogram edge `h`; default the engine's.
+    pub histogram_max: Option<f64>,
+    /// Number of histogram bins.
+    pub histogram_bins: usize,
+    /// `method = "dsmc-twin"`: number of stored bath velocities (default 10000).
+    pub bath_particles: Option<usize>,
+}
+
+impl Default for BallTable {
+    fn default() -> Self {
+        let c = BallConfig::default();
+        Self {
+            radius: c.radius,
+            mass: c.mass,
+            bath_mass: c.bath_mass,
+            restitution: c.restitution,
+            bath_density: c.bath_density,
+            bath: BathTable::Gaussian {
+                temperature: match c.bath {
+                    IsotropicBathConfig::Gaussian { temperature } => temperature,
+                    _ => 0.5,
+                },
+            },
+            initial_velocity: c.initial_velocity,
+            sample_interval: c.sample_interval,
+            transient: c.transient,
+            method: BallMethodKey::Thinning,
+            histogram_max: c.histogram_max,
+            histogram_bins: c.histogram_bins,
+            bath_particles: None,
+        }
+    }
+}
+
+impl BallTable {
+    /// The engine's configuration in `dimension` 2 or 3 (a tabulated bath `file` is read);
+    /// for `method = "dsmc-twin"` the physical system of the twin (`method` thinning).
+    pub fn config(&self, dimension: usize) -> Result<BallConfig, BallError> {
+        Ok(BallConfig {
+            radius: self.radius,
+            mass: self.mass,
+            bath_mass: self.bath_mass,
+            restitution: self.restitution,
+            bath_density: self.bath_density,
+            bath: self.bath.isotropic_config(dimension)?,
+            initial_velocity: self.initial_velocity.clone(),
+            sample_interval: self.sample_interval,
+            transient: self.transient,
+            method: match self.method {
+                BallMethodKey::Direct => BallMethod::Direct,
+                BallMethodKey::Thinning | BallMethodKey::DsmcTwin => BallMethod::Thinning,
+            },
+            histogram_max: self.histogram_max,
+            histogram_bins: self.histogram_bins,
+        })
+    }
+
+    /// Whether the table runs the DSMC twin.
+    pub fn is_twin(&self) -> bool {
+        self.method == BallMethodKey::DsmcTwin
+    }
+
+    /// The DSMC twin's configuration (`bath_particles` default 10000).
+    pub fn twin_config(&self, dimension: usize) -> Result<BallDsmcTwinConfig, BallError> {
+        Ok(BallDsmcTwinConfig {
+            ball: self.config(dimension)?,
+            bath_particles: self
+                .bath_particles
+                .unwrap_or(BallDsmcTwinConfig::default().bath_particles),
         })
     }
 }
@@ -324,5 +489,30 @@ mod tests {
             DsmcTwinTable::default().config().unwrap(),
             DsmcTwinConfig::default()
         );
+        for d in [2, 3] {
+            assert_eq!(
+                BallTable::default().config(d).unwrap(),
+                BallConfig::default()
+            );
+            let twin = BallTable {
+                method: BallMethodKey::DsmcTwin,
+                ..Default::default()
+            };
+            assert_eq!(twin.twin_config(d).unwrap(), BallDsmcTwinConfig::default());
+        }
+    }
+
+    #[test]
+    fn ball_table_round_trips() {
+        let c: BallTable = toml::from_str(
+            "radius = 0.25\nmethod = \"dsmc-twin\"\nbath_particles = 500\ninitial_velocity = [1.0, 0.0, 2.0]\n[bath]\nkind = \"power-law\"\ntemperature = 1.0",
+        )
+        .unwrap();
+        assert_eq!(c.radius, 0.25);
+        assert!(c.is_twin());
+        assert_eq!(c.twin_config(3).unwrap().bath_particles, 500);
+        let text = toml::to_string(&c).unwrap();
+        assert_eq!(toml::from_str::<BallTable>(&text).unwrap(), c);
+        assert!(toml::from_str::<BallTable>("raduis = 1.0").is_err());
     }
 }
