@@ -450,8 +450,13 @@ fn dispatch(cli: Cli) -> Result<(), CliError> {
                     dir.display()
                 )));
             }
-            launch(&dir, quiet, |mine, _, _| {
-                Run::create(mine, sc).map_err(|e| e.to_string())
+            launch(&dir, quiet, |mine, _, comm| {
+                match comm {
+                    // Each rank creates only its own grains.
+                    Some(comm) => Run::create_on(mine, sc, comm, &dir, None),
+                    None => Run::create(mine, sc),
+                }
+                .map_err(|e| e.to_string())
             })
         }
         Command::Export { run, format } => {

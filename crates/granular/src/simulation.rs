@@ -190,7 +190,9 @@ impl Simulation {
         &mut self,
         comm: std::sync::Arc<dyn crate::dsmc::Communicator>,
     ) -> Result<(), crate::dsmc::DomainError> {
-        self.engine.decompose(comm)
+        self.engine.decompose(comm)?;
+        self.engine.set_balance(self.scenario.dsmc.balance());
+        Ok(())
     }
 
     /// Makes the ranks of a decomposed run stop on `stop.wall_seconds` at the same step:

@@ -157,10 +157,26 @@ impl LogLagCorrelator {
     /// A correlator for grains of the given species (index per grain, `species_count`
     /// species).
     pub fn new(dimension: usize, species: &[u32], species_count: usize) -> LogLagCorrelator {
-        let per_species: Vec<usize> = (0..species_count)
+        let totals: Vec<usize> = (0..species_count)
             .map(|s| species.iter().filter(|&&x| x as usize == s).count())
             .collect();
-        let groups: Vec<usize> = per_species.iter().map(|&n| n.clamp(1, GROUPS)).collect();
+        LogLagCorrelator::for_block(dimension, species, &vec![0; species_count], &totals)
+    }
+
+    /// A correlator for a block of consecutive grains of a larger system (a rank's block
+    /// of ids): `species` per grain of the block, `before[s]` the grains of species `s`
+    /// before the block, `totals[s]` those of the whole system. Its sums are the whole
+    /// system's when every block's grains are folded in order
+    /// ([`LogLagCorrelator::add_chained`]); [`LogLagCorrelator::new`] is the block of
+    /// all grains.
+    pub fn for_block(
+        dimension: usize,
+        species: &[u32],
+        before: &[usize],
+        totals: &[usize],
+    ) -> LogLagCorrelator {
+        let species_count = totals.len();
+        let groups: Vec<usize> = totals.iter().map(|&n| n.clamp(1, GROUPS)).collect();
         let offsets: Vec<usize> = groups
             .iter()
             .scan(0, |acc, &g| {
@@ -169,7 +185,7 @@ impl LogLagCorrelator {
                 Some(o)
             })
             .collect();
-        let mut seen = vec![0usize; species_count];
+        let mut seen = before.to_vec();
         let group: Vec<u32> = species
             .iter()
             .map(|&s| {
@@ -180,9 +196,13 @@ impl LogLagCorrelator {
             })
             .collect();
         let total: usize = groups.iter().sum();
+        // Grain `j` of species `s` is in group `j mod G_s`.
         let mut group_sizes = vec![0usize; total];
-        for &g in &group {
-            group_sizes[g as usize] += 1;
+        for s in 0..species_count {
+            for g in 0..groups[s] {
+                group_sizes[offsets[s] + g] =
+                    totals[s] / groups[s] + usize::from(g < totals[s] % groups[s]);
+            }
         }
         let group_species = (0..species_count)
             .flat_map(|s| std::iter::repeat_n(s, groups[s]))
@@ -217,8 +237,26 @@ impl LogLagCorrelator {
 
     /// Feeds one sample: unwrapped positions and velocities (`n * D` each).
     pub fn add(&mut self, positions: &[f64], velocities: &[f64]) {
+        self.add_chained(positions, velocities, &mut |acc, fold| fold(acc));
+    }
+
+    /// Feeds one sample of this block's grains (`positions`, `velocities`: the block's
+    /// unwrapped positions and velocities). The sums of the lags the sample reaches are
+    /// continued over the grains in order: `chain(acc, fold)` must return `acc` folded
+    /// over every block's grains in id order (`fold` folds this block's), for one block
+    /// `fold(acc)` (as [`LogLagCorrelator::add`]); over the ranks of a decomposed run
+    /// the chained sum of the run's outputs that hands the accumulator from rank to rank. The
+    /// additions are those of one loop over all grains, in its order.
+    pub fn add_chained(
+        &mut self,
+        positions: &[f64],
+        velocities: &[f64],
+        chain: &mut dyn FnMut(Vec<f64>, &mut dyn FnMut(Vec<f64>) -> Vec<f64>) -> Vec<f64>,
+    ) {
         let count = self.samples;
         self.samples += 1;
+        // The (level, lag) pairs this sample reaches.
+        let mut reached: Vec<(usize, usize)> = Vec::new();
         for k in 0..MAX_LEVELS {
             if !count.is_multiple_of(1u64 << k) {
                 break;
@@ -233,28 +271,47 @@ impl LogLagCorrelator {
             }
             level.positions.push_back(positions.to_vec());
             level.velocities.push_back(velocities.to_vec());
-            let held = level.positions.len();
             let first = if k == 0 { 0 } else { POINTS / 2 };
-            for j in first..held {
+            reached.extend((first..level.positions.len()).map(|j| (k, j)));
+        }
+        let groups = self.group_sizes.len();
+        let mut acc = Vec::with_capacity(2 * groups * reached.len());
+        for &(k, j) in &reached {
+            let index = Self::lag_index(k, j);
+            acc.extend_from_slice(&self.msd_sums[index]);
+            acc.extend_from_slice(&self.vacf_sums[index]);
+        }
+        let d = self.dimension;
+        let (levels, group) = (&self.levels, &self.group);
+        let mut fold = |mut acc: Vec<f64>| {
+            for (r, &(k, j)) in reached.iter().enumerate() {
+                let level = &levels[k];
+                let held = level.positions.len();
+                let (x, v) = (&level.positions[held - 1], &level.velocities[held - 1]);
                 let old_x = &level.positions[held - 1 - j];
                 let old_v = &level.velocities[held - 1 - j];
-                let index = Self::lag_index(k, j);
-                let d = self.dimension;
-                let msd = &mut self.msd_sums[index];
-                let vacf = &mut self.vacf_sums[index];
-                for (i, &g) in self.group.iter().enumerate() {
+                let (msd, vacf) = acc[2 * r * groups..2 * (r + 1) * groups].split_at_mut(groups);
+                for (i, &g) in group.iter().enumerate() {
                     let mut dx2 = 0.0;
                     let mut vv = 0.0;
                     for c in i * d..(i + 1) * d {
-                        let dx = positions[c] - old_x[c];
+                        let dx = x[c] - old_x[c];
                         dx2 += dx * dx;
-                        vv += velocities[c] * old_v[c];
+                        vv += v[c] * old_v[c];
                     }
                     msd[g as usize] += dx2;
                     vacf[g as usize] += vv;
                 }
-                self.origins[index] += 1;
             }
+            acc
+        };
+        let acc = chain(acc, &mut fold);
+        for (r, &(k, j)) in reached.iter().enumerate() {
+            let index = Self::lag_index(k, j);
+            let part = &acc[2 * r * groups..2 * (r + 1) * groups];
+            self.msd_sums[index].copy_from_slice(&part[..groups]);
+            self.vacf_sums[index].copy_from_slice(&part[groups..]);
+            self.origins[index] += 1;
         }
     }
 
@@ -356,6 +413,124 @@ impl LogLagCorrelator {
             })
             .collect();
         Some(self.species_stat(s, &per_group))
+    }
+}
+
+/// The per-grain state of an [`Unwrapper`] and a [`LogLagCorrelator`] for the grains
+/// `first .. first + len` (a rank's block of ids): written into a decomposed run's
+/// checkpoint parts, and cut again into other blocks when the run resumes on another
+/// number of ranks ([`GrainRows::cut`]).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct GrainRows {
+    /// The first grain.
+    pub first: usize,
+    /// Grains.
+    pub len: usize,
+    /// Values per grain of the position arrays.
+    pub dimension: usize,
+    /// Group of each grain.
+    pub group: Vec<u32>,
+    /// Wrapped positions at the previous sample.
+    pub previous: Vec<f64>,
+    /// Unwrapped positions.
+    pub unwrapped: Vec<f64>,
+    /// Per level, the samples' positions and velocities, oldest first.
+    pub levels: Vec<(Vec<Vec<f64>>, Vec<Vec<f64>>)>,
+}
+
+impl GrainRows {
+    /// The grains `a .. b` from `parts` (blocks in order that cover them, each holding
+    /// the same levels and samples).
+    pub fn cut(parts: &[GrainRows], a: usize, b: usize) -> GrainRows {
+        let d = parts.first().map_or(0, |p| p.dimension);
+        let take = |values: &dyn Fn(&GrainRows) -> &[f64], width: usize| -> Vec<f64> {
+            let mut out = Vec::with_capacity((b - a) * width);
+            for p in parts {
+                let lo = a.max(p.first);
+                let hi = b.min(p.first + p.len);
+                if lo < hi {
+                    let v = values(p);
+                    out.extend_from_slice(&v[(lo - p.first) * width..(hi - p.first) * width]);
+                }
+            }
+            out
+        };
+        let mut group = Vec::with_capacity(b - a);
+        for p in parts {
+            let lo = a.max(p.first);
+            let hi = b.min(p.first + p.len);
+            if lo < hi {
+                group.extend_from_slice(&p.group[lo - p.first..hi - p.first]);
+            }
+        }
+        let levels = parts.first().map_or(Vec::new(), |first| {
+            (0..first.levels.len())
+                .map(|k| {
+                    let samples = first.levels[k].0.len();
+                    let side = |vel: bool| -> Vec<Vec<f64>> {
+                        (0..samples)
+                            .map(|t| {
+                                take(
+                                    &|p: &GrainRows| {
+                                        let l = &p.levels[k];
+                                        if vel { &l.1[t] } else { &l.0[t] }
+                                    },
+                                    d,
+                                )
+                            })
+                            .collect()
+                    };
+                    (side(false), side(true))
+                })
+                .collect()
+        });
+        GrainRows {
+            first: a,
+            len: b - a,
+            dimension: d,
+            group,
+            previous: take(&|p: &GrainRows| &p.previous, d),
+            unwrapped: take(&|p: &GrainRows| &p.unwrapped, d),
+            levels,
+        }
+    }
+}
+
+impl LogLagCorrelator {
+    /// Moves the per-grain state of this correlator and `unwrapper` out (for grains
+    /// `first ..`), leaving both without grains.
+    pub fn take_rows(&mut self, unwrapper: &mut Unwrapper, first: usize) -> GrainRows {
+        let len = self.group.len();
+        GrainRows {
+            first,
+            len,
+            dimension: self.dimension,
+            group: std::mem::take(&mut self.group),
+            previous: std::mem::take(&mut unwrapper.previous),
+            unwrapped: std::mem::take(&mut unwrapper.unwrapped),
+            levels: self
+                .levels
+                .iter_mut()
+                .map(|l| {
+                    (
+                        std::mem::take(&mut l.positions).into(),
+                        std::mem::take(&mut l.velocities).into(),
+                    )
+                })
+                .collect(),
+        }
+    }
+
+    /// Puts per-grain state back ([`LogLagCorrelator::take_rows`], perhaps of another
+    /// block: [`GrainRows::cut`]).
+    pub fn put_rows(&mut self, unwrapper: &mut Unwrapper, rows: GrainRows) {
+        self.group = rows.group;
+        unwrapper.previous = rows.previous;
+        unwrapper.unwrapped = rows.unwrapped;
+        for (l, (p, v)) in self.levels.iter_mut().zip(rows.levels) {
+            l.positions = p.into();
+            l.velocities = v.into();
+        }
     }
 }
 

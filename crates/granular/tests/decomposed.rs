@@ -409,10 +409,12 @@ fn run_scenario() -> granular::scenario::Scenario {
         [stop]
         time = 0.05
         [output]
-        interval = 0.01
+        interval = 0.005
         snapshot_every = 2
         checkpoint_seconds = 1e-9
         equilibration_collisions_per_particle = 1e9
+        msd = true
+        trajectory = ["gsd", "xyz"]
         "#
     );
     granular::scenario::Scenario::from_toml(&text, &[]).expect("valid scenario")
@@ -470,10 +472,12 @@ fn decomposed_run_writes_parts_and_resumes_on_another_rank_count() {
         }
         most.load(std::sync::atomic::Ordering::Relaxed)
     });
+    // The engine's parts (the MSD's per-grain state is in `.rows.msgpack` files beside).
     let parts: Vec<_> = std::fs::read_dir(shared.join("checkpoint.parts"))
         .unwrap()
         .flatten()
         .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|f| !f.contains(".rows."))
         .collect();
     assert_eq!(
         parts.len(),
@@ -502,7 +506,18 @@ fn decomposed_run_writes_parts_and_resumes_on_another_rank_count() {
         }
     }
     let read = |d: &std::path::Path, f: &str| std::fs::read(d.join(f)).unwrap();
-    assert!(read(&shared, "timeseries.csv") == read(&threaded, "timeseries.csv"));
+    for f in [
+        "timeseries.csv",
+        "mean_square_displacement.csv",
+        "velocity_autocorrelation.csv",
+        "trajectory/trajectory.gsd",
+        "trajectory/trajectory.xyz",
+    ] {
+        assert!(
+            read(&shared, f) == read(&threaded, f),
+            "{f}: resumed on 2 ranks, not the threaded run's bytes"
+        );
+    }
     assert!(
         !shared.join("checkpoint.parts").exists(),
         "parts left after the end"
@@ -793,4 +808,222 @@ fn slab_setup_with_more_ranks_than_cell_planes_is_an_error_naming_both() {
         .unwrap_err()
         .to_string();
     assert!(err.contains("3 ranks but only 2 cell planes"), "{err}");
+}
+
+/// Grains of [`mixed_scenario`].
+const MIXED_GRAINS: usize = 6000;
+
+/// Two species of equal grains in two regions (the lower one Maxwellian at temperature
+/// 1, the upper one at a fixed speed), placed at random, a snapshot at every second
+/// output; `driven`: a periodic box with white-noise driving, else walls across the cut
+/// with gravity along it (driving needs a periodic box). `set`: overrides.
+fn mixed_scenario(driven: bool, set: &[&str]) -> granular::scenario::Scenario {
+    let (boundary, gravity, law, driving) = if driven {
+        (
+            r#""periodic""#,
+            "",
+            "",
+            "[driving]\nkind = \"white_noise\"\nstrength = 1.0",
+        )
+    } else {
+        (
+            r#"["periodic", "wall"]"#,
+            "gravity = [0.0, -1.0]",
+            "wall_restitution = 0.9",
+            "",
+        )
+    };
+    let text = format!(
+        r#"
+        engine = "dsmc"
+        dimension = 2
+        seed = 9
+        {gravity}
+        [box]
+        lengths = [1.0, 1.0]
+        boundary = {boundary}
+        [[species]]
+        name = "low"
+        count = {}
+        radius = 0.002
+        region = {{ lo = [0.0, 0.0], hi = [1.0, 0.4] }}
+        velocity = {{ distribution = "maxwell_boltzmann", temperature = 1.0 }}
+        [[species]]
+        name = "high"
+        count = {}
+        radius = 0.002
+        region = {{ lo = [0.0, 0.7], hi = [1.0, 1.0] }}
+        velocity = {{ distribution = "fixed_speed", speed = 1.5 }}
+        [collisions]
+        restitution = 0.8
+        {law}
+        [stop]
+        time = 0.03
+        [output]
+        interval = 0.003
+        snapshot_every = 4
+        equilibration_collisions_per_particle = 0.0
+        msd = true
+        trajectory = ["gsd"]
+        {driving}
+        "#,
+        MIXED_GRAINS * 2 / 3,
+        MIXED_GRAINS / 3
+    );
+    let set: Vec<String> = set.iter().map(|s| s.to_string()).collect();
+    granular::scenario::Scenario::from_toml(&text, &set).expect("valid scenario")
+}
+
+/// Records, at the end of a run, the most grains its rank held at a time and how often
+/// the cuts moved.
+struct Peak(Arc<Mutex<(usize, u64)>>);
+
+impl granular::Output for Peak {
+    fn observe(
+        &mut self,
+        _: &granular::Simulation,
+        _: &granular::Observation,
+    ) -> Result<(), granular::RunError> {
+        Ok(())
+    }
+
+    fn finish(
+        &mut self,
+        simulation: &granular::Simulation,
+        _: &mut granular::Summary,
+    ) -> Result<(), granular::RunError> {
+        if let Some(d) = simulation.engine().domain() {
+            *self.0.lock().unwrap() = (d.peak_grains(), d.recuts());
+        }
+        Ok(())
+    }
+}
+
+/// Runs `scenario` on `k` ranks, each creating only its own grains, into `shared`;
+/// returns every rank's peak grains and re-cuts.
+fn run_on_ranks(
+    k: usize,
+    scenario: &granular::scenario::Scenario,
+    shared: &std::path::Path,
+) -> Vec<(usize, u64)> {
+    use granular::run::Run;
+    let own = crate::common::tmp("on-ranks-own");
+    let peaks = on_ranks(k, |comm, _| {
+        let rank = comm.rank();
+        let dir = rank_dir(rank, shared, &own, false);
+        let mut run = Run::create_on(&dir, scenario.clone(), comm, shared, None).unwrap();
+        let peak = Arc::new(Mutex::new((0, 0)));
+        run.attach(Box::new(Peak(peak.clone())));
+        run.run_to_end(&mut |_| {}, None).unwrap();
+        let p = *peak.lock().unwrap();
+        p
+    });
+    let _ = std::fs::remove_dir_all(own);
+    peaks
+}
+
+/// The files of a run directory that must be the threaded run's, byte for byte.
+fn same_files(a: &std::path::Path, b: &std::path::Path, what: &str) {
+    assert_eq!(
+        summary_without_clock(a),
+        summary_without_clock(b),
+        "{what}: summary.json differs from the threaded run's"
+    );
+    for f in [
+        "timeseries.csv",
+        "speed_histograms.csv",
+        "velocity_histograms.csv",
+        "mean_square_displacement.csv",
+        "velocity_autocorrelation.csv",
+        "trajectory/trajectory.gsd",
+    ] {
+        assert!(
+            std::fs::read(a.join(f)).unwrap() == std::fs::read(b.join(f)).unwrap(),
+            "{what}: {f} differs from the threaded run's"
+        );
+    }
+    let mut names: Vec<_> = std::fs::read_dir(a.join("snapshots"))
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name())
+        .collect();
+    names.sort();
+    assert!(names.len() >= 3, "{what}: snapshots {names:?}");
+    for name in names {
+        let f = std::path::Path::new("snapshots").join(name);
+        assert!(
+            std::fs::read(a.join(&f)).unwrap() == std::fs::read(b.join(&f)).unwrap(),
+            "{what}: {} differs from the threaded run's",
+            f.display()
+        );
+    }
+}
+
+/// Every rank creates only its own grains (two species in two regions, random placement,
+/// walls, gravity, driving; the MSD and a GSD trajectory on): on 1 to 4 ranks, with the cuts following the grains by count
+/// (the default: the regions leave the middle of the box empty, so equal slabs would load
+/// the ranks unevenly), by measured time, or fixed, the run writes the threaded run's
+/// files bit for bit; no rank ever holds more than its share of the grains and one
+/// migration's buffers (far from all of them).
+#[test]
+fn per_rank_setup_is_the_threaded_run_for_any_ranks_and_cuts() {
+    use granular::run::Run;
+    for driven in [false, true] {
+        let threaded = crate::common::tmp("mixed-threaded");
+        Run::create(&threaded, mixed_scenario(driven, &[]))
+            .unwrap()
+            .run_to_end(&mut |_| {}, None)
+            .unwrap();
+        let cases: &[(usize, &str)] = if driven {
+            &[(2, "count"), (4, "time")]
+        } else {
+            &[
+                (1, "count"),
+                (2, "count"),
+                (3, "count"),
+                (4, "count"),
+                (3, "off"),
+            ]
+        };
+        for &(k, balance) in cases {
+            check_mixed_on_ranks(&threaded, driven, k, balance);
+        }
+        let _ = std::fs::remove_dir_all(threaded);
+    }
+}
+
+/// [`per_rank_setup_is_the_threaded_run_for_any_ranks_and_cuts`] on `k` ranks.
+fn check_mixed_on_ranks(threaded: &std::path::Path, driven: bool, k: usize, balance: &str) {
+    {
+        let set = format!("dsmc.balance=\"{balance}\"");
+        let scenario = mixed_scenario(driven, &[&set, "dsmc.balance_every=3"]);
+        let shared = crate::common::tmp("mixed-ranks");
+        let peaks = run_on_ranks(k, &scenario, &shared);
+        let what = format!("{k} ranks, balance {balance}, driven {driven}");
+        same_files(threaded, &shared, &what);
+        if k > 1 && balance == "count" {
+            for (rank, &(peak, _)) in peaks.iter().enumerate() {
+                // Balanced (own grains within 5 % of N / K): its own grains, its block of
+                // ids (N / K, at the set-up and when the outputs read the grains by
+                // blocks) and the buffers of one exchange: at most 3 N / K and a margin,
+                // which on 4 ranks is well below N.
+                let bound = 3 * MIXED_GRAINS / k + MIXED_GRAINS / (4 * k);
+                assert!(
+                    peak > 0 && peak <= bound,
+                    "{what}: rank {rank} held {peak} grains at a time (bound {bound})"
+                );
+                if k == 4 {
+                    assert!(peak < MIXED_GRAINS, "{what}: rank {rank} held {peak}");
+                }
+            }
+        }
+        if k == 4 {
+            // Whatever the cuts (by time they share the measured time, not the grains):
+            // no rank comes near all grains.
+            for (rank, &(peak, _)) in peaks.iter().enumerate() {
+                assert!(peak < MIXED_GRAINS, "{what}: rank {rank} held {peak}");
+            }
+        }
+        let _ = std::fs::remove_dir_all(shared);
+    }
 }

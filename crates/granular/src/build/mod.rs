@@ -68,6 +68,15 @@ impl AnyEngine {
         }
     }
 
+    /// How a decomposed DSMC engine's slab cuts follow the grains (nothing otherwise).
+    pub fn set_balance(&mut self, balance: crate::dsmc::Balance) {
+        match self {
+            AnyEngine::Dsmc2(e) => e.set_balance(balance),
+            AnyEngine::Dsmc3(e) => e.set_balance(balance),
+            _ => {}
+        }
+    }
+
     /// This rank's share of a decomposed DSMC engine (`None`: the whole engine).
     pub fn domain(&self) -> Option<&crate::dsmc::Domain> {
         match self {
@@ -179,8 +188,38 @@ pub fn build(scenario: &Scenario) -> Result<AnyEngine, BuildError> {
         }
         (EngineKind::Edmd, 2) => AnyEngine::Edmd2(build_edmd::<2>(scenario)?),
         (EngineKind::Edmd, _) => AnyEngine::Edmd3(build_edmd::<3>(scenario)?),
-        (EngineKind::Dsmc, 2) => AnyEngine::Dsmc2(build_dsmc::<2>(scenario)?),
-        (EngineKind::Dsmc, _) => AnyEngine::Dsmc3(build_dsmc::<3>(scenario)?),
+        (EngineKind::Dsmc, 2) => AnyEngine::Dsmc2(build_dsmc::<2>(scenario, None, None)?),
+        (EngineKind::Dsmc, _) => AnyEngine::Dsmc3(build_dsmc::<3>(scenario, None, None)?),
+    })
+}
+
+/// Builds the engine named by the scenario split over the ranks of `comm` (collective):
+/// a DSMC engine creates only this rank's grains (see [`dsmc_setup`]), the same bits as
+/// the slab of [`build`]'s engine; `check` sees how many grains this rank will hold before
+/// they are created (a memory estimate), and its error stops every rank. Other engines
+/// are refused on several ranks.
+pub fn build_on(
+    scenario: &Scenario,
+    comm: std::sync::Arc<dyn crate::dsmc::Communicator>,
+    check: Option<crate::dsmc::setup::OwnGrainsCheck<'_>>,
+) -> Result<AnyEngine, BuildError> {
+    scenario.validate()?;
+    Ok(match (scenario.engine, scenario.dimension) {
+        (EngineKind::Dsmc, 2) => AnyEngine::Dsmc2(build_dsmc::<2>(scenario, Some(comm), check)?),
+        (EngineKind::Dsmc, _) => AnyEngine::Dsmc3(build_dsmc::<3>(scenario, Some(comm), check)?),
+        _ if comm.size() == 1 => build(scenario)?,
+        _ => {
+            return Err(BuildError::Dsmc(
+                crate::dsmc::DomainError::NotDecomposable {
+                    engine: match scenario.engine {
+                        EngineKind::Edmd => "edmd",
+                        _ => "intruder",
+                    },
+                    ranks: comm.size(),
+                }
+                .to_string(),
+            ));
+        }
     })
 }
 
@@ -346,13 +385,96 @@ fn build_edmd<const D: usize>(scenario: &Scenario) -> Result<Edmd<D>, BuildError
     Ok(engine)
 }
 
-/// The DSMC engine starts from the same initial state as the event-driven one (the same
-/// placement and velocities for the same scenario and seed), so the two can be compared
-/// member by member.
-fn build_dsmc<const D: usize>(scenario: &Scenario) -> Result<DsmcEngine<D>, BuildError> {
-    let (bx, set) = initial_particles::<D>(scenario)?;
+/// The DSMC engine's initial state, grain by grain (`crate::dsmc::setup`): every grain's
+/// position and velocity follow from its id, so that a run split over ranks creates on
+/// each rank only its own grains, the same bits for any number of ranks and threads.
+/// Unlike the event-driven engine's random *sequential* placement, random placement here
+/// draws every grain independently (DSMC grains may overlap).
+pub fn dsmc_setup<const D: usize>(
+    scenario: &Scenario,
+) -> Result<(SimulationBox<D>, crate::dsmc::GrainSetup<D>), BuildError> {
+    use crate::dsmc::{GrainSetup, InitialVelocity, SpeciesSetup};
+    let axes = scenario.axes();
+    let mut ax = [crate::boundary::AxisKind::Wall; D];
+    ax.copy_from_slice(&axes[..D]);
+    let bx = SimulationBox {
+        lengths: vector::<D>(&scenario.lengths()),
+        axes: ax,
+    };
+    let radius = scenario.radius(0);
+    let mass = scenario.species.first().map_or(1.0, |s| s.mass);
+    let mut species = Vec::with_capacity(scenario.species.len());
+    for (s, sp) in scenario.species.iter().enumerate() {
+        let region = match &sp.region {
+            Some(reg) => Region {
+                lo: vector::<D>(&reg.lo),
+                hi: vector::<D>(&reg.hi),
+            },
+            None => Region::whole(&bx),
+        };
+        let init_err = |source| BuildError::Init {
+            species: sp.name.clone(),
+            source,
+        };
+        let placement = if !sp.positions.is_empty() {
+            crate::dsmc::Placement::Given(std::sync::Arc::new(
+                sp.positions.iter().map(|p| vector::<D>(p)).collect(),
+            ))
+        } else {
+            match scenario.initial.placement {
+                Placement::Random => {
+                    for k in 0..D {
+                        let (a, b) = region.centre_range(&bx, k, scenario.radius(s));
+                        if b < a {
+                            return Err(init_err(InitError::DoesNotFit {
+                                radius: scenario.radius(s),
+                                lo: region.lo.0.to_vec(),
+                                hi: region.hi.0.to_vec(),
+                            }));
+                        }
+                    }
+                    crate::dsmc::Placement::Random(region)
+                }
+                Placement::Lattice => crate::dsmc::Placement::Lattice(
+                    setup::Lattice::new(&bx, &region, sp.count, scenario.radius(s))
+                        .map_err(init_err)?,
+                ),
+            }
+        };
+        let velocity = match &sp.velocity {
+            VelocitySpec::Zero => InitialVelocity::Zero,
+            VelocitySpec::FixedSpeed { speed } => InitialVelocity::FixedSpeed(*speed),
+            VelocitySpec::MaxwellBoltzmann { temperature } => {
+                InitialVelocity::MaxwellBoltzmann(*temperature)
+            }
+            VelocitySpec::Given { velocity } => InitialVelocity::Given(vector::<D>(velocity)),
+            VelocitySpec::PerGrain { velocities } => InitialVelocity::PerGrain(
+                std::sync::Arc::new(velocities.iter().map(|v| vector::<D>(v)).collect()),
+            ),
+        };
+        species.push(SpeciesSetup {
+            name: sp.name.clone(),
+            count: sp.count,
+            placement,
+            velocity,
+        });
+    }
+    Ok((
+        bx,
+        GrainSetup {
+            species,
+            radius,
+            mass,
+            zero_momentum: scenario.initial.zero_momentum,
+            seed: scenario.seed,
+        },
+    ))
+}
+
+/// The DSMC engine's configuration of a scenario.
+fn dsmc_config(scenario: &Scenario) -> DsmcConfig {
     let spec = &scenario.dsmc;
-    let config = DsmcConfig {
+    DsmcConfig {
         time_step: spec.time_step,
         cell_size: spec.cell_size,
         // The same collision law as the event-driven engine: pair, wall (normal and
@@ -370,9 +492,25 @@ fn build_dsmc<const D: usize>(scenario: &Scenario) -> Result<DsmcEngine<D>, Buil
             .dsmc
             .impact_bins
             .unwrap_or(scenario.edmd.impact_bins),
-    };
+    }
+}
+
+/// The DSMC engine of a scenario: the whole engine, or with `comm` this rank's slab
+/// (collective; see [`dsmc_setup`]). `check` sees this rank's own grains before they are
+/// created.
+pub(crate) fn build_dsmc<const D: usize>(
+    scenario: &Scenario,
+    comm: Option<std::sync::Arc<dyn crate::dsmc::Communicator>>,
+    check: Option<crate::dsmc::setup::OwnGrainsCheck<'_>>,
+) -> Result<DsmcEngine<D>, BuildError> {
+    let (bx, setup) = dsmc_setup::<D>(scenario)?;
     let seed = crate::random::derive_key(scenario.seed, &[crate::random::DYNAMICS]);
-    let mut engine = DsmcEngine::from_particles(config, bx, set, seed)
+    let ranks = comm.map(|comm| crate::dsmc::setup::OnRanks {
+        comm,
+        balance: scenario.dsmc.balance(),
+        check,
+    });
+    let mut engine = DsmcEngine::from_setup(dsmc_config(scenario), bx, &setup, seed, ranks)
         .map_err(|e| BuildError::Dsmc(e.to_string()))?;
     // `[driving]`: a steady state (rescale defaults to the initial temperature).
     let driving = scenario

@@ -33,6 +33,11 @@ impl<const D: usize> DsmcEngine<D> {
         Ok(())
     }
 
+    /// Grains this engine holds (its rank's own when decomposed).
+    pub fn local_len(&self) -> usize {
+        self.grains.len()
+    }
+
     /// This rank's share, when the engine is decomposed.
     pub fn domain(&self) -> Option<&Domain> {
         self.domain.as_ref()
@@ -50,6 +55,7 @@ impl<const D: usize> DsmcEngine<D> {
     /// rank's own particles at its own place, so that the ranks' arrays put end to end stay
     /// in the whole engine's order. `cell_of` must be recomputed afterwards (the sort does).
     pub(super) fn migrate(&mut self) {
+        self.rebalance();
         let Some(domain) = self.domain.as_ref() else {
             return;
         };
@@ -66,10 +72,12 @@ impl<const D: usize> DsmcEngine<D> {
             }
             g.pack(i, &mut out[q]);
         }
-        let incoming = domain.exchange(out);
         let w = g.words();
+        let sent: usize = out.iter().map(|v| v.len() / w).sum();
+        let incoming = domain.exchange(out);
         let arrivals: usize = incoming.iter().map(|v| v.len() / w).sum();
         let total = kept + arrivals;
+        domain.hold(kept + sent + arrivals);
         let before: usize = incoming[..me].iter().map(|v| v.len() / w).sum();
         // Own particles move up behind the arrivals from lower ranks.
         g.resize(total.max(g.len()));
@@ -87,6 +95,41 @@ impl<const D: usize> DsmcEngine<D> {
         }
         g.truncate(total);
         self.cell_of.resize(total, 0);
+    }
+
+    /// Every `balance.every` steps, moves the slab cuts to the grains (collective; see
+    /// [`Domain::rebalance`]): from the cells of the free flight just made, the grains
+    /// per plane of this rank's slab. The migration that follows sends the grains of the
+    /// planes that changed owner. The cuts never change the trajectory.
+    fn rebalance(&mut self) {
+        let steps = self.steps();
+        let Some(domain) = self.domain.as_mut() else {
+            return;
+        };
+        let every = domain.balance.every;
+        if domain.balance.mode == super::domain::BalanceMode::Off
+            || every == 0
+            || !steps.is_multiple_of(every)
+        {
+            return;
+        }
+        let planes = domain.own_planes();
+        let mut counts = vec![0u64; planes.len()];
+        for &c in &self.cell_of {
+            let p = domain.plane(c);
+            if planes.contains(&p) {
+                counts[p - planes.start] += 1;
+            }
+        }
+        domain.rebalance(&counts);
+    }
+
+    /// How the slab cuts follow the grains (see [`super::domain::Balance`]); nothing
+    /// when the engine is not decomposed.
+    pub fn set_balance(&mut self, balance: super::domain::Balance) {
+        if let Some(d) = self.domain.as_mut() {
+            d.balance = balance;
+        }
     }
 
     /// The counters of one step summed over the ranks (exact: integers).
@@ -185,6 +228,7 @@ impl<const D: usize> DsmcEngine<D> {
             g.pack(i, &mut words);
         }
         let parts = domain.all_gather(&words);
+        domain.hold(self.grains.len() + domain.n_global);
         let mut whole = self.clone();
         whole.domain = None;
         let n = domain.n_global;

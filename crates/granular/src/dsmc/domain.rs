@@ -85,6 +85,26 @@ pub struct Domain {
     pub(crate) n_global: usize,
     /// What this rank has communicated so far, for the benchmarks.
     traffic: Arc<Mutex<Traffic>>,
+    /// The grains this rank holds, and the most it held.
+    held: Arc<Held>,
+    /// How the cuts follow the grains.
+    pub(crate) balance: Balance,
+    /// The last re-cut (or the decomposition): its time and the communication seconds
+    /// and steps then, for [`BalanceMode::Time`].
+    mark: (Instant, f64),
+    /// Re-cuts so far.
+    recuts: u64,
+    /// The last load report ([`Domain::load_report`]): its time and the communication
+    /// seconds then.
+    report_mark: Arc<Mutex<(Instant, f64)>>,
+}
+
+/// The most grains one rank held at a time: its own and those in migration buffers
+/// (see [`Domain::peak_grains`]).
+#[derive(Debug, Default)]
+struct Held {
+    now: std::sync::atomic::AtomicUsize,
+    peak: std::sync::atomic::AtomicUsize,
 }
 
 /// What one rank has communicated so far, by purpose: **migration** (the point-to-point
@@ -138,6 +158,71 @@ impl Traffic {
     }
 }
 
+/// How the slab cuts follow the grains ([`Domain::rebalance`]): the scenario's
+/// `dsmc.balance`. The cuts never change the result (see the module docs), only how the
+/// work is shared.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BalanceMode {
+    /// Fixed cuts: equal numbers of cell planes per rank.
+    Off,
+    /// Cuts that give every rank about the same number of grains (default).
+    #[default]
+    Count,
+    /// Cuts that give every rank about the same measured compute time: a plane's load is
+    /// its grains times its owner's measured seconds per grain since the last re-cut.
+    Time,
+}
+
+/// When and by what the slab cuts move.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Balance {
+    /// By what.
+    pub mode: BalanceMode,
+    /// Steps between two looks at the load (`dsmc.balance_every`); the cuts move when the
+    /// most loaded rank carries more than [`IMBALANCE`] times the mean.
+    pub every: u64,
+}
+
+impl Default for Balance {
+    fn default() -> Balance {
+        Balance {
+            mode: BalanceMode::Count,
+            every: 20,
+        }
+    }
+}
+
+/// The ratio of the largest rank load to the mean above which the cuts move.
+pub const IMBALANCE: f64 = 1.05;
+
+/// The cuts that share `loads` (one per plane, in plane order) over `k` ranks as evenly
+/// as whole planes allow, every rank at least one plane: rank `r` gets the planes
+/// `cuts[r] .. cuts[r + 1]`, each cut where the running load is nearest `r / k` of the
+/// total.
+pub fn balanced_cuts(loads: &[f64], k: usize) -> Vec<usize> {
+    let p = loads.len();
+    let total: f64 = loads.iter().sum();
+    let mut cuts = vec![0; k + 1];
+    cuts[k] = p;
+    let mut prefix = 0.0;
+    let mut plane = 0;
+    for r in 1..k {
+        let target = total * r as f64 / k as f64;
+        while plane < p && prefix + loads[plane] <= target {
+            prefix += loads[plane];
+            plane += 1;
+        }
+        // The nearer of the cuts before and after the plane that crosses the target.
+        let mut cut = plane;
+        if plane < p && (prefix + loads[plane] - target) < (target - prefix) {
+            cut = plane + 1;
+        }
+        cuts[r] = cut.clamp(cuts[r - 1] + 1, p - (k - r));
+    }
+    cuts
+}
+
 /// Why a decomposition is impossible.
 #[derive(Debug, thiserror::Error)]
 pub enum DomainError {
@@ -174,28 +259,210 @@ impl Domain {
         dims: &[usize],
         n_global: usize,
     ) -> Result<Domain, DomainError> {
+        Domain::for_ids(comm, n_global).with_grid(dims)
+    }
+
+    /// The ranks of `comm` before there is a cell grid: one plane per rank, so that
+    /// [`Domain::ordered_fold`] sums over the ranks' blocks of grain ids (the set-up's
+    /// sums, `dsmc::setup`). [`Domain::with_grid`] then cuts the grid.
+    pub(crate) fn for_ids(comm: Arc<dyn Communicator>, n_global: usize) -> Domain {
         let k = comm.size().max(1);
+        let r = comm.rank();
+        Domain {
+            cells: r..r + 1,
+            comm,
+            plane_owner: (0..k as u32).collect(),
+            stride: 1,
+            n_global,
+            traffic: Arc::default(),
+            held: Arc::default(),
+            balance: Balance::default(),
+            mark: (Instant::now(), 0.0),
+            recuts: 0,
+            report_mark: Arc::new(Mutex::new((Instant::now(), 0.0))),
+        }
+    }
+
+    /// This domain's ranks on the grid of `dims` cells per axis, cut into slabs of equal
+    /// numbers of planes along the last axis (the counters carry over). Errors when there
+    /// are more ranks than planes.
+    pub(crate) fn with_grid(self, dims: &[usize]) -> Result<Domain, DomainError> {
+        let k = self.size().max(1);
         let planes = *dims.last().unwrap_or(&1);
         if k > planes {
             return Err(DomainError::TooManyRanks { ranks: k, planes });
         }
-        let stride: usize = dims[..dims.len() - 1].iter().product();
-        let first_plane = |r: usize| r * planes / k;
-        let mut plane_owner = vec![0u32; planes];
-        for r in 0..k {
-            for o in &mut plane_owner[first_plane(r)..first_plane(r + 1)] {
+        let cuts: Vec<usize> = (0..=k).map(|r| r * planes / k).collect();
+        let mut d = Domain {
+            stride: dims[..dims.len() - 1].iter().product(),
+            plane_owner: vec![0; planes],
+            cells: 0..0,
+            ..self
+        };
+        d.set_cuts(&cuts);
+        Ok(d)
+    }
+
+    /// Cuts the planes into slabs: rank `r` owns the planes `cuts[r] .. cuts[r + 1]`
+    /// (`cuts` rises from 0 to the number of planes, `size() + 1` entries).
+    pub(crate) fn set_cuts(&mut self, cuts: &[usize]) {
+        for (r, w) in cuts.windows(2).enumerate() {
+            for o in &mut self.plane_owner[w[0]..w[1]] {
                 *o = r as u32;
             }
         }
-        let r = comm.rank();
-        Ok(Domain {
-            cells: first_plane(r) * stride..first_plane(r + 1) * stride,
-            comm,
-            plane_owner,
-            stride,
-            n_global,
-            traffic: Arc::default(),
-        })
+        let r = self.rank();
+        self.cells = cuts[r] * self.stride..cuts[r + 1] * self.stride;
+    }
+
+    /// The planes each rank owns: `cuts[r] .. cuts[r + 1]` for rank `r`.
+    pub fn cuts(&self) -> Vec<usize> {
+        (0..=self.size())
+            .map(|r| self.plane_owner.partition_point(|&o| (o as usize) < r))
+            .collect()
+    }
+
+    /// Cell planes along the last axis.
+    pub fn planes(&self) -> usize {
+        self.plane_owner.len()
+    }
+
+    /// Records that this rank now holds `grains` grains (its own and those in buffers).
+    pub(crate) fn hold(&self, grains: usize) {
+        use std::sync::atomic::Ordering::Relaxed;
+        self.held.now.store(grains, Relaxed);
+        self.held.peak.fetch_max(grains, Relaxed);
+    }
+
+    /// The most grains this rank has held at a time so far: its own, and at a migration
+    /// (after a free flight, at the set-up, at a re-cut of the slabs, when grains are
+    /// sent to the owners of their ids for an output) those in the buffers besides.
+    /// Counted where the engine allocates grain arrays; an array over all grains (a
+    /// gather of the whole system) counts `N`.
+    pub fn peak_grains(&self) -> usize {
+        self.held.peak.load(std::sync::atomic::Ordering::Relaxed)
+    }
+
+    /// How the work is shared since the last report (collective): every rank's grains
+    /// (`local`) and the share of the wall time it spent inside communication, which
+    /// includes waiting for the slowest rank. Returns `(largest / mean grains, the
+    /// smallest and the largest share of time in communication, cuts moved so far)`.
+    pub fn load_report(&self, local: usize) -> (f64, f64, f64, u64) {
+        let t = self.traffic();
+        let comm = t.migration_seconds + t.reduction_seconds;
+        let share = {
+            let mut mark = self.report_mark.lock().unwrap_or_else(|e| e.into_inner());
+            let wall = mark.0.elapsed().as_secs_f64();
+            let s = if wall > 0.0 {
+                (comm - mark.1) / wall
+            } else {
+                0.0
+            };
+            *mark = (Instant::now(), comm);
+            s
+        };
+        let parts = self.comm.all_gather(&[local as f64, share]);
+        let grains: Vec<f64> = parts.iter().map(|v| v[0]).collect();
+        let mean = grains.iter().sum::<f64>() / grains.len().max(1) as f64;
+        let most = grains.iter().copied().fold(0.0, f64::max);
+        let shares = parts.iter().map(|v| v[1]);
+        let lo = shares.clone().fold(f64::INFINITY, f64::min);
+        let hi = shares.fold(0.0, f64::max);
+        let balance = if mean > 0.0 { most / mean } else { 1.0 };
+        (balance, lo, hi, self.recuts)
+    }
+
+    /// How many times the cuts have moved.
+    pub fn recuts(&self) -> u64 {
+        self.recuts
+    }
+
+    /// The planes this rank owns.
+    pub(crate) fn own_planes(&self) -> std::ops::Range<usize> {
+        self.cells.start / self.stride..self.cells.end / self.stride
+    }
+
+    /// The plane of linear cell `cell`.
+    #[inline]
+    pub(crate) fn plane(&self, cell: u32) -> usize {
+        cell as usize / self.stride
+    }
+
+    /// Moves the cuts if the load is uneven (collective): `counts` are this rank's grains
+    /// per own plane. With [`BalanceMode::Count`] a plane's load is its grains; with
+    /// [`BalanceMode::Time`] its grains times its owner's compute seconds per grain since
+    /// the last look (wall time less the time spent in communication, which includes
+    /// waiting for the slowest rank). Every rank gathers every plane's load (one word per
+    /// plane) and computes the same cuts ([`balanced_cuts`]); they move when the most
+    /// loaded rank carries more than [`IMBALANCE`] times the mean. Returns whether they
+    /// moved. The caller then migrates the grains whose plane changed owner.
+    pub(crate) fn rebalance(&mut self, counts: &[u64]) -> bool {
+        let k = self.size();
+        if k < 2 || self.balance.mode == BalanceMode::Off {
+            return false;
+        }
+        let mine: u64 = counts.iter().sum();
+        let t = self.traffic();
+        let comm_seconds = t.migration_seconds + t.reduction_seconds;
+        let compute = (self.mark.0.elapsed().as_secs_f64() - (comm_seconds - self.mark.1)).max(0.0);
+        let per_grain = match self.balance.mode {
+            BalanceMode::Time if mine > 0 => compute / mine as f64,
+            _ => 1.0,
+        };
+        let local: Vec<f64> = counts.iter().map(|&c| c as f64 * per_grain).collect();
+        let parts = self.all_gather(&local);
+        self.mark = (Instant::now(), {
+            let t = self.traffic();
+            t.migration_seconds + t.reduction_seconds
+        });
+        let loads: Vec<f64> = parts.concat();
+        if loads.len() != self.planes() {
+            return false;
+        }
+        let rank_loads: Vec<f64> = parts.iter().map(|v| v.iter().sum()).collect();
+        let total: f64 = rank_loads.iter().sum();
+        let most = rank_loads.iter().copied().fold(0.0, f64::max);
+        // Time mode before any measurement (all zero): by count.
+        let loads = if total > 0.0 {
+            loads
+        } else {
+            return false;
+        };
+        if most <= IMBALANCE * total / k as f64 {
+            return false;
+        }
+        let cuts = balanced_cuts(&loads, k);
+        if cuts == self.cuts() {
+            return false;
+        }
+        self.set_cuts(&cuts);
+        self.recuts += 1;
+        true
+    }
+
+    /// The number of grains in each plane of the whole grid (collective), from this
+    /// rank's grains in every plane (`local`, one count per plane): a reduce-scatter
+    /// (rank `q` sums the counts of its share of the planes) and a gather of the shares,
+    /// so a rank receives about `2 P` words, not `K P`.
+    pub(crate) fn plane_totals(&self, local: &[u64]) -> Vec<u64> {
+        let k = self.size();
+        let p = local.len();
+        let share = |q: usize| q * p / k..(q + 1) * p / k;
+        let outgoing: Vec<Vec<f64>> = (0..k)
+            .map(|q| local[share(q)].iter().map(|&c| f64::from_bits(c)).collect())
+            .collect();
+        let mut mine = vec![0u64; share(self.rank()).len()];
+        for part in self.exchange(outgoing) {
+            for (m, w) in mine.iter_mut().zip(part) {
+                *m += w.to_bits();
+            }
+        }
+        let words: Vec<f64> = mine.iter().map(|&c| f64::from_bits(c)).collect();
+        self.all_gather(&words)
+            .concat()
+            .into_iter()
+            .map(f64::to_bits)
+            .collect()
     }
 
     /// This rank.
@@ -665,6 +932,34 @@ mod tests {
                 "{counts:?}"
             );
         }
+    }
+
+    /// The cuts share the load as evenly as whole planes allow, every rank at least one
+    /// plane, and a domain reads them back.
+    #[test]
+    fn balanced_cuts_follow_the_load() {
+        // Even load: equal slabs.
+        assert_eq!(balanced_cuts(&[1.0; 12], 4), vec![0, 3, 6, 9, 12]);
+        // Everything in the last two planes: one each for two ranks, the empty rest for one.
+        let mut loads = vec![0.0; 10];
+        loads[8] = 5.0;
+        loads[9] = 5.0;
+        assert_eq!(balanced_cuts(&loads, 3), vec![0, 8, 9, 10]);
+        // A cluster in the middle: the cuts close in on it.
+        let loads = [1.0, 1.0, 10.0, 10.0, 10.0, 10.0, 1.0, 1.0];
+        let cuts = balanced_cuts(&loads, 4);
+        assert_eq!(cuts, vec![0, 3, 4, 5, 8]);
+        let mut d = Domain::for_ids(Arc::new(world(4).remove(2)), 100)
+            .with_grid(&[3, 8])
+            .unwrap();
+        d.set_cuts(&cuts);
+        assert_eq!(d.cuts(), cuts);
+        assert_eq!(d.own_planes(), 4..5);
+        assert_eq!(d.cells, 12..15);
+        assert_eq!(
+            (d.owner(0), d.owner(9), d.owner(12), d.owner(23)),
+            (0, 1, 2, 3)
+        );
     }
 
     #[test]

@@ -70,9 +70,8 @@ pub struct DsmcEngine<const D: usize> {
     time: f64,
     steps: u64,
     pub(super) tally: Tally,
-    /// Name of the (single) species, for snapshots.
-    #[serde(default = "default_species_name")]
-    species_name: String,
+    /// The species of the grains (names and id ranges), for snapshots and histograms.
+    pub(super) species: super::setup::SpeciesTable,
     /// The validity conditions violated by the initial state (computed once at build).
     #[serde(default)]
     validity: Vec<ValidityWarning>,
@@ -181,7 +180,7 @@ impl<const D: usize> DsmcEngine<D> {
             particles.velocities,
             seed,
         )?;
-        engine.species_name = name;
+        engine.species = super::setup::SpeciesTable::one(&name, engine.n_global());
         Ok(engine)
     }
 
@@ -232,7 +231,7 @@ impl<const D: usize> DsmcEngine<D> {
     /// cell, with its validity warnings: the whole engine when `domain` is `None`, else
     /// this rank's slab (the particles of its cells, `n_global` in all; collective then).
     #[allow(clippy::too_many_arguments)]
-    fn assemble(
+    pub(super) fn assemble(
         config: DsmcConfig,
         sim_box: SimulationBox<D>,
         radius: f64,
@@ -245,6 +244,7 @@ impl<const D: usize> DsmcEngine<D> {
         domain: Option<super::domain::Domain>,
     ) -> Self {
         let n = pos.len();
+        let n_global = domain.as_ref().map_or(n, |d| d.n_global);
         let grains = Grains::from_parts(pos, vel, ids, config.law.has_tc());
         let mut engine = Self {
             tally: Tally {
@@ -270,7 +270,7 @@ impl<const D: usize> DsmcEngine<D> {
             scratch_last: Vec::new(),
             time: 0.0,
             steps: 0,
-            species_name: default_species_name(),
+            species: super::setup::SpeciesTable::one(&default_species_name(), n_global),
             validity: Vec::new(),
             domain,
             driving: None,
@@ -315,7 +315,7 @@ impl<const D: usize> DsmcEngine<D> {
             time: self.time,
             steps: self.steps,
             tally: self.tally.clone(),
-            species_name: self.species_name.clone(),
+            species: self.species.clone(),
             validity: self.validity.clone(),
             domain: None,
             driving: self.driving.clone(),
@@ -379,9 +379,20 @@ impl<const D: usize> DsmcEngine<D> {
         self.tally.tc_elastic
     }
 
-    /// Name of the engine's one species (as in snapshots).
+    /// Name of the engine's first species (as in snapshots).
     pub fn species_name(&self) -> &str {
-        &self.species_name
+        self.species.names.first().map_or("grain", String::as_str)
+    }
+
+    /// The species of the grains: their names and id ranges.
+    pub fn species(&self) -> &super::setup::SpeciesTable {
+        &self.species
+    }
+
+    /// Names the species of the grains (contiguous id ranges; the table must cover the
+    /// engine's `N` grains).
+    pub(super) fn set_species(&mut self, species: super::setup::SpeciesTable) {
+        self.species = species;
     }
 
     /// How often a candidate's relative speed exceeded the current `v_max`.

@@ -35,12 +35,14 @@ pub mod grains;
 pub mod guards;
 pub mod observables;
 pub mod parts;
+pub mod setup;
 mod sums;
 
 pub use config::{DensityScope, DsmcConfig, VmaxMode};
-pub use domain::{Communicator, Domain, DomainError, Traffic};
+pub use domain::{Balance, BalanceMode, Communicator, Domain, DomainError, Traffic};
 pub use engine::{DsmcEngine, DsmcError, UniformGas};
 pub use grains::Grains;
 pub use guards::{GuardKind, ValidityWarning};
 pub use observables::{DensityMap, StructureFactor};
 pub use parts::{EnginePart, IdBlock, PartInfo};
+pub use setup::{GrainSetup, InitialVelocity, Placement, SpeciesSetup, SpeciesTable};

@@ -157,6 +157,9 @@ impl<const D: usize> DsmcEngine<D> {
         self.cell_of = vec![0; n];
         self.grains = grains;
         self.start = start;
+        if let Some(d) = &domain {
+            d.hold(n);
+        }
         self.domain = domain;
         Ok(())
     }
@@ -174,13 +177,22 @@ impl<const D: usize> DsmcEngine<D> {
                 velocities,
             };
         };
-        let (k, n) = (domain.size(), domain.n_global);
+        let (k, n, me) = (domain.size(), domain.n_global, domain.rank());
         let block = |q: usize| q * n / k..(q + 1) * n / k;
         let w = 1 + 2 * D;
         let g = &self.grains;
+        let mine = block(me);
+        let mut positions = vec![Vector::zero(); mine.len()];
+        let mut velocities = vec![Vector::zero(); mine.len()];
         let mut out: Vec<Vec<f64>> = vec![Vec::new(); k];
         for i in 0..g.len() {
             let id = g.id(i) as usize;
+            if mine.contains(&id) {
+                // Grains of this rank's own block go straight to their rows.
+                positions[id - mine.start] = g.position(i);
+                velocities[id - mine.start] = g.velocity(i);
+                continue;
+            }
             // The owner of id: the largest q with q n / k <= id.
             let mut q = (id * k / n).min(k - 1);
             while block(q).start > id {
@@ -194,10 +206,9 @@ impl<const D: usize> DsmcEngine<D> {
             o.extend_from_slice(&g.position(i).0);
             o.extend_from_slice(&g.velocity(i).0);
         }
-        let mine = block(domain.rank());
+        let sent: usize = out.iter().map(|v| v.len() / w).sum();
         let incoming = domain.exchange(out);
-        let mut positions = vec![Vector::zero(); mine.len()];
-        let mut velocities = vec![Vector::zero(); mine.len()];
+        domain.hold(g.len() + sent + mine.len());
         for r in incoming.iter().flat_map(|v| v.chunks_exact(w)) {
             let slot = r[0].to_bits() as usize - mine.start;
             positions[slot] = Vector::from_slice(&r[1..1 + D]).unwrap_or_default();

@@ -160,8 +160,7 @@ impl Grains {
 }
 
 /// The most grains of a run over several ranks for which the outputs that still gather
-/// the whole system on every rank (`output.pair_correlation`, `output.msd`,
-/// `output.trajectory`) are accepted: `N (1 + 2 D)` words a rank, 56 MB in 3D. Above it
+/// the whole system on every rank (`output.pair_correlation`, `[crater]`) are accepted: `N (1 + 2 D)` words a rank, 56 MB in 3D. Above it
 /// they are refused before the run starts (see `docs/output.md`).
 pub const GATHER_LIMIT: usize = 1_000_000;
 
@@ -178,7 +177,11 @@ pub(crate) fn refuse_whole_gather(simulation: &Simulation, key: &str) -> Result<
     Err(RunError::Output {
         key: key.into(),
         message: format!(
-            "is on in a run of {n} grains over {} ranks, but this output gathers every              grain on every rank (it is not computed by blocks of grains yet), which is              refused above {GATHER_LIMIT} grains: turn it off (the speed histograms, S(k),              density maps and snapshots are written from the ranks), or run fewer grains",
+            "is on in a run of {n} grains over {} ranks, but this output gathers every \
+             grain on every rank (it is not computed by blocks of grains yet), which is \
+             refused above {GATHER_LIMIT} grains: turn it off (the speed histograms, S(k), \
+             density maps, the MSD, trajectories and snapshots are written from the \
+             ranks), or run fewer grains",
             domain.size()
         ),
     })
@@ -220,8 +223,10 @@ fn block_of<const D: usize>(e: &crate::dsmc::DsmcEngine<D>) -> Grains {
             velocities: block.velocities.iter().flat_map(|x| x.0).collect(),
             radii: vec![e.radius(); n],
             masses: vec![e.mass(); n],
-            species: vec![0; n],
-            species_names: vec![e.species_name().to_string()],
+            species: (block.first as u32..(block.first + n) as u32)
+                .map(|id| e.species().of(id))
+                .collect(),
+            species_names: e.species().names.clone(),
         },
         first: block.first,
         total: e.particle_count(),

@@ -27,7 +27,7 @@ pub mod sweep;
 
 /// The intruder engines behind one type (moved to [`crate::build::intruder`]).
 pub use crate::build::intruder;
-pub use crate::build::{AnyEngine, BuildError, build, initial_particles};
+pub use crate::build::{AnyEngine, BuildError, build, build_on, dsmc_setup, initial_particles};
 pub use crate::output::npz::{read_snapshot, write_snapshot};
 pub use outputs::{Output, StandardOutputs};
 pub use summary::{AverageValue, AveragesSummary, Resolved, Summary};
@@ -49,8 +49,9 @@ use std::time::Instant;
 /// large grains out of its lists; 7: the run's outputs as typed states, the time series'
 /// rate window out of the event-driven engine; 8: a header with the payload's length and
 /// CRC-32 before the MessagePack payload, [`checkpoint`]; 9: the blocking accumulators of
-/// the summary's `averages`).
-pub const CHECKPOINT_FORMAT: u32 = 10;
+/// the summary's `averages`; 11: the DSMC engine's species table instead of one species
+/// name).
+pub const CHECKPOINT_FORMAT: u32 = 11;
 
 /// Why a run failed.
 #[derive(Debug, thiserror::Error)]
@@ -273,6 +274,40 @@ impl Run {
         Ok(run)
     }
 
+    /// [`Run::create`] split over the ranks of `comm` (collective): every rank creates
+    /// only its own grains ([`build_on`]); `dir` is this rank's directory, `shared` the run
+    /// directory every rank sees (rank 0's `dir`), where each rank writes its checkpoint
+    /// parts and its blocks of the snapshots. `check` sees this rank's own grains before
+    /// they are created (the memory estimate); its error stops every rank.
+    pub fn create_on(
+        dir: &Path,
+        scenario: Scenario,
+        comm: std::sync::Arc<dyn crate::dsmc::Communicator>,
+        shared: &Path,
+        check: Option<crate::dsmc::setup::OwnGrainsCheck<'_>>,
+    ) -> Result<Run, RunError> {
+        let start = Instant::now();
+        let (log, lock) = Recorder::prepare(dir, &scenario)?;
+        let engine = build_on(&scenario, comm.clone(), check)?;
+        let simulation = Simulation::from_parts(scenario, engine);
+        let mut run = Run::with_log(dir, simulation, log, lock);
+        run.decompose(comm, shared)
+            .map_err(|e| RunError::Build(BuildError::Dsmc(e.to_string())))?;
+        run.recorder.log(
+            start.elapsed().as_secs_f64(),
+            &format!(
+                "built {} engine over {} ranks: {} grains, dimension {}, seed {} ({:.3} s)",
+                run.simulation.engine_name(),
+                run.simulation.engine().domain().map_or(1, |d| d.size()),
+                run.simulation.particle_count(),
+                run.simulation.scenario().dimension,
+                run.simulation.scenario().seed,
+                start.elapsed().as_secs_f64()
+            ),
+        );
+        Ok(run)
+    }
+
     /// Records `simulation` (built in memory, perhaps advanced) into `dir`; the outputs
     /// start at its current time.
     pub fn from_simulation(dir: &Path, simulation: Simulation) -> Result<Run, RunError> {
@@ -389,7 +424,7 @@ impl Run {
         let mut outputs = cp.outputs;
         outputs.relocate(dir);
         // Drop rows written after the checkpoint, so the series continues seamlessly.
-        outputs.rewind()?;
+        outputs.rewind(ranks.as_ref().is_none_or(|(_, c)| c.rank() == 0))?;
         let log_path = dir.join("log.txt");
         let log = std::fs::OpenOptions::new()
             .append(true)
@@ -398,6 +433,7 @@ impl Run {
             .map_err(io_err(&log_path))?;
         let shared = ranks.as_ref().map_or(dir, |(s, _)| *s).to_path_buf();
         let simulation = parts::restore(dir, scenario, cp.simulation, cp.parts.as_ref(), ranks)?;
+        parts::restore_rows(&mut outputs, &simulation, cp.parts.as_ref(), &shared)?;
         if simulation.engine().domain().is_some() {
             outputs.share(&shared);
         }
@@ -576,6 +612,25 @@ impl Recorder {
     }
 
     fn observe(&mut self, simulation: &Simulation) -> Result<(), RunError> {
+        if let Some(domain) = simulation.engine().domain() {
+            // How the ranks share the work (log.txt): grains per rank and the time spent
+            // waiting in communication, since the last output.
+            let own = match simulation.engine() {
+                AnyEngine::Dsmc2(e) => e.local_len(),
+                AnyEngine::Dsmc3(e) => e.local_len(),
+                _ => 0,
+            };
+            let (balance, lo, hi, recuts) = domain.load_report(own);
+            self.log(
+                simulation.wall_seconds(),
+                &format!(
+                    "ranks: grains per rank max/mean {balance:.3}; time in communication \
+                     (waiting included) {:.1} to {:.1} % per rank; cuts moved {recuts} times",
+                    100.0 * lo,
+                    100.0 * hi
+                ),
+            );
+        }
         let observation = simulation.observe();
         self.outputs.observe(simulation, &observation)?;
         for o in &mut self.attached {

@@ -33,6 +33,10 @@ pub(crate) struct Manifest {
     pub particles: usize,
     /// The parts in the order of their cells.
     pub parts: Vec<PartInfo>,
+    /// The ranks' per-grain output state (the MSD's), one file per rank in the order of
+    /// the blocks of ids: `(file, first grain, grains)`. Empty when there is none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub rows: Vec<(String, usize, usize)>,
 }
 
 /// Every rank's `ok` (collective): the first rank that failed, if any.
@@ -116,7 +120,107 @@ fn write_parts_of<const D: usize>(
         generation,
         particles: domain.n_global,
         parts,
+        rows: Vec::new(),
     })
+}
+
+/// Writes this rank's per-grain output state (`rows`, its block of ids) into checkpoint
+/// `generation`'s parts (collective): every rank returns the list of the ranks' files.
+fn write_rows(
+    domain: &Domain,
+    shared: &Path,
+    generation: u64,
+    rows: Option<&crate::transport::GrainRows>,
+) -> Result<Vec<(String, usize, usize)>, RunError> {
+    let rank = domain.rank();
+    let file = format!("{PARTS_DIR}/{generation:06}_{rank:04}.rows.msgpack");
+    let path = shared.join(&file);
+    let result = match rows {
+        Some(r) => rmp_serde::to_vec(r)
+            .map_err(|err| RunError::CheckpointWrite {
+                path: path.clone(),
+                message: err.to_string(),
+            })
+            .and_then(|bytes| checkpoint::write_atomic(&path, &checkpoint::encode(&bytes))),
+        None => Ok(()),
+    };
+    let failed = first_failure(domain, result.is_ok());
+    result?;
+    if let Some(r) = failed {
+        return Err(RunError::CheckpointWrite {
+            path: shared.join(PARTS_DIR),
+            message: format!(
+                "rank {r} could not write its part (its message is above); the previous \
+                 checkpoint is intact"
+            ),
+        });
+    }
+    let words: Vec<f64> = match rows {
+        Some(r) => vec![f64::from_bits(r.first as u64), f64::from_bits(r.len as u64)],
+        None => Vec::new(),
+    };
+    Ok(domain
+        .all_gather(&words)
+        .iter()
+        .enumerate()
+        .filter(|(_, w)| w.len() == 2)
+        .map(|(q, w)| {
+            (
+                format!("{PARTS_DIR}/{generation:06}_{q:04}.rows.msgpack"),
+                w[0].to_bits() as usize,
+                w[1].to_bits() as usize,
+            )
+        })
+        .collect())
+}
+
+/// Puts the per-grain output state of a checkpoint back into `outputs` for this
+/// process's grains (collective only in what `simulation` already is): over ranks its
+/// block of ids, cut from the ranks' files of a decomposed checkpoint or from the
+/// manifest's whole state of a threaded one; on one rank every grain.
+pub(super) fn restore_rows(
+    outputs: &mut super::StandardOutputs,
+    simulation: &Simulation,
+    manifest: Option<&Manifest>,
+    shared: &Path,
+) -> Result<(), RunError> {
+    let n = simulation.particle_count();
+    let (rank, k) = simulation
+        .engine()
+        .domain()
+        .map_or((0, 1), |d| (d.rank(), d.size()));
+    let block = crate::dsmc::setup::id_block(n, rank, k);
+    let parts: Vec<crate::transport::GrainRows> = match manifest {
+        Some(m) if !m.rows.is_empty() => {
+            let mut parts = Vec::new();
+            for (file, first, len) in &m.rows {
+                if first + len <= block.start || *first >= block.end {
+                    continue;
+                }
+                let path = shared.join(file);
+                let bytes = std::fs::read(&path).map_err(io_err(&path))?;
+                let payload = checkpoint::decode(&path, &bytes)?;
+                parts.push(
+                    rmp_serde::from_slice(payload).map_err(|e| RunError::Checkpoint {
+                        path: path.clone(),
+                        message: e.to_string(),
+                    })?,
+                );
+            }
+            parts
+        }
+        _ if k > 1 => outputs.take_rows().into_iter().collect(),
+        _ => return Ok(()),
+    };
+    if parts.is_empty() {
+        return Ok(());
+    }
+    outputs.put_rows(crate::transport::GrainRows::cut(
+        &parts,
+        block.start,
+        block.end,
+    ));
+    Ok(())
 }
 
 /// Removes the parts of checkpoints other than `generation` (after its manifest is in
@@ -186,7 +290,17 @@ impl super::Recorder {
     ) -> Result<(), RunError> {
         let shared = self.shared.clone().unwrap_or_else(|| self.dir.clone());
         let generation = self.generation + 1;
-        let manifest = write_parts(simulation.engine(), &shared, generation);
+        // The manifest's outputs without the per-grain state, which each rank writes for
+        // its block of ids.
+        let mut outputs = self.outputs.clone();
+        let rows = outputs.take_rows();
+        let manifest = write_parts(simulation.engine(), &shared, generation).and_then(|mut m| {
+            if let Some(domain) = simulation.engine().domain() {
+                m.rows = write_rows(domain, &shared, generation, rows.as_ref())?;
+            }
+            Ok(m)
+        });
+        drop(rows);
         if let Err(e) = &manifest {
             self.log(simulation.wall_seconds(), &e.to_string());
         }
@@ -197,7 +311,7 @@ impl super::Recorder {
                 format: super::CHECKPOINT_FORMAT,
                 scenario: simulation.scenario().to_toml(),
                 simulation: simulation.shell_state(),
-                outputs: self.outputs.clone(),
+                outputs,
                 parts: Some(manifest),
             };
             self.write_checkpoint(simulation, &cp)
@@ -261,14 +375,161 @@ fn block_file(path: &Path, rank: usize) -> PathBuf {
 
 /// Writes the snapshot `path` of a decomposed engine (collective; see the module docs).
 pub(crate) fn write_snapshot(engine: &AnyEngine, path: &Path) -> Result<(), RunError> {
+    with_blocks(engine, path, |frame| {
+        let (k, n, dimension) = (frame.blocks, frame.n, frame.dimension);
+        let from_blocks = |velocities: bool| -> Fill<'_, f64> {
+            Box::new(move |sink| {
+                for q in 0..k {
+                    frame.read_block(q, velocities, &mut |values| sink(values))?;
+                }
+                Ok(())
+            })
+        };
+        let snapshot = StreamedSnapshot {
+            time: frame.time,
+            dimension,
+            n,
+            radius: frame.radius,
+            mass: frame.mass,
+            species_names: frame.species.names.clone(),
+            species_ends: frame.species.ends.iter().map(|&x| x as usize).collect(),
+            positions: from_blocks(false),
+            velocities: from_blocks(true),
+        };
+        Ok(write_snapshot_streamed(path, snapshot)?)
+    })
+}
+
+/// The grains of a decomposed engine at one output, on rank 0, from the block files the
+/// ranks wrote ([`with_blocks`]): read a piece at a time.
+pub(crate) struct BlockFrame<'a> {
+    /// The block files' common path (`path.rankRRRR.tmp`).
+    path: &'a Path,
+    /// Ranks (blocks).
+    pub blocks: usize,
+    /// Grains.
+    pub n: usize,
+    /// Spatial dimension.
+    pub dimension: usize,
+    /// Simulation time.
+    pub time: f64,
+    /// Grain radius and mass.
+    pub radius: f64,
+    /// Grain mass.
+    pub mass: f64,
+    /// The species.
+    pub species: crate::dsmc::SpeciesTable,
+}
+
+/// Grains per piece read from a block file.
+const PIECE: usize = 1 << 16;
+
+impl BlockFrame<'_> {
+    /// Rows of block `q`.
+    fn rows(&self, q: usize) -> std::ops::Range<usize> {
+        crate::dsmc::setup::id_block(self.n, q, self.blocks)
+    }
+
+    /// The positions (or velocities) of block `q`, `PIECE` grains at a time.
+    fn read_block(
+        &self,
+        q: usize,
+        velocities: bool,
+        sink: &mut dyn FnMut(&[f64]) -> std::io::Result<()>,
+    ) -> std::io::Result<()> {
+        let mut f = std::fs::File::open(block_file(self.path, q))?;
+        let count = self.rows(q).len() * self.dimension;
+        if velocities {
+            f.seek(SeekFrom::Start(8 * count as u64))?;
+        }
+        let mut f = std::io::BufReader::new(f);
+        let mut buf = vec![0u8; 8 * PIECE * self.dimension];
+        let mut values = Vec::with_capacity(PIECE * self.dimension);
+        let mut left = count;
+        while left > 0 {
+            let m = left.min(PIECE * self.dimension);
+            f.read_exact(&mut buf[..8 * m])?;
+            values.clear();
+            values.extend(
+                buf[..8 * m]
+                    .chunks_exact(8)
+                    .map(|b| f64::from_le_bytes(b.try_into().unwrap_or([0; 8]))),
+            );
+            sink(&values)?;
+            left -= m;
+        }
+        Ok(())
+    }
+}
+
+impl crate::trajectory::Pieces for BlockFrame<'_> {
+    fn each(
+        &self,
+        f: &mut dyn FnMut(&crate::trajectory::Piece<'_>) -> std::io::Result<()>,
+    ) -> std::io::Result<()> {
+        let d = self.dimension;
+        let radii = vec![self.radius; PIECE];
+        let masses = vec![self.mass; PIECE];
+        let mut species = Vec::with_capacity(PIECE);
+        for q in 0..self.blocks {
+            let rows = self.rows(q);
+            let mut pos = std::io::BufReader::new(std::fs::File::open(block_file(self.path, q))?);
+            let mut vel = std::fs::File::open(block_file(self.path, q))?;
+            vel.seek(SeekFrom::Start(8 * (rows.len() * d) as u64))?;
+            let mut vel = std::io::BufReader::new(vel);
+            let read = |r: &mut dyn Read, m: usize| -> std::io::Result<Vec<f64>> {
+                let mut buf = vec![0u8; 8 * m * d];
+                r.read_exact(&mut buf)?;
+                Ok(buf
+                    .chunks_exact(8)
+                    .map(|b| f64::from_le_bytes(b.try_into().unwrap_or([0; 8])))
+                    .collect())
+            };
+            let mut first = rows.start;
+            while first < rows.end {
+                let m = (rows.end - first).min(PIECE);
+                let positions = read(&mut pos, m)?;
+                let velocities = read(&mut vel, m)?;
+                species.clear();
+                species.extend((first..first + m).map(|id| self.species.of(id as u32)));
+                f(&crate::trajectory::Piece {
+                    first,
+                    dimension: d,
+                    positions: &positions,
+                    velocities: &velocities,
+                    radii: &radii[..m],
+                    masses: &masses[..m],
+                    species: &species,
+                })?;
+                first += m;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// One output's grains of a decomposed engine, written without gathering them
+/// (collective): every rank writes its block of grain ids (positions, then velocities)
+/// to `path.rankRRRR.tmp`; once all are on disk, rank 0 calls `write` with the frame read
+/// from them piece by piece; the block files are removed. An error on any rank is an
+/// error on every rank. Not called for an engine that is not decomposed.
+pub(crate) fn with_blocks(
+    engine: &AnyEngine,
+    path: &Path,
+    write: impl FnOnce(&BlockFrame<'_>) -> Result<(), RunError>,
+) -> Result<(), RunError> {
     match engine {
-        AnyEngine::Dsmc2(e) => write_snapshot_of(e, path),
-        AnyEngine::Dsmc3(e) => write_snapshot_of(e, path),
+        AnyEngine::Dsmc2(e) => with_blocks_of(e, path, write),
+        AnyEngine::Dsmc3(e) => with_blocks_of(e, path, write),
         _ => Ok(()),
     }
 }
 
-fn write_snapshot_of<const D: usize>(e: &DsmcEngine<D>, path: &Path) -> Result<(), RunError> {
+fn with_blocks_of<const D: usize>(
+    e: &DsmcEngine<D>,
+    path: &Path,
+    write: impl FnOnce(&BlockFrame<'_>) -> Result<(), RunError>,
+) -> Result<(), RunError> {
     let Some(domain) = e.domain() else {
         return Ok(());
     };
@@ -288,13 +549,24 @@ fn write_snapshot_of<const D: usize>(e: &DsmcEngine<D>, path: &Path) -> Result<(
         w.flush()
     })()
     .map_err(io_err(&mine));
+    drop(block);
     let failed = first_failure(domain, written.is_ok());
+    let frame = BlockFrame {
+        path,
+        blocks: k,
+        n,
+        dimension: D,
+        time: e.time(),
+        radius: e.radius(),
+        mass: e.mass(),
+        species: e.species().clone(),
+    };
     let result = written.and_then(|()| match failed {
         Some(r) => Err(RunError::Directory {
             dir: path.to_path_buf(),
-            message: format!("rank {r} could not write its block of the snapshot"),
+            message: format!("rank {r} could not write its block of grains"),
         }),
-        None if rank == 0 => assemble::<D>(e, path, k, n),
+        None if rank == 0 => write(&frame),
         None => Ok(()),
     });
     let failed = first_failure(domain, result.is_ok());
@@ -303,56 +575,8 @@ fn write_snapshot_of<const D: usize>(e: &DsmcEngine<D>, path: &Path) -> Result<(
     match failed {
         Some(r) => Err(RunError::Directory {
             dir: path.to_path_buf(),
-            message: format!("rank {r} could not write the snapshot (its message is above)"),
+            message: format!("rank {r} could not write the output (its message is above)"),
         }),
         None => Ok(()),
     }
-}
-
-/// Rank 0: the snapshot from the ranks' block files, a piece at a time.
-fn assemble<const D: usize>(
-    e: &DsmcEngine<D>,
-    path: &Path,
-    k: usize,
-    n: usize,
-) -> Result<(), RunError> {
-    let rows = |q: usize| (q + 1) * n / k - q * n / k;
-    let from_blocks = |velocities: bool| -> Fill<'_, f64> {
-        Box::new(move |sink| {
-            let mut buf = vec![0u8; 8 << 16];
-            let mut values = Vec::with_capacity(1 << 16);
-            for q in 0..k {
-                let mut f = std::fs::File::open(block_file(path, q))?;
-                let count = rows(q) * D;
-                if velocities {
-                    f.seek(SeekFrom::Start(8 * count as u64))?;
-                }
-                let mut left = count;
-                while left > 0 {
-                    let m = left.min(1 << 16);
-                    f.read_exact(&mut buf[..8 * m])?;
-                    values.clear();
-                    values.extend(
-                        buf[..8 * m]
-                            .chunks_exact(8)
-                            .map(|b| f64::from_le_bytes(b.try_into().unwrap_or([0; 8]))),
-                    );
-                    sink(&values)?;
-                    left -= m;
-                }
-            }
-            Ok(())
-        })
-    };
-    let snapshot = StreamedSnapshot {
-        time: e.time(),
-        dimension: D,
-        n,
-        radius: e.radius(),
-        mass: e.mass(),
-        species_name: e.species_name().to_string(),
-        positions: from_blocks(false),
-        velocities: from_blocks(true),
-    };
-    Ok(write_snapshot_streamed(path, snapshot)?)
 }

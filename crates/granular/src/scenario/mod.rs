@@ -193,6 +193,30 @@ pub struct DsmcSpec {
     /// `edmd.impact_bins` of the event-driven engine.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub impact_bins: Option<usize>,
+    /// Over MPI ranks, how the slab cuts follow the grains: `"count"` (default: equal
+    /// grains per rank), `"time"` (equal measured compute time) or `"off"` (fixed cuts).
+    /// Never changes the result.
+    #[serde(default, skip_serializing_if = "is_default_balance")]
+    pub balance: crate::dsmc::BalanceMode,
+    /// Steps between two looks at the ranks' loads (default 20).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub balance_every: Option<u64>,
+}
+
+fn is_default_balance(mode: &crate::dsmc::BalanceMode) -> bool {
+    *mode == crate::dsmc::BalanceMode::default()
+}
+
+impl DsmcSpec {
+    /// The load balance of a run over ranks (`balance`, `balance_every`).
+    pub fn balance(&self) -> crate::dsmc::Balance {
+        crate::dsmc::Balance {
+            mode: self.balance,
+            every: self
+                .balance_every
+                .unwrap_or(crate::dsmc::Balance::default().every),
+        }
+    }
 }
 
 /// `[crater]`: the crater size is the number of grains of `species` whose final position

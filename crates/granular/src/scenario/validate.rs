@@ -360,16 +360,54 @@ pub(super) fn dsmc(sc: &Scenario) -> Result<(), ScenarioError> {
             format!("is {bins}; use between 1 and {MAX_BINS} bins (default 20)"),
         ));
     }
+    if sc.dsmc.balance_every == Some(0) {
+        return Err(ScenarioError::new(
+            "dsmc.balance_every",
+            "is 0; give the steps between two looks at the ranks' loads, at least 1 \
+             (default 20), or dsmc.balance = \"off\" for fixed cuts"
+                .to_string(),
+        ));
+    }
     if sc.engine != EngineKind::Dsmc {
         return Ok(());
     }
-    if sc.species.len() != 1 {
+    // Species of equal grains (names, counts, regions, placements and velocities may
+    // differ): DSMC's collision rule here is that of one radius and one mass.
+    for s in 1..sc.species.len() {
+        let (r0, r) = (sc.radius(0), sc.radius(s));
+        if r != r0 {
+            return Err(ScenarioError::new(
+                format!("species[{s}]"),
+                format!(
+                    "has radius {} but species[0] has {}: the DSMC engine takes species of \
+                     equal grains (one radius, one mass); give every species the same radius \
+                     (or use engine = \"edmd\" for a mixture)",
+                    num(r),
+                    num(r0)
+                ),
+            ));
+        }
+        let (m0, m) = (sc.species[0].mass, sc.species[s].mass);
+        if m != m0 {
+            return Err(ScenarioError::new(
+                format!("species[{s}].mass"),
+                format!(
+                    "is {} but species[0].mass is {}: the DSMC engine takes species of equal \
+                     grains (one radius, one mass); give every species the same mass (or use \
+                     engine = \"edmd\" for a mixture)",
+                    num(m),
+                    num(m0)
+                ),
+            ));
+        }
+    }
+    if sc.initial.compress_from.is_some() {
         return Err(ScenarioError::new(
-            "species",
-            format!(
-                "has {} species; the DSMC engine takes one species of equal grains",
-                sc.species.len()
-            ),
+            "initial.compress_from",
+            "does not apply to the DSMC engine: its grains are placed independently of each \
+             other (they may overlap: DSMC has no excluded volume in its free flight), so \
+             there is nothing to compress; remove the key"
+                .to_string(),
         ));
     }
     if let Some(t) = sc.dsmc.time_step {

@@ -13,7 +13,7 @@ pub mod placement;
 pub mod velocities;
 
 pub use overlap::{Overlap, check_overlaps};
-pub use placement::{lattice_placement, random_placement};
+pub use placement::{Lattice, lattice_placement, random_placement};
 pub use velocities::{fixed_speed, maxwell_boltzmann, remove_drift};
 
 use crate::boundary::SimulationBox;

@@ -209,6 +209,106 @@ pub fn random_placement<const D: usize>(
     Ok(out)
 }
 
+/// A simple square (cubic) lattice filling a region, row by row (axis 0 fastest): the
+/// spacing is the largest that holds `n` sites. Site `j` is computed on its own
+/// ([`Lattice::site`]), so a rank of a decomposed DSMC run places only its own grains.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Lattice<const D: usize> {
+    counts: [usize; D],
+    offsets: [f64; D],
+    steps: [f64; D],
+    /// The smallest spacing between sites.
+    pub spacing: f64,
+}
+
+impl<const D: usize> Lattice<D> {
+    /// The lattice of `n` sites for grains of radius up to `r_max` in `region`. Fails if
+    /// its spacing is smaller than a diameter.
+    pub fn new(
+        bx: &SimulationBox<D>,
+        region: &Region<D>,
+        n: usize,
+        r_max: f64,
+    ) -> Result<Lattice<D>, InitError> {
+        let mut extent = [0.0; D];
+        for (k, e) in extent.iter_mut().enumerate() {
+            let (a, b) = region.centre_range(bx, k, r_max);
+            let periodic_whole = bx.is_periodic(k) && a == 0.0 && b == bx.lengths[k];
+            // On a periodic whole axis the last site must not touch the first one's image.
+            *e = if periodic_whole {
+                b - a
+            } else {
+                (b - a).max(0.0)
+            };
+        }
+        // Choose sites per axis proportional to extents so that spacing is as large as
+        // possible.
+        let mut counts = [1usize; D];
+        let volume: f64 = extent.iter().map(|e| e.max(1e-300)).product();
+        let a0 = (volume / n.max(1) as f64).powf(1.0 / D as f64);
+        for k in 0..D {
+            counts[k] = ((extent[k] / a0).floor() as usize).max(1);
+        }
+        while counts.iter().product::<usize>() < n {
+            // Add a row along the axis whose spacing is currently the largest.
+            let k = (0..D)
+                .max_by(|&a, &b| {
+                    (extent[a] / counts[a] as f64).total_cmp(&(extent[b] / counts[b] as f64))
+                })
+                .unwrap_or(0);
+            counts[k] += 1;
+        }
+        let mut spacing = f64::INFINITY;
+        let mut offsets = [0.0; D];
+        let mut steps = [0.0; D];
+        for k in 0..D {
+            let (a, b) = region.centre_range(bx, k, r_max);
+            let periodic_whole = bx.is_periodic(k) && a == 0.0 && b == bx.lengths[k];
+            if periodic_whole {
+                steps[k] = (b - a) / counts[k] as f64;
+                offsets[k] = a + 0.5 * steps[k];
+            } else if counts[k] == 1 {
+                steps[k] = f64::INFINITY;
+                offsets[k] = 0.5 * (a + b);
+            } else {
+                steps[k] = (b - a) / (counts[k] - 1) as f64;
+                offsets[k] = a;
+            }
+            spacing = spacing.min(steps[k]);
+        }
+        if spacing < 2.0 * r_max {
+            return Err(InitError::Lattice {
+                n,
+                radius: r_max,
+                spacing,
+            });
+        }
+        Ok(Lattice {
+            counts,
+            offsets,
+            steps,
+            spacing,
+        })
+    }
+
+    /// Site `j` (`0 ..`), row by row with axis 0 fastest.
+    pub fn site(&self, j: usize) -> Vector<D> {
+        let mut x = Vector::zero();
+        let mut rest = j;
+        for k in 0..D {
+            let i = rest % self.counts[k];
+            rest /= self.counts[k];
+            let step = if self.steps[k].is_finite() {
+                self.steps[k]
+            } else {
+                0.0
+            };
+            x[k] = self.offsets[k] + i as f64 * step;
+        }
+        x
+    }
+}
+
 /// Places grains on a simple square (cubic) lattice filling `region`, row by row; the
 /// spacing is the largest that holds all grains. Fails if it is smaller than a diameter.
 pub fn lattice_placement<const D: usize>(
@@ -218,75 +318,6 @@ pub fn lattice_placement<const D: usize>(
 ) -> Result<Vec<Vector<D>>, InitError> {
     let n = radii.len();
     let r_max = radii.iter().cloned().fold(0.0, f64::max);
-    let mut extent = [0.0; D];
-    for (k, e) in extent.iter_mut().enumerate() {
-        let (a, b) = region.centre_range(bx, k, r_max);
-        let periodic_whole = bx.is_periodic(k) && a == 0.0 && b == bx.lengths[k];
-        // On a periodic whole axis the last site must not touch the first one's image.
-        *e = if periodic_whole {
-            b - a
-        } else {
-            (b - a).max(0.0)
-        };
-    }
-    // Choose sites per axis proportional to extents so that spacing is as large as possible.
-    let mut counts = [1usize; D];
-    let volume: f64 = extent.iter().map(|e| e.max(1e-300)).product();
-    let a0 = (volume / n.max(1) as f64).powf(1.0 / D as f64);
-    for k in 0..D {
-        counts[k] = ((extent[k] / a0).floor() as usize).max(1);
-    }
-    while counts.iter().product::<usize>() < n {
-        // Add a row along the axis whose spacing is currently the largest.
-        let k = (0..D)
-            .max_by(|&a, &b| {
-                (extent[a] / counts[a] as f64).total_cmp(&(extent[b] / counts[b] as f64))
-            })
-            .unwrap_or(0);
-        counts[k] += 1;
-    }
-    let mut spacing = f64::INFINITY;
-    let mut offsets = [0.0; D];
-    let mut steps = [0.0; D];
-    for k in 0..D {
-        let (a, b) = region.centre_range(bx, k, r_max);
-        let periodic_whole = bx.is_periodic(k) && a == 0.0 && b == bx.lengths[k];
-        if periodic_whole {
-            steps[k] = (b - a) / counts[k] as f64;
-            offsets[k] = a + 0.5 * steps[k];
-        } else if counts[k] == 1 {
-            steps[k] = f64::INFINITY;
-            offsets[k] = 0.5 * (a + b);
-        } else {
-            steps[k] = (b - a) / (counts[k] - 1) as f64;
-            offsets[k] = a;
-        }
-        spacing = spacing.min(steps[k]);
-    }
-    if spacing < 2.0 * r_max {
-        return Err(InitError::Lattice {
-            n,
-            radius: r_max,
-            spacing,
-        });
-    }
-    let mut out = Vec::with_capacity(n);
-    let mut idx = [0usize; D];
-    for _ in 0..n {
-        let mut x = Vector::zero();
-        for k in 0..D {
-            x[k] = offsets[k] + idx[k] as f64 * if steps[k].is_finite() { steps[k] } else { 0.0 };
-        }
-        out.push(x);
-        let mut k = 0;
-        while k < D {
-            idx[k] += 1;
-            if idx[k] < counts[k] {
-                break;
-            }
-            idx[k] = 0;
-            k += 1;
-        }
-    }
-    Ok(out)
+    let lattice = Lattice::new(bx, region, n, r_max)?;
+    Ok((0..n).map(|j| lattice.site(j)).collect())
 }

@@ -32,7 +32,7 @@
 //! that know only the schema (OVITO, HOOMD-blue) see a periodic box. Positions and
 //! velocities are single precision, as the schema 1.x requires.
 
-use super::Frame;
+use super::{Frame, Rows};
 use serde::{Deserialize, Serialize};
 use std::fs::{File, OpenOptions};
 use std::io::{self, Read, Seek, SeekFrom, Write};
@@ -78,6 +78,23 @@ pub struct Chunk {
     pub m: u32,
     /// The values.
     pub data: Vec<u8>,
+}
+
+/// One named array of a frame whose bytes are written by a function (a frame written
+/// piece by piece, [`frame_rows`]).
+pub struct StreamedChunk<'a> {
+    /// Place of the chunk's name in the file's name list.
+    pub id: u16,
+    /// The value type.
+    pub kind: ChunkType,
+    /// Rows.
+    pub n: u64,
+    /// Columns.
+    pub m: u32,
+    /// Bytes the chunk holds (`n m` values).
+    pub bytes: u64,
+    /// Writes the values, little-endian.
+    pub write: Box<dyn FnMut(&mut dyn Write) -> io::Result<()> + 'a>,
 }
 
 /// A GSD file being appended to; the state is small and serialisable (it goes into a
@@ -163,14 +180,30 @@ impl GsdFile {
 
     /// Appends one frame; `chunks` must be in increasing order of `id`.
     pub fn append_frame(&mut self, chunks: &[Chunk]) -> io::Result<()> {
+        let streamed: Vec<StreamedChunk<'_>> = chunks
+            .iter()
+            .map(|c| StreamedChunk {
+                id: c.id,
+                kind: c.kind,
+                n: c.n,
+                m: c.m,
+                bytes: c.data.len() as u64,
+                write: Box::new(move |w: &mut dyn Write| w.write_all(&c.data)),
+            })
+            .collect();
+        self.append_streamed(streamed)
+    }
+
+    /// [`GsdFile::append_frame`] with each chunk's bytes written by its `write` (in
+    /// memory independent of the chunk's size); `chunks` in increasing order of `id`,
+    /// each `write` writing exactly its `bytes`.
+    pub fn append_streamed(&mut self, chunks: Vec<StreamedChunk<'_>>) -> io::Result<()> {
         debug_assert!(chunks.windows(2).all(|w| w[0].id < w[1].id));
         let mut file = OpenOptions::new().read(true).write(true).open(&self.path)?;
         let mut end = self.bytes;
         let mut entries = Vec::with_capacity(chunks.len() * ENTRY_BYTES as usize);
-        let mut data = Vec::new();
-        for c in chunks {
-            let location = end + data.len() as u64;
-            data.extend_from_slice(&c.data);
+        let mut location = end;
+        for c in &chunks {
             entries.extend_from_slice(&self.frames.to_le_bytes());
             entries.extend_from_slice(&c.n.to_le_bytes());
             entries.extend_from_slice(&(location as i64).to_le_bytes());
@@ -178,11 +211,18 @@ impl GsdFile {
             entries.extend_from_slice(&c.id.to_le_bytes());
             entries.push(c.kind as u8);
             entries.push(0);
+            location += c.bytes;
         }
         file.seek(SeekFrom::Start(end))?;
-        file.write_all(&data)?;
-        end += data.len() as u64;
-        let needed = self.entries + chunks.len() as u64;
+        {
+            let mut out = io::BufWriter::with_capacity(1 << 20, &mut file);
+            for mut c in chunks {
+                (c.write)(&mut out)?;
+            }
+            out.flush()?;
+        }
+        end = location;
+        let needed = self.entries + (entries.len() as u64) / ENTRY_BYTES;
         if needed > self.index_capacity {
             // A larger index block at the end of the file; the old one stays unused.
             let capacity = (2 * self.index_capacity).max(needed);
@@ -342,6 +382,104 @@ pub fn frame_chunks(frame: &Frame) -> Vec<Chunk> {
             (0..n as u64).flat_map(u64::to_le_bytes).collect(),
         ),
     ]
+}
+
+/// The chunks of one frame read piece by piece, in the HOOMD schema: the bytes of
+/// [`frame_chunks`] of the same frame, in memory independent of its size.
+pub fn frame_rows<'a>(frame: &'a Rows<'a>) -> Vec<StreamedChunk<'a>> {
+    let n = frame.n;
+    let d = frame.dimension;
+    let l = &frame.cell.lengths;
+    let half = move |k: usize| if k < d { 0.5 * l[k] } else { 0.0 };
+    let lz = if d == 3 { l[2] } else { 0.0 };
+    let width = frame
+        .species_names
+        .iter()
+        .map(String::len)
+        .max()
+        .unwrap_or(0)
+        + 1;
+    let mut types = Vec::with_capacity(width * frame.species_names.len());
+    for name in frame.species_names {
+        let start = types.len();
+        types.extend_from_slice(name.as_bytes());
+        types.resize(start + width, 0);
+    }
+    let fixed = |id: usize, kind, n: usize, m: usize, data: Vec<u8>| StreamedChunk {
+        id: id as u16,
+        kind,
+        n: n as u64,
+        m: m as u32,
+        bytes: data.len() as u64,
+        write: Box::new(move |w: &mut dyn Write| w.write_all(&data)),
+    };
+    // A per-grain chunk: `m` values of `size` bytes per grain, from the pieces.
+    type Encode = fn(&super::Piece<'_>, usize, &dyn Fn(usize) -> f64, &mut Vec<u8>);
+    let grains = |id: usize, kind, m: usize, size: usize, encode: Encode| StreamedChunk {
+        id: id as u16,
+        kind,
+        n: n as u64,
+        m: m as u32,
+        bytes: (n * m * size) as u64,
+        write: Box::new(move |w: &mut dyn Write| {
+            let mut buf = Vec::new();
+            frame.grains.each(&mut |p| {
+                buf.clear();
+                for i in 0..p.len() {
+                    encode(p, i, &half, &mut buf);
+                }
+                w.write_all(&buf)
+            })
+        }),
+    };
+    vec![
+        fixed(0, ChunkType::U64, 1, 1, frame.step.to_le_bytes().to_vec()),
+        fixed(1, ChunkType::U8, 1, 1, vec![d as u8]),
+        fixed(
+            2,
+            ChunkType::F32,
+            6,
+            1,
+            f32s_of([l[0], l[1], lz, 0.0, 0.0, 0.0].into_iter()),
+        ),
+        fixed(3, ChunkType::U32, 1, 1, (n as u32).to_le_bytes().to_vec()),
+        fixed(4, ChunkType::I8, frame.species_names.len(), width, types),
+        grains(5, ChunkType::U32, 1, 4, |p, i, _, b| {
+            b.extend_from_slice(&p.species[i].to_le_bytes())
+        }),
+        grains(6, ChunkType::F32, 1, 4, |p, i, _, b| {
+            b.extend_from_slice(&(p.masses[i] as f32).to_le_bytes())
+        }),
+        grains(7, ChunkType::F32, 1, 4, |p, i, _, b| {
+            b.extend_from_slice(&((2.0 * p.radii[i]) as f32).to_le_bytes())
+        }),
+        grains(8, ChunkType::F32, 3, 4, |p, i, half, b| {
+            let x = p.position(i);
+            for (k, xk) in x.iter().enumerate() {
+                b.extend_from_slice(&((xk - half(k)) as f32).to_le_bytes());
+            }
+        }),
+        grains(9, ChunkType::F32, 3, 4, |p, i, _, b| {
+            for v in p.velocity(i) {
+                b.extend_from_slice(&(v as f32).to_le_bytes());
+            }
+        }),
+        fixed(10, ChunkType::F64, 1, 1, frame.time.to_le_bytes().to_vec()),
+        fixed(
+            11,
+            ChunkType::U8,
+            3,
+            1,
+            frame.periodic3().iter().map(|&p| u8::from(p)).collect(),
+        ),
+        grains(12, ChunkType::U64, 1, 8, |p, i, _, b| {
+            b.extend_from_slice(&((p.first + i) as u64).to_le_bytes())
+        }),
+    ]
+}
+
+fn f32s_of(values: impl Iterator<Item = f64>) -> Vec<u8> {
+    values.flat_map(|v| (v as f32).to_le_bytes()).collect()
 }
 
 #[cfg(test)]

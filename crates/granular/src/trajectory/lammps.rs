@@ -25,18 +25,22 @@
 //!   has no type names).
 //! * Numbers are written with Rust's shortest round-trip formatting.
 
-use super::Frame;
+use super::{Frame, Rows};
 use std::io::{self, Write};
 
 /// Writes one frame.
 pub fn write_frame(out: &mut impl Write, frame: &Frame) -> io::Result<()> {
-    let s = frame.snapshot;
+    write_rows(out, &frame.rows())
+}
+
+/// Writes one frame whose grains are read piece by piece.
+pub fn write_rows(out: &mut impl Write, frame: &Rows) -> io::Result<()> {
     let flag = |p: bool| if p { "pp" } else { "ff" };
     let [px, py, pz] = frame.periodic3();
     let [lx, ly, lz] = frame.lengths3();
-    writeln!(out, "ITEM: TIME\n{}", s.time)?;
+    writeln!(out, "ITEM: TIME\n{}", frame.time)?;
     writeln!(out, "ITEM: TIMESTEP\n{}", frame.step)?;
-    writeln!(out, "ITEM: NUMBER OF ATOMS\n{}", frame.len())?;
+    writeln!(out, "ITEM: NUMBER OF ATOMS\n{}", frame.n)?;
     writeln!(
         out,
         "ITEM: BOX BOUNDS {} {} {}",
@@ -45,25 +49,27 @@ pub fn write_frame(out: &mut impl Write, frame: &Frame) -> io::Result<()> {
         flag(pz)
     )?;
     writeln!(out, "0 {lx}\n0 {ly}")?;
-    if frame.dimension() == 2 {
+    if frame.dimension == 2 {
         writeln!(out, "{} {}", -0.5 * lz, 0.5 * lz)?;
     } else {
         writeln!(out, "0 {lz}")?;
     }
     writeln!(out, "ITEM: ATOMS id type x y z vx vy vz radius mass")?;
-    for i in 0..frame.len() {
-        let [x, y, z] = frame.position(i);
-        let [vx, vy, vz] = frame.velocity(i);
-        writeln!(
-            out,
-            "{} {} {x} {y} {z} {vx} {vy} {vz} {} {}",
-            i + 1,
-            s.species[i] + 1,
-            s.radii[i],
-            s.masses[i]
-        )?;
-    }
-    Ok(())
+    frame.grains.each(&mut |p| {
+        for i in 0..p.len() {
+            let [x, y, z] = p.position(i);
+            let [vx, vy, vz] = p.velocity(i);
+            writeln!(
+                out,
+                "{} {} {x} {y} {z} {vx} {vy} {vz} {} {}",
+                p.first + i + 1,
+                p.species[i] + 1,
+                p.radii[i],
+                p.masses[i]
+            )?;
+        }
+        Ok(())
+    })
 }
 
 #[cfg(test)]

@@ -128,6 +128,145 @@ impl Frame<'_> {
     }
 }
 
+/// Consecutive grains of a frame, in id order: the grains `first .. first + len()`.
+#[derive(Clone, Copy, Debug)]
+pub struct Piece<'a> {
+    /// The id of the piece's first grain.
+    pub first: usize,
+    /// Spatial dimension.
+    pub dimension: usize,
+    /// Positions, `dimension` values per grain.
+    pub positions: &'a [f64],
+    /// Velocities, as the positions.
+    pub velocities: &'a [f64],
+    /// Radii.
+    pub radii: &'a [f64],
+    /// Masses.
+    pub masses: &'a [f64],
+    /// Species indices.
+    pub species: &'a [u32],
+}
+
+impl Piece<'_> {
+    /// Grains in the piece.
+    pub fn len(&self) -> usize {
+        self.radii.len()
+    }
+
+    /// Whether the piece holds no grain.
+    pub fn is_empty(&self) -> bool {
+        self.radii.is_empty()
+    }
+
+    /// Position of the piece's grain `i` with three components (`z = 0` in 2D).
+    pub fn position(&self, i: usize) -> [f64; 3] {
+        pad(self.positions, self.dimension, i)
+    }
+
+    /// Velocity of the piece's grain `i` with three components.
+    pub fn velocity(&self, i: usize) -> [f64; 3] {
+        pad(self.velocities, self.dimension, i)
+    }
+}
+
+/// The grains of a frame produced piece by piece, in id order (every call from the first
+/// grain): a whole snapshot is one piece; a decomposed run's rank 0 reads the ranks'
+/// blocks of ids a piece at a time, so that a frame is written in memory independent of
+/// the number of grains.
+pub trait Pieces {
+    /// Calls `f` with consecutive pieces covering every grain once, in id order.
+    fn each(&self, f: &mut dyn FnMut(&Piece<'_>) -> std::io::Result<()>) -> std::io::Result<()>;
+}
+
+impl Pieces for Snapshot {
+    fn each(&self, f: &mut dyn FnMut(&Piece<'_>) -> std::io::Result<()>) -> std::io::Result<()> {
+        f(&Piece {
+            first: 0,
+            dimension: self.dimension,
+            positions: &self.positions,
+            velocities: &self.velocities,
+            radii: &self.radii,
+            masses: &self.masses,
+            species: &self.species,
+        })
+    }
+}
+
+/// A frame whose grains are read piece by piece ([`Pieces`]): what every format writer
+/// writes. [`Frame::rows`] gives the rows of a whole snapshot.
+#[derive(Clone, Copy)]
+pub struct Rows<'a> {
+    /// Output index (the step).
+    pub step: u64,
+    /// Simulation time.
+    pub time: f64,
+    /// Spatial dimension.
+    pub dimension: usize,
+    /// Number of grains.
+    pub n: usize,
+    /// Species names.
+    pub species_names: &'a [String],
+    /// The largest grain radius (the slab thickness of a 2D frame is its diameter).
+    pub max_radius: f64,
+    /// The box.
+    pub cell: &'a Cell,
+    /// The grains.
+    pub grains: &'a dyn Pieces,
+}
+
+impl Rows<'_> {
+    /// Edge lengths with three components; a 2D box gets the slab thickness
+    /// [`Rows::slab`] along z.
+    pub fn lengths3(&self) -> [f64; 3] {
+        let l = &self.cell.lengths;
+        [
+            l[0],
+            l.get(1).copied().unwrap_or(1.0),
+            l.get(2).copied().unwrap_or_else(|| self.slab()),
+        ]
+    }
+
+    /// Periodicity with three components (z of a 2D run: not periodic).
+    pub fn periodic3(&self) -> [bool; 3] {
+        let p = &self.cell.periodic;
+        [
+            p[0],
+            p.get(1).copied().unwrap_or(false),
+            p.get(2).copied().unwrap_or(false),
+        ]
+    }
+
+    /// Thickness of the thin z range a 2D run is drawn in: the largest grain diameter (1
+    /// without grains).
+    pub fn slab(&self) -> f64 {
+        let d = 2.0 * self.max_radius;
+        if d > 0.0 { d } else { 1.0 }
+    }
+
+    /// Name of species `s`.
+    pub fn species_name(&self, s: u32) -> &str {
+        self.species_names
+            .get(s as usize)
+            .map_or("grain", String::as_str)
+    }
+}
+
+impl Frame<'_> {
+    /// The frame as rows read in one piece.
+    pub fn rows(&self) -> Rows<'_> {
+        Rows {
+            step: self.step,
+            time: self.snapshot.time,
+            dimension: self.dimension(),
+            n: self.len(),
+            species_names: &self.snapshot.species_names,
+            max_radius: self.snapshot.radii.iter().copied().fold(0.0, f64::max),
+            cell: self.cell,
+            grains: self.snapshot,
+        }
+    }
+}
+
 fn pad(values: &[f64], dimension: usize, i: usize) -> [f64; 3] {
     let mut out = [0.0; 3];
     out[..dimension].copy_from_slice(&values[i * dimension..(i + 1) * dimension]);

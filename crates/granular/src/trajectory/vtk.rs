@@ -18,7 +18,7 @@
 //! Gaussian" representation, "Scale by array" `radius` (and "Gaussian radius" 1), to see
 //! true-size grains.
 
-use super::{Frame, TrajectoryError, io_err};
+use super::{Frame, Rows, TrajectoryError, io_err};
 use serde::{Deserialize, Serialize};
 use std::fmt::Display;
 use std::io::{self, BufWriter, Write};
@@ -61,14 +61,19 @@ impl VtkSeries {
 
     /// Writes the frame's `.vtp` file and rewrites the index.
     pub fn append(&mut self, frame: &Frame) -> Result<(), TrajectoryError> {
+        self.append_rows(&frame.rows())
+    }
+
+    /// [`VtkSeries::append`] of a frame read piece by piece.
+    pub fn append_rows(&mut self, frame: &Rows) -> Result<(), TrajectoryError> {
         let name = format!("vtp/snapshot_{:06}.vtp", frame.step);
         let path = self.dir.join(&name);
         let file = std::fs::File::create(&path).map_err(io_err(&path))?;
         let mut out = BufWriter::new(file);
-        write_frame(&mut out, frame)
+        write_rows(&mut out, frame)
             .and_then(|()| out.flush())
             .map_err(io_err(&path))?;
-        self.frames.push((frame.snapshot.time, name));
+        self.frames.push((frame.time, name));
         self.write_index()
     }
 
@@ -92,6 +97,46 @@ impl VtkSeries {
     }
 }
 
+/// One `DataArray` written value by value (12 values a line), so that its values may
+/// come from several pieces.
+struct Array {
+    written: usize,
+}
+
+impl Array {
+    fn start(
+        out: &mut impl Write,
+        kind: &str,
+        name: &str,
+        components: usize,
+        tuples: usize,
+    ) -> io::Result<Array> {
+        write!(out, "        <DataArray type=\"{kind}\" Name=\"{name}\"")?;
+        if components > 1 {
+            write!(out, " NumberOfComponents=\"{components}\"")?;
+        }
+        write!(out, " NumberOfTuples=\"{tuples}\"")?;
+        write!(out, " format=\"ascii\">")?;
+        Ok(Array { written: 0 })
+    }
+
+    fn value<T: Display>(&mut self, out: &mut impl Write, v: T) -> io::Result<()> {
+        if self.written > 0 {
+            out.write_all(if self.written.is_multiple_of(12) {
+                b"\n"
+            } else {
+                b" "
+            })?;
+        }
+        self.written += 1;
+        write!(out, "{v}")
+    }
+
+    fn end(self, out: &mut impl Write) -> io::Result<()> {
+        writeln!(out, "</DataArray>")
+    }
+}
+
 fn array<T: Display>(
     out: &mut impl Write,
     kind: &str,
@@ -100,33 +145,49 @@ fn array<T: Display>(
     tuples: usize,
     values: impl Iterator<Item = T>,
 ) -> io::Result<()> {
-    write!(out, "        <DataArray type=\"{kind}\" Name=\"{name}\"")?;
-    if components > 1 {
-        write!(out, " NumberOfComponents=\"{components}\"")?;
+    let mut a = Array::start(out, kind, name, components, tuples)?;
+    for v in values {
+        a.value(out, v)?;
     }
-    write!(out, " NumberOfTuples=\"{tuples}\"")?;
-    write!(out, " format=\"ascii\">")?;
-    for (k, v) in values.enumerate() {
-        if k > 0 {
-            out.write_all(if k % 12 == 0 { b"\n" } else { b" " })?;
+    a.end(out)
+}
+
+/// An array of a per-grain quantity read piece by piece: `values(piece, out)` gives the
+/// values of the piece's grains.
+fn grain_array<W: Write, T: Display>(
+    out: &mut W,
+    frame: &Rows,
+    (kind, name, components): (&str, &str, usize),
+    values: impl Fn(&super::Piece<'_>, usize) -> Vec<T>,
+) -> io::Result<()> {
+    let mut a = Array::start(out, kind, name, components, frame.n)?;
+    frame.grains.each(&mut |p| {
+        for i in 0..p.len() {
+            for v in values(p, i) {
+                a.value(out, v)?;
+            }
         }
-        write!(out, "{v}")?;
-    }
-    writeln!(out, "</DataArray>")
+        Ok(())
+    })?;
+    a.end(out)
 }
 
 /// Writes one frame as a VTK XML PolyData file.
 pub fn write_frame(out: &mut impl Write, frame: &Frame) -> io::Result<()> {
-    let s = frame.snapshot;
-    let n = frame.len();
-    let d = frame.dimension();
+    write_rows(out, &frame.rows())
+}
+
+/// Writes one frame read piece by piece as a VTK XML PolyData file.
+pub fn write_rows(out: &mut impl Write, frame: &Rows) -> io::Result<()> {
+    let n = frame.n;
+    let d = frame.dimension;
     let lengths = (0..3).map(|k| frame.cell.lengths.get(k).copied().unwrap_or(0.0));
     let periodic = (0..3).map(|k| u8::from(frame.periodic3()[k]));
     writeln!(
         out,
         "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">"
     )?;
-    let names: Vec<String> = s
+    let names: Vec<String> = frame
         .species_names
         .iter()
         .enumerate()
@@ -138,7 +199,14 @@ pub fn write_frame(out: &mut impl Write, frame: &Frame) -> io::Result<()> {
         names.join(", ")
     )?;
     writeln!(out, "  <PolyData>\n    <FieldData>")?;
-    array(out, "Float64", "TimeValue", 1, 1, std::iter::once(s.time))?;
+    array(
+        out,
+        "Float64",
+        "TimeValue",
+        1,
+        1,
+        std::iter::once(frame.time),
+    )?;
     array(out, "Int64", "Step", 1, 1, std::iter::once(frame.step))?;
     writeln!(
         out,
@@ -153,14 +221,20 @@ pub fn write_frame(out: &mut impl Write, frame: &Frame) -> io::Result<()> {
     )?;
     writeln!(out, "      <PointData Scalars=\"radius\" Vectors=\"v\">")?;
     array(out, "Int64", "id", 1, n, 0..n)?;
-    array(out, "Int32", "species", 1, n, s.species.iter())?;
-    let v = (0..n).flat_map(|i| frame.velocity(i));
-    array(out, "Float64", "v", 3, n, v)?;
-    array(out, "Float64", "radius", 1, n, s.radii.iter())?;
-    array(out, "Float64", "mass", 1, n, s.masses.iter())?;
+    grain_array(out, frame, ("Int32", "species", 1), |p, i| {
+        vec![p.species[i]]
+    })?;
+    grain_array(out, frame, ("Float64", "v", 3), |p, i| {
+        p.velocity(i).to_vec()
+    })?;
+    grain_array(out, frame, ("Float64", "radius", 1), |p, i| {
+        vec![p.radii[i]]
+    })?;
+    grain_array(out, frame, ("Float64", "mass", 1), |p, i| vec![p.masses[i]])?;
     writeln!(out, "      </PointData>\n      <Points>")?;
-    let x = (0..n).flat_map(|i| frame.position(i));
-    array(out, "Float64", "Points", 3, n, x)?;
+    grain_array(out, frame, ("Float64", "Points", 3), |p, i| {
+        p.position(i).to_vec()
+    })?;
     writeln!(out, "      </Points>\n      <Verts>")?;
     array(out, "Int64", "connectivity", 1, n, 0..n)?;
     array(out, "Int64", "offsets", 1, n, 1..=n)?;

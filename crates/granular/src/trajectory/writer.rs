@@ -2,7 +2,7 @@
 
 use super::gsd::{self, GsdFile};
 use super::vtk::VtkSeries;
-use super::{Format, Frame, TrajectoryError, io_err, lammps, xyz};
+use super::{Format, Frame, Rows, TrajectoryError, io_err, lammps, xyz};
 use serde::{Deserialize, Serialize};
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -81,15 +81,21 @@ impl Writer {
 
     /// Appends one frame.
     pub fn append(&mut self, frame: &Frame) -> Result<(), TrajectoryError> {
+        self.append_rows(&frame.rows())
+    }
+
+    /// Appends one frame read piece by piece (the same bytes as [`Writer::append`] of the
+    /// same grains, in memory independent of their number).
+    pub fn append_rows(&mut self, frame: &Rows) -> Result<(), TrajectoryError> {
         match self {
-            Writer::Xyz(t) => t.append(frame, xyz::write_frame),
-            Writer::Lammps(t) => t.append(frame, lammps::write_frame),
+            Writer::Xyz(t) => t.append(frame, xyz::write_rows),
+            Writer::Lammps(t) => t.append(frame, lammps::write_rows),
             Writer::Gsd(g) => {
                 let path = g.path().to_path_buf();
-                g.append_frame(&gsd::frame_chunks(frame))
+                g.append_streamed(gsd::frame_rows(frame))
                     .map_err(io_err(&path))
             }
-            Writer::Vtk(v) => v.append(frame),
+            Writer::Vtk(v) => v.append_rows(frame),
         }
     }
 
@@ -123,8 +129,8 @@ impl Writer {
 impl TextFile {
     fn append(
         &mut self,
-        frame: &Frame,
-        write: fn(&mut BufWriter<std::fs::File>, &Frame) -> std::io::Result<()>,
+        frame: &Rows,
+        write: fn(&mut BufWriter<std::fs::File>, &Rows) -> std::io::Result<()>,
     ) -> Result<(), TrajectoryError> {
         let file = std::fs::OpenOptions::new()
             .append(true)

@@ -20,45 +20,60 @@
 //! * Numbers are written with Rust's shortest round-trip formatting: a reader gets the
 //!   `f64` of the snapshot back exactly.
 
-use super::Frame;
+use super::{Frame, Rows};
 use std::io::{self, Write};
 
 /// Writes one frame.
 pub fn write_frame(out: &mut impl Write, frame: &Frame) -> io::Result<()> {
-    let n = frame.len();
+    write_rows(out, &frame.rows())
+}
+
+/// Writes one frame whose grains are read piece by piece.
+pub fn write_rows(out: &mut impl Write, frame: &Rows) -> io::Result<()> {
+    let n = frame.n;
     let [lx, ly, lz] = frame.lengths3();
     let flag = |p: bool| if p { "T" } else { "F" };
     let [px, py, pz] = frame.periodic3();
     writeln!(out, "{n}")?;
     write!(out, "Lattice=\"{lx} 0 0 0 {ly} 0 0 0 {lz}\" ")?;
-    if frame.dimension() == 2 {
+    if frame.dimension == 2 {
         write!(out, "Origin=\"0 0 {}\" ", -0.5 * lz)?;
     }
     writeln!(
         out,
         "Properties=type:S:1:pos:R:3:velo:R:3:radius:R:1:mass:R:1:id:I:1 Time={} Step={} pbc=\"{} {} {}\"",
-        frame.snapshot.time,
+        frame.time,
         frame.step,
         flag(px),
         flag(py),
         flag(pz)
     )?;
-    let s = frame.snapshot;
-    for i in 0..n {
-        let [x, y, z] = frame.position(i);
-        let [vx, vy, vz] = frame.velocity(i);
-        let name: String = frame
-            .species_name(i)
-            .chars()
-            .map(|c| if c.is_whitespace() { '_' } else { c })
-            .collect();
-        writeln!(
-            out,
-            "{name} {x} {y} {z} {vx} {vy} {vz} {} {} {i}",
-            s.radii[i], s.masses[i]
-        )?;
-    }
-    Ok(())
+    let names: Vec<String> = frame
+        .species_names
+        .iter()
+        .map(|name| {
+            name.chars()
+                .map(|c| if c.is_whitespace() { '_' } else { c })
+                .collect()
+        })
+        .collect();
+    frame.grains.each(&mut |p| {
+        for i in 0..p.len() {
+            let [x, y, z] = p.position(i);
+            let [vx, vy, vz] = p.velocity(i);
+            let name = names
+                .get(p.species[i] as usize)
+                .map_or("grain", String::as_str);
+            writeln!(
+                out,
+                "{name} {x} {y} {z} {vx} {vy} {vz} {} {} {}",
+                p.radii[i],
+                p.masses[i],
+                p.first + i
+            )?;
+        }
+        Ok(())
+    })
 }
 
 #[cfg(test)]

@@ -136,8 +136,8 @@ impl<const D: usize> Engine for DsmcEngine<D> {
             velocities: v.iter().flat_map(|x| x.0).collect(),
             radii: vec![self.radius; n],
             masses: vec![self.mass; n],
-            species: vec![0; n],
-            species_names: vec![self.species_name.clone()],
+            species: (0..n as u32).map(|id| self.species.of(id)).collect(),
+            species_names: self.species.names.clone(),
         })
     }
 }

@@ -13,7 +13,8 @@ use std::path::Path;
 pub type Fill<'a, T> =
     Box<dyn FnMut(&mut dyn FnMut(&[T]) -> io::Result<()>) -> io::Result<()> + 'a>;
 
-/// A one-species snapshot whose per-grain arrays are produced in pieces.
+/// A snapshot of equal grains whose per-grain arrays are produced in pieces; the species
+/// are contiguous ranges of grains.
 pub struct StreamedSnapshot<'a> {
     /// Simulation time.
     pub time: f64,
@@ -25,8 +26,10 @@ pub struct StreamedSnapshot<'a> {
     pub radius: f64,
     /// Mass of every grain.
     pub mass: f64,
-    /// Name of the one species.
-    pub species_name: String,
+    /// The species' names, in order.
+    pub species_names: Vec<String>,
+    /// One past the last grain of each species (the last is `n`).
+    pub species_ends: Vec<usize>,
     /// Positions, row after row (`n x dimension` values in all).
     pub positions: Fill<'a, f64>,
     /// Velocities, as the positions.
@@ -64,11 +67,17 @@ pub fn write_snapshot_streamed(
                 .try_for_each(|a| sink(&block[..chunk.min(n - a)]))
         })
     };
+    let ends = s.species_ends.clone();
     let species: Fill<'static, u32> = Box::new(move |sink| {
-        let block = vec![0u32; chunk];
-        (0..n)
-            .step_by(chunk)
-            .try_for_each(|a| sink(&block[..chunk.min(n - a)]))
+        let mut block = Vec::with_capacity(chunk);
+        for a in (0..n).step_by(chunk) {
+            block.clear();
+            block.extend((a..(a + chunk).min(n)).map(|i| {
+                (ends.partition_point(|&e| e <= i) as u32).min(ends.len().max(1) as u32 - 1)
+            }));
+            sink(&block)?;
+        }
+        Ok(())
     });
     start(&mut zip, "time")?;
     write_array_to(&mut zip, "time", &NpzArray::scalar(s.time)).map_err(io_error(path))?;
@@ -107,7 +116,7 @@ pub fn write_snapshot_streamed(
     species(&mut |values| w.extend(values.iter().copied())).map_err(io_error(path))?;
     w.finish().map_err(io_error(path))?;
     start(&mut zip, "species_names")?;
-    let names = NpzArray::strings(vec![std::mem::take(&mut s.species_name)]);
+    let names = NpzArray::strings(std::mem::take(&mut s.species_names));
     write_array_to(&mut zip, "species_names", &names).map_err(io_error(path))?;
     let mut inner = zip.finish().map_err(zip_error(path))?;
     inner.flush().map_err(io_error(path))

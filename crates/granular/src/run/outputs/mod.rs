@@ -151,14 +151,32 @@ impl StandardOutputs {
     /// sees (each rank writes its block there; see [`crate::run::parts`]).
     pub(crate) fn share(&mut self, dir: &Path) {
         self.snapshots.share(dir);
+        if let Some(t) = &mut self.trajectory {
+            t.share(dir);
+        }
     }
 
-    /// Cuts files that are appended to back to where the checkpoint left them.
-    pub(crate) fn rewind(&self) -> Result<(), RunError> {
+    /// Moves the per-grain state of the outputs that keep one (the MSD's unwrapped
+    /// positions and samples) out: `None` when there is none.
+    pub(crate) fn take_rows(&mut self) -> Option<crate::transport::GrainRows> {
+        self.transport.as_mut().and_then(TransportOutput::take_rows)
+    }
+
+    /// Puts per-grain state back ([`StandardOutputs::take_rows`]).
+    pub(crate) fn put_rows(&mut self, rows: crate::transport::GrainRows) {
+        if let Some(t) = &mut self.transport {
+            t.put_rows(rows);
+        }
+    }
+
+    /// Cuts files that are appended to back to where the checkpoint left them; the
+    /// trajectory files only where this process writes them (`trajectories`: not on the
+    /// ranks other than 0 of a decomposed run, whose directory has none).
+    pub(crate) fn rewind(&self, trajectories: bool) -> Result<(), RunError> {
         self.timeseries.rewind()?;
         match &self.trajectory {
-            Some(t) => t.rewind(),
-            None => Ok(()),
+            Some(t) if trajectories => t.rewind(),
+            _ => Ok(()),
         }
     }
 

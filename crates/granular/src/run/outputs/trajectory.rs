@@ -19,6 +19,10 @@ pub struct Trajectory {
     every: u64,
     cell: Option<Cell>,
     writers: Vec<Writer>,
+    /// Over ranks: the trajectory folder of the run directory every rank sees, where the
+    /// ranks put their blocks of grains for rank 0.
+    #[serde(skip)]
+    shared: Option<PathBuf>,
 }
 
 impl Trajectory {
@@ -31,6 +35,7 @@ impl Trajectory {
             every,
             cell: None,
             writers: Vec::new(),
+            shared: None,
         }
     }
 
@@ -39,6 +44,12 @@ impl Trajectory {
         for w in &mut self.writers {
             w.relocate(&self.dir);
         }
+    }
+
+    /// Makes a decomposed run's ranks put their blocks of grains into `dir`'s trajectory
+    /// folder (the run directory every rank sees).
+    pub(crate) fn share(&mut self, dir: &Path) {
+        self.shared = Some(dir.join("trajectory"));
     }
 
     /// Cuts the files back to the frames written before the checkpoint.
@@ -54,7 +65,33 @@ impl Trajectory {
     }
 
     fn write(&mut self, simulation: &Simulation) -> Result<(), RunError> {
-        let (Some(snapshot), Some(cell)) = (simulation.snapshot(), &self.cell) else {
+        let Some(cell) = &self.cell else {
+            return Ok(());
+        };
+        if simulation.engine().domain().is_some() {
+            // Over ranks: rank 0 writes every format from the ranks' blocks of ids, a
+            // piece at a time; the other ranks write nothing.
+            let folder = self.shared.as_ref().unwrap_or(&self.dir);
+            let base = folder.join(format!("frame_{:06}", simulation.outputs_done()));
+            let writers = &mut self.writers;
+            return crate::run::parts::with_blocks(simulation.engine(), &base, |blocks| {
+                let rows = crate::trajectory::Rows {
+                    step: simulation.outputs_done(),
+                    time: blocks.time,
+                    dimension: blocks.dimension,
+                    n: blocks.n,
+                    species_names: &blocks.species.names,
+                    max_radius: blocks.radius,
+                    cell,
+                    grains: blocks,
+                };
+                for w in writers.iter_mut() {
+                    w.append_rows(&rows)?;
+                }
+                Ok(())
+            });
+        }
+        let Some(snapshot) = simulation.snapshot() else {
             return Ok(());
         };
         let frame = Frame {
@@ -70,10 +107,9 @@ impl Trajectory {
 }
 
 impl Output for Trajectory {
-    /// Opens the files; refuses a run over ranks above
-    /// `GATHER_LIMIT` (10^6) grains (every rank gathers each frame).
+    /// Opens the files. Over ranks, only rank 0 writes them, from the ranks' blocks of
+    /// grain ids (no rank gathers a frame).
     fn setup(&mut self, simulation: &Simulation) -> Result<(), RunError> {
-        crate::run::grains::refuse_whole_gather(simulation, "output.trajectory")?;
         self.cell = Some(Cell::from_scenario(simulation.scenario()));
         self.writers = self
             .formats

@@ -26,6 +26,10 @@ pub struct TransportOutput {
     last: f64,
     /// Lightest grain mass (the unwrapping guard).
     m_min: f64,
+    /// The first grain id of the grains this process correlates (over ranks its block of
+    /// ids; 0 otherwise).
+    #[serde(default)]
+    first: usize,
     names: Vec<String>,
 }
 
@@ -74,6 +78,26 @@ impl TransportOutput {
     }
 }
 
+impl TransportOutput {
+    /// Moves the per-grain state out (`None` before the first sample): a decomposed run
+    /// writes each rank's into its checkpoint part and keeps it out of the manifest.
+    pub(crate) fn take_rows(&mut self) -> Option<crate::transport::GrainRows> {
+        let (Some(u), Some(c)) = (&mut self.unwrapper, &mut self.correlator) else {
+            return None;
+        };
+        Some(c.take_rows(u, self.first))
+    }
+
+    /// Puts back the per-grain state of the grains `first ..` (cut from the parts of a
+    /// checkpoint).
+    pub(crate) fn put_rows(&mut self, rows: crate::transport::GrainRows) {
+        if let (Some(u), Some(c)) = (&mut self.unwrapper, &mut self.correlator) {
+            self.first = rows.first;
+            c.put_rows(u, rows);
+        }
+    }
+}
+
 /// The `output.interval` error of the unwrapping guard.
 fn interval_error(interval: f64, message: String) -> RunError {
     RunError::Output {
@@ -84,17 +108,26 @@ fn interval_error(interval: f64, message: String) -> RunError {
     }
 }
 
+/// The lightest grain mass of the scenario (the unwrapping guard); the same on every
+/// rank without a reduction.
+fn lightest(simulation: &Simulation) -> f64 {
+    simulation
+        .scenario()
+        .species
+        .iter()
+        .map(|s| s.mass)
+        .fold(f64::INFINITY, f64::min)
+}
+
 impl Output for TransportOutput {
     /// Refuses an output interval in which a grain could cross half a periodic edge
-    /// (before the run starts), and a run over ranks above
-    /// `GATHER_LIMIT` (10^6) grains (every rank gathers the whole system).
+    /// (before the run starts).
     fn setup(&mut self, simulation: &Simulation) -> Result<(), RunError> {
-        crate::run::grains::refuse_whole_gather(simulation, "output.msd")?;
-        let Some(snap) = simulation.snapshot() else {
+        if simulation.scenario().intruder.is_some() {
             return Ok(());
-        };
+        }
         let scenario = simulation.scenario();
-        let m_min = snap.masses.iter().fold(f64::INFINITY, |a, &b| a.min(b));
+        let m_min = lightest(simulation);
         let periodic = scenario
             .axes()
             .iter()
@@ -114,17 +147,22 @@ impl Output for TransportOutput {
         Ok(())
     }
 
+    /// Over ranks each rank unwraps and correlates its block of grain ids; the sums are
+    /// chained from rank to rank in id order (the threaded run's additions).
     fn observe(
         &mut self,
         simulation: &Simulation,
         observation: &Observation,
     ) -> Result<(), RunError> {
-        let Some(snap) = simulation.snapshot() else {
+        let Some(grains) = crate::run::grains::Grains::of(simulation) else {
             return Ok(());
         };
+        let snap = &grains.snap;
         let now = simulation.time();
         let interval = simulation.scenario().output.interval;
         let k = observation.kinetic_energy;
+        let mut chain =
+            |acc: Vec<f64>, fold: &mut dyn FnMut(Vec<f64>) -> Vec<f64>| grains.chain(acc, fold);
         let (Some(u), Some(c)) = (&mut self.unwrapper, &mut self.correlator) else {
             let scenario = simulation.scenario();
             let periodic = scenario
@@ -132,13 +170,28 @@ impl Output for TransportOutput {
                 .iter()
                 .map(|a| *a == crate::boundary::AxisKind::Periodic)
                 .collect();
-            self.m_min = snap.masses.iter().fold(f64::INFINITY, |a, &b| a.min(b));
+            self.m_min = lightest(simulation);
+            let species_count = snap.species_names.len();
+            let mut mine = vec![0u64; species_count];
+            for &s in &snap.species {
+                mine[s as usize] += 1;
+            }
+            // Grains of each species before this block (the chained counts' prefix), and
+            // in the whole system.
+            let mut before = vec![0usize; species_count];
+            let counts: Vec<f64> = mine.iter().map(|&c| c as f64).collect();
+            let totals = grains.chain(vec![0.0; species_count], |acc| {
+                before = acc.iter().map(|&x| x as usize).collect();
+                acc.iter().zip(&counts).map(|(a, b)| a + b).collect()
+            });
+            let totals: Vec<usize> = totals.iter().map(|&x| x as usize).collect();
             let u = Unwrapper::new(scenario.lengths(), periodic, &snap.positions, now, k);
             let mut c =
-                LogLagCorrelator::new(snap.dimension, &snap.species, snap.species_names.len());
-            c.add(&u.unwrapped, &snap.velocities);
+                LogLagCorrelator::for_block(snap.dimension, &snap.species, &before, &totals);
+            c.add_chained(&u.unwrapped, &snap.velocities, &mut chain);
             self.unwrapper = Some(u);
             self.correlator = Some(c);
+            self.first = grains.first;
             self.names = snap.species_names.clone();
             self.start = now;
             self.last = now;
@@ -151,7 +204,7 @@ impl Output for TransportOutput {
         // output at a stop rule between output times does not).
         let expected = self.start + c.samples as f64 * interval;
         if (now - expected).abs() <= 1e-6 * interval {
-            c.add(x, &snap.velocities);
+            c.add_chained(x, &snap.velocities, &mut chain);
             self.last = now;
         }
         Ok(())
