@@ -247,12 +247,7 @@ impl LogLagCorrelator {
     /// `fold(acc)` (as [`LogLagCorrelator::add`]); over the ranks of a decomposed run
     /// the chained sum of the run's outputs that hands the accumulator from rank to rank. The
     /// additions are those of one loop over all grains, in its order.
-    pub fn add_chained(
-        &mut self,
-        positions: &[f64],
-        velocities: &[f64],
-        chain: &mut dyn FnMut(Vec<f64>, &mut dyn FnMut(Vec<f64>) -> Vec<f64>) -> Vec<f64>,
-    ) {
+    pub fn add_chained(&mut self, positions: &[f64], velocities: &[f64], chain: &mut Chain<'_>) {
         let count = self.samples;
         self.samples += 1;
         // The (level, lag) pairs this sample reaches.
@@ -435,8 +430,15 @@ pub struct GrainRows {
     /// Unwrapped positions.
     pub unwrapped: Vec<f64>,
     /// Per level, the samples' positions and velocities, oldest first.
-    pub levels: Vec<(Vec<Vec<f64>>, Vec<Vec<f64>>)>,
+    pub levels: Vec<LevelRows>,
 }
+
+/// One lag level's samples of a block of grains: positions and velocities, oldest first.
+pub type LevelRows = (Vec<Vec<f64>>, Vec<Vec<f64>>);
+
+/// The chained sum of [`LogLagCorrelator::add_chained`]: `chain(acc, fold)` folds `acc`
+/// over every block's grains in id order.
+pub type Chain<'a> = dyn FnMut(Vec<f64>, &mut dyn FnMut(Vec<f64>) -> Vec<f64>) -> Vec<f64> + 'a;
 
 impl GrainRows {
     /// The grains `a .. b` from `parts` (blocks in order that cover them, each holding

@@ -158,7 +158,7 @@ impl Traffic {
     }
 }
 
-/// How the slab cuts follow the grains ([`Domain::rebalance`]): the scenario's
+/// How the slab cuts follow the grains (`Domain::rebalance`): the scenario's
 /// `dsmc.balance`. The cuts never change the result (see the module docs), only how the
 /// work is shared.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -221,6 +221,29 @@ pub fn balanced_cuts(loads: &[f64], k: usize) -> Vec<usize> {
         cuts[r] = cut.clamp(cuts[r - 1] + 1, p - (k - r));
     }
     cuts
+}
+
+/// Most grains a rank may get from cuts by measured time ([`BalanceMode::Time`]), as a
+/// multiple of the mean `N / K`: on a busy machine a rank may measure itself fast for a
+/// while (its neighbours were descheduled), and without a bound the cuts could hand it
+/// nearly every grain, and its memory with them.
+pub const TIME_SHARE_CAP: f64 = 2.0;
+
+/// The cuts by measured time: [`balanced_cuts`] of the planes' `loads` (grains times
+/// their owner's seconds per grain), unless a rank would then own more than
+/// [`TIME_SHARE_CAP`] times the mean grains (`counts`: grains per plane), when the cuts
+/// share the grains instead.
+pub fn time_cuts(counts: &[f64], loads: &[f64], k: usize) -> Vec<usize> {
+    let cuts = balanced_cuts(loads, k);
+    let cap = TIME_SHARE_CAP * counts.iter().sum::<f64>() / k as f64;
+    if cuts
+        .windows(2)
+        .all(|w| counts[w[0]..w[1]].iter().sum::<f64>() <= cap)
+    {
+        cuts
+    } else {
+        balanced_cuts(counts, k)
+    }
 }
 
 /// Why a decomposition is impossible.
@@ -392,8 +415,10 @@ impl Domain {
     /// per own plane. With [`BalanceMode::Count`] a plane's load is its grains; with
     /// [`BalanceMode::Time`] its grains times its owner's compute seconds per grain since
     /// the last look (wall time less the time spent in communication, which includes
-    /// waiting for the slowest rank). Every rank gathers every plane's load (one word per
-    /// plane) and computes the same cuts ([`balanced_cuts`]); they move when the most
+    /// waiting for the slowest rank), the cuts then capped at [`TIME_SHARE_CAP`] times the
+    /// mean grains per rank ([`time_cuts`]). Every rank gathers every plane's grains (one
+    /// word per plane, and one per rank for its seconds per grain) and computes the same
+    /// cuts ([`balanced_cuts`]); they move when the most
     /// loaded rank carries more than [`IMBALANCE`] times the mean. Returns whether they
     /// moved. The caller then migrates the grains whose plane changed owner.
     pub(crate) fn rebalance(&mut self, counts: &[u64]) -> bool {
@@ -409,29 +434,43 @@ impl Domain {
             BalanceMode::Time if mine > 0 => compute / mine as f64,
             _ => 1.0,
         };
-        let local: Vec<f64> = counts.iter().map(|&c| c as f64 * per_grain).collect();
+        // This rank's grains per own plane, then its seconds per grain.
+        let mut local: Vec<f64> = counts.iter().map(|&c| c as f64).collect();
+        local.push(per_grain);
         let parts = self.all_gather(&local);
         self.mark = (Instant::now(), {
             let t = self.traffic();
             t.migration_seconds + t.reduction_seconds
         });
-        let loads: Vec<f64> = parts.concat();
+        let mut grains = Vec::with_capacity(self.planes());
+        let mut loads = Vec::with_capacity(self.planes());
+        for part in &parts {
+            let Some((&cost, own)) = part.split_last() else {
+                return false;
+            };
+            grains.extend_from_slice(own);
+            loads.extend(own.iter().map(|&c| c * cost));
+        }
         if loads.len() != self.planes() {
             return false;
         }
-        let rank_loads: Vec<f64> = parts.iter().map(|v| v.iter().sum()).collect();
+        let rank_loads: Vec<f64> = parts
+            .iter()
+            .map(|v| {
+                v.split_last()
+                    .map_or(0.0, |(&c, own)| c * own.iter().sum::<f64>())
+            })
+            .collect();
         let total: f64 = rank_loads.iter().sum();
         let most = rank_loads.iter().copied().fold(0.0, f64::max);
-        // Time mode before any measurement (all zero): by count.
-        let loads = if total > 0.0 {
-            loads
-        } else {
-            return false;
-        };
-        if most <= IMBALANCE * total / k as f64 {
+        // No grains, or no time measured yet: nothing to share.
+        if total <= 0.0 || most <= IMBALANCE * total / k as f64 {
             return false;
         }
-        let cuts = balanced_cuts(&loads, k);
+        let cuts = match self.balance.mode {
+            BalanceMode::Time => time_cuts(&grains, &loads, k),
+            _ => balanced_cuts(&loads, k),
+        };
         if cuts == self.cuts() {
             return false;
         }
@@ -960,6 +999,27 @@ mod tests {
             (d.owner(0), d.owner(9), d.owner(12), d.owner(23)),
             (0, 1, 2, 3)
         );
+    }
+
+    /// Cuts by time follow the measured cost, but never give a rank more than
+    /// `TIME_SHARE_CAP` times the mean grains, however fast it measured itself.
+    #[test]
+    fn time_cuts_are_capped_by_grains() {
+        let counts = [10.0; 8];
+        // Rank 0 (planes 0..2) twice as slow as the others: it gets fewer planes.
+        let mut loads = counts;
+        loads[0] *= 2.0;
+        loads[1] *= 2.0;
+        assert_eq!(time_cuts(&counts, &loads, 4), balanced_cuts(&loads, 4));
+        assert_eq!(time_cuts(&counts, &loads, 4)[1], 1);
+        // Rank 3 (planes 6..8) measured (by noise) a thousand times slower: by time rank 0
+        // would take five planes of eight (2.5 times the mean grains), so the cuts share
+        // the grains instead.
+        let mut loads = counts;
+        loads[6] *= 1000.0;
+        loads[7] *= 1000.0;
+        assert_eq!(balanced_cuts(&loads, 4), vec![0, 5, 6, 7, 8]);
+        assert_eq!(time_cuts(&counts, &loads, 4), vec![0, 2, 4, 6, 8]);
     }
 
     #[test]

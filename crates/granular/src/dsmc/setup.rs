@@ -12,7 +12,7 @@
 //! most [`KEY_CHUNK`] grains of its chunk, and positions and velocities are independent.
 //!
 //! * **Random placement**: uniform in the species' region (the centres at least a radius
-//!   from a wall: [`Region::centre_range`]), independently for every grain. DSMC grains
+//!   from a wall: `Region::centre_range`), independently for every grain. DSMC grains
 //!   overlap freely (the method has no excluded volume in its free flight), so there is no
 //!   rejection: unlike the event-driven engine's random *sequential* placement, which is
 //!   global, this one is local to each grain.
@@ -25,9 +25,9 @@
 //!
 //! The centre-of-mass drift (`initial.zero_momentum`) and the initial temperature (for
 //! the automatic time step) are sums over all grains, taken over chunks of
-//! [`SUM_CHUNK`](super::sums::SUM_CHUNK) ids in id order, each chunk from zero, the
+//! `SUM_CHUNK` ids in id order, each chunk from zero, the
 //! chunks then in order: on one rank with rayon, over ranks with the chained sums of
-//! [`super::domain::Domain::ordered_fold`] on the blocks of ids, the same bits.
+//! `Domain::ordered_fold` on the blocks of ids, the same bits.
 //!
 //! # Decomposed set-up
 //!
@@ -286,6 +286,9 @@ pub fn id_block(n: usize, rank: usize, ranks: usize) -> Range<usize> {
     rank * n / ranks..(rank + 1) * n / ranks
 }
 
+/// A rank's own grains: positions, velocities and ids, in id order.
+type OwnGrains<const D: usize> = (Vec<Vector<D>>, Vec<Vector<D>>, Vec<u32>);
+
 /// What a rank may hold, checked once it knows how many grains are its own (before it
 /// allocates them): an error refuses the run on every rank.
 pub type OwnGrainsCheck<'a> = &'a (dyn Fn(usize) -> Result<(), String> + Sync);
@@ -477,7 +480,7 @@ fn first_over_ranks(domain: Option<&Domain>, local: Option<usize>) -> Option<usi
 }
 
 /// The chunked fold of [`Domain::ordered_fold`] over values in id order: on one rank
-/// (`None`) over chunks of [`SUM_CHUNK`](super::sums::SUM_CHUNK) with rayon, the chunks
+/// (`None`) over chunks of `SUM_CHUNK` with rayon, the chunks
 /// then in order; over ranks, each holding its block of ids, the chained sums. The same
 /// bits either way.
 pub(crate) fn fold_in_id_order<const E: usize, const A: usize>(
@@ -529,7 +532,7 @@ impl Domain {
         ids: Vec<u32>,
         grid: &super::cells::CellGrid<D>,
         check: Option<OwnGrainsCheck<'_>>,
-    ) -> Result<(Vec<Vector<D>>, Vec<Vector<D>>, Vec<u32>), DsmcError> {
+    ) -> Result<OwnGrains<D>, DsmcError> {
         let (me, k) = (self.rank(), self.size());
         let dest: Vec<u32> = pos
             .iter()

@@ -94,8 +94,11 @@ pub struct StreamedChunk<'a> {
     /// Bytes the chunk holds (`n m` values).
     pub bytes: u64,
     /// Writes the values, little-endian.
-    pub write: Box<dyn FnMut(&mut dyn Write) -> io::Result<()> + 'a>,
+    pub write: ChunkWriter<'a>,
 }
+
+/// Writes a streamed chunk's values into the file.
+pub type ChunkWriter<'a> = Box<dyn FnMut(&mut dyn Write) -> io::Result<()> + 'a>;
 
 /// A GSD file being appended to; the state is small and serialisable (it goes into a
 /// checkpoint), and the file is opened only while a frame is written.
