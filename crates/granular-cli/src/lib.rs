@@ -6,8 +6,6 @@
 //! the library, the figures in `granular-report`.
 
 mod bench;
-#[cfg(feature = "mpi")]
-mod bench_ranks;
 mod error;
 mod interrupt;
 mod intruder_summary;

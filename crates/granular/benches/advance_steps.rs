@@ -10,13 +10,13 @@
 //! `one` or `many` it only runs that way once, for counting instructions under valgrind.
 //! Results and the machine: docs/performance.md.
 
-mod common;
-
 use granular::prelude::*;
 use std::time::Instant;
 
 fn gas(n: usize) -> Simulation {
-    Simulation::new(common::unit_square_gas("edmd", n, 0.2, "random")).expect("benchmark state")
+    let scenario =
+        granular::bench::unit_square_gas("edmd", n, 0.2, "random").expect("benchmark scenario");
+    Simulation::new(scenario).expect("benchmark state")
 }
 
 /// Advances a fresh gas to `total` in `steps` equal calls; the wall seconds and the

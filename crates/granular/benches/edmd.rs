@@ -5,8 +5,8 @@
 //! standard cases (up to 10^6 grains) end to end; see docs/performance.md.
 
 use criterion::{Criterion, criterion_group, criterion_main};
+use granular::bench::edmd::{advance_collisions, equilibrated_fluid};
 use granular::edmd::Edmd;
-use granular::edmd::bench::{advance_collisions, equilibrated_fluid};
 use std::hint::black_box;
 
 fn fluid<const D: usize>(n: usize, phi: f64) -> Edmd<D> {

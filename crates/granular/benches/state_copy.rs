@@ -13,8 +13,6 @@
 //! valgrind: the counts of REPEAT = 3 less those of REPEAT = 1 are two calls.
 //! Results and the machine: docs/performance.md.
 
-mod common;
-
 use granular::prelude::*;
 use std::time::Instant;
 
@@ -30,7 +28,8 @@ fn main() {
     let placement = args.get(1).map_or("lattice", String::as_str);
     let repeat: usize = args.get(2).and_then(|a| a.parse().ok()).unwrap_or(15);
     let engine = args.get(3).map_or("edmd", String::as_str);
-    let scenario = common::unit_square_gas(engine, n, 0.1, placement);
+    let scenario =
+        granular::bench::unit_square_gas(engine, n, 0.1, placement).expect("benchmark scenario");
     let start = Instant::now();
     let mut sim = Simulation::new(scenario).expect("benchmark state");
     sim.advance(0.001).expect("advance");

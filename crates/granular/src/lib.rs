@@ -58,6 +58,8 @@
 //! a temperature is an energy, `T = m <|v|^2> / D` in `D` dimensions.
 
 pub mod averaging;
+#[doc(hidden)]
+pub mod bench;
 pub mod boundary;
 pub mod build;
 pub mod collision_law;
@@ -65,6 +67,7 @@ pub mod driving;
 pub mod dsmc;
 pub mod edmd;
 pub mod engine;
+mod host;
 pub mod intruder;
 pub mod moments;
 pub(crate) mod neighbours;

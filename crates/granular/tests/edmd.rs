@@ -732,7 +732,7 @@ fn large_projectile_in_a_bed_of_small_grains() {
 /// and the same whether it runs in one call or in many small ones.
 #[test]
 fn large_systems_with_look_ahead_stay_exact_and_reproducible() {
-    use granular::edmd::bench::{advance_collisions, equilibrated_fluid};
+    use granular::bench::edmd::{advance_collisions, equilibrated_fluid};
     use granular::edmd::internals::{LOOK_AHEAD_MIN_GRAINS, TOURNAMENT_MAX_GRAINS};
     let n = TOURNAMENT_MAX_GRAINS.max(LOOK_AHEAD_MIN_GRAINS) + 1000;
     let mut a = equilibrated_fluid::<2>(n, 0.6, 3).expect("bench state");
@@ -755,7 +755,7 @@ fn large_systems_with_look_ahead_stay_exact_and_reproducible() {
 /// grain cross several of them).
 #[test]
 fn memory_stays_within_the_target_per_grain() {
-    use granular::edmd::bench::{advance_collisions, equilibrated_fluid};
+    use granular::bench::edmd::{advance_collisions, equilibrated_fluid};
     use granular::edmd::internals::TOURNAMENT_MAX_GRAINS;
     fn check<const D: usize>(n: usize, phi: f64, limit: f64) {
         let mut e = equilibrated_fluid::<D>(n, phi, 1).expect("bench state");
@@ -788,7 +788,7 @@ fn memory_stays_within_the_target_per_grain() {
 /// kinetic plus potential energy falls by exactly what the collisions dissipated).
 #[test]
 fn general_benchmark_states_are_what_they_say() {
-    use granular::edmd::bench::{FluidCase, advance_collisions, fluid};
+    use granular::bench::edmd::{FluidCase, advance_collisions, fluid};
     use granular::edmd::init::packing_fraction;
     fn check<const D: usize>(n: usize, phi: f64) {
         let case = FluidCase {
@@ -851,7 +851,7 @@ fn general_benchmark_states_are_what_they_say() {
 #[test]
 #[ignore = "long validation, about 2 minutes in release"]
 fn long_runs_stay_exact() {
-    use granular::edmd::bench::{FluidCase, advance_collisions, fluid};
+    use granular::bench::edmd::{FluidCase, advance_collisions, fluid};
     fn run<const D: usize>(case: FluidCase, collisions: u64) {
         let g = case.gravity;
         let n = case.n;

@@ -21,8 +21,6 @@
 //! ranks (MPI processes) by slabs of cells, bit-identical for any number of ranks: see
 //! [`domain`].
 
-#[doc(hidden)]
-pub mod bench;
 pub(crate) mod cells;
 mod collide;
 pub mod config;

@@ -189,7 +189,7 @@ pub struct Edmd<const D: usize> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::edmd::bench::equilibrated_fluid;
+    use crate::bench::edmd::equilibrated_fluid;
     use crate::edmd::queue::CalendarQueue;
     use crate::engine::Engine;
 

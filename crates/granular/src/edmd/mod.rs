@@ -13,8 +13,6 @@
 //! search (`neighbours`) and the software prefetch (`prefetch`) are
 //! shared with the overlap check of initial states. `docs/edmd.md` describes them.
 
-#[doc(hidden)]
-pub mod bench;
 mod candidates;
 pub mod driving;
 pub mod engine;

@@ -8,16 +8,13 @@
 //! * [`needle`]: the two-dimensional needle (G-20 to G-30);
 //! * [`dsmc_twin`]: the DSMC version of the 1D intruder (section 4);
 //! * [`theory`]: exact results (G-18, the power-law case `M/m = alpha`);
-//! * [`figures`]: the data of the paper's figures as tables;
-//! * [`mod@bench`]: collision-rate measurement.
+//! * [`figures`]: the data of the paper's figures as tables.
 //!
 //! Units: `k_B = 1`; a temperature is `mass * <v_component^2>`. The bath mass `m`
 //! (default 1) and the bath density `rho` set the collision rate.
 
 pub mod ball;
 pub mod bath;
-#[doc(hidden)]
-pub mod bench;
 pub mod dsmc_twin;
 pub mod figures;
 pub mod needle;

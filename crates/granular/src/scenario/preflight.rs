@@ -140,15 +140,7 @@ fn bytes_per_grain(sc: &Scenario) -> f64 {
 
 /// Available memory: `MemAvailable` of `/proc/meminfo`, else [`FALLBACK_MEMORY`].
 pub fn available_memory() -> f64 {
-    std::fs::read_to_string("/proc/meminfo")
-        .ok()
-        .and_then(|t| {
-            t.lines()
-                .find(|l| l.starts_with("MemAvailable:"))
-                .and_then(|l| l.split_whitespace().nth(1))
-                .and_then(|kb| kb.parse::<f64>().ok())
-        })
-        .map_or(FALLBACK_MEMORY, |kb| kb * 1024.0)
+    crate::host::available_memory().unwrap_or(FALLBACK_MEMORY)
 }
 
 /// The grains (and DSMC cells) must fit in the available memory.

@@ -1,12 +1,11 @@
-//! Collision-rate measurement for a future `granular bench intruder` command.
+//! Collision rates of the Gillespie intruder engines (`granular bench intruder`).
 
-use std::time::Instant;
-
+use super::BenchError;
+use crate::intruder::bath::BathConfig;
+use crate::intruder::needle::{Needle, NeedleConfig, NeedleMethod};
+use crate::intruder::one_d::{Intruder1d, Intruder1dConfig, Method1d};
 use serde::{Deserialize, Serialize};
-
-use super::bath::BathConfig;
-use super::needle::{Needle, NeedleConfig, NeedleMethod};
-use super::one_d::{Intruder1d, Intruder1dConfig, Method1d};
+use std::time::Instant;
 
 /// The benchmark cases.
 pub const CASES: [&str; 5] = [
@@ -38,7 +37,7 @@ pub fn measure_collision_rate(
     case: &str,
     collisions: u64,
     seed: u64,
-) -> Result<BenchResult, String> {
+) -> Result<BenchResult, BenchError> {
     let warm = (collisions / 10).max(1);
     let seconds = match case {
         "1d-gaussian" | "1d-power-law" | "1d-gaussian-direct" => {
@@ -56,7 +55,7 @@ pub fn measure_collision_rate(
                 transient: Some(0.0),
                 ..Default::default()
             };
-            let mut e = Intruder1d::new(&cfg, seed).map_err(|e| e.to_string())?;
+            let mut e = Intruder1d::new(&cfg, seed).map_err(|e| BenchError::Case(e.to_string()))?;
             e.run_collisions(warm);
             let t0 = Instant::now();
             e.run_collisions(collisions);
@@ -74,19 +73,19 @@ pub fn measure_collision_rate(
                 transient: Some(0.0),
                 ..Default::default()
             };
-            let mut e = Needle::new(&cfg, seed).map_err(|e| e.to_string())?;
-            e.run_collisions(warm).map_err(|e| e.to_string())?;
+            let mut e = Needle::new(&cfg, seed).map_err(|e| BenchError::Case(e.to_string()))?;
+            e.run_collisions(warm)?;
             let t0 = Instant::now();
-            e.run_collisions(collisions).map_err(|e| e.to_string())?;
+            e.run_collisions(collisions)?;
             let s = t0.elapsed().as_secs_f64();
             std::hint::black_box(e.velocity());
             s
         }
         other => {
-            return Err(format!(
+            return Err(BenchError::Case(format!(
                 "unknown intruder benchmark case {other:?}; known: {}",
                 CASES.join(", ")
-            ));
+            )));
         }
     };
     Ok(BenchResult {

@@ -1,8 +1,10 @@
-//! Throughput benchmark of the DSMC engine (for `granular bench dsmc`).
+//! Throughput of the DSMC engine: on threads (`granular bench dsmc`, [`measure`]) and
+//! split over the ranks of `mpirun` (`granular bench dsmc-ranks`, [`measure_decomposed`]).
 
-use super::config::DsmcConfig;
-use super::engine::{DsmcEngine, UniformGas};
+use super::BenchError;
 use crate::boundary::{AxisKind, SimulationBox};
+use crate::dsmc::domain::{Communicator, Traffic};
+use crate::dsmc::{DsmcConfig, DsmcEngine, UniformGas};
 use crate::theory::haff;
 use crate::vector::Vector;
 use serde::{Deserialize, Serialize};
@@ -27,23 +29,6 @@ pub struct BenchResult {
     pub collisions_per_second: f64,
     /// Collisions suffered per particle per step, `2 C / (N steps)` (about 0.1 by construction).
     pub collisions_per_particle_step: f64,
-}
-
-/// Why a benchmark could not run.
-#[derive(Debug, thiserror::Error)]
-pub enum BenchError {
-    /// Unsupported dimension.
-    #[error("dimension {0} is not supported (2 or 3)")]
-    Dimension(usize),
-    /// The thread pool could not be built.
-    #[error(transparent)]
-    Pool(#[from] rayon::ThreadPoolBuildError),
-    /// The engine could not be built.
-    #[error(transparent)]
-    Engine(#[from] super::engine::DsmcError),
-    /// The engine could not be split over the ranks.
-    #[error(transparent)]
-    Domain(#[from] super::domain::DomainError),
 }
 
 /// The benchmark set-up: periodic cube of `n` grains at packing fraction 0.01, `T = m = 1`,
@@ -133,6 +118,40 @@ fn run<const D: usize>(n: usize, threads: usize) -> Result<BenchResult, BenchErr
     })
 }
 
+/// Peak bytes per particle of the DSMC bench on threads (positions, velocities, cells,
+/// sort buffers), for the memory check before allocating.
+pub const BYTES_PER_PARTICLE: f64 = 300.0;
+
+/// Peak bytes per particle held by the ranks of [`measure_decomposed`] together: 2D 80
+/// measured at N = 10^6 and 10^7 on 2 ranks (the slope of the peak resident memory; each
+/// rank creates only its slab), 3D 112 at N = 10^6 and 4 x 10^6 (two more words of
+/// state); rounded up.
+pub fn decomposed_bytes_per_particle(dimension: usize) -> f64 {
+    if dimension == 2 { 90.0 } else { 120.0 }
+}
+
+/// The cases of `granular bench dsmc` as `(dimension, particles, threads)`, in the order it
+/// runs them: each given value alone, else 2D and 3D, 10^5, 10^6 and 10^7 particles, 1 and
+/// 2 threads.
+pub fn cases(
+    dimension: Option<usize>,
+    n: Option<usize>,
+    threads: Option<usize>,
+) -> Vec<(usize, usize, usize)> {
+    let dims: Vec<usize> = dimension.map_or(vec![2, 3], |d| vec![d]);
+    let ns: Vec<usize> = n.map_or(vec![100_000, 1_000_000, 10_000_000], |n| vec![n]);
+    let ts: Vec<usize> = threads.map_or(vec![1, 2], |t| vec![t]);
+    let mut out = Vec::new();
+    for &d in &dims {
+        for &n in &ns {
+            for &t in &ts {
+                out.push((d, n, t));
+            }
+        }
+    }
+    out
+}
+
 /// Times the DSMC engine with `n` particles in `dimension` dimensions on `threads` worker
 /// threads (its own rayon pool): 2 warm-up steps, then three segments of about `1e7`
 /// particle-steps each; the fastest segment is reported.
@@ -184,19 +203,6 @@ pub struct RankResult {
     pub peak_resident_bytes: f64,
 }
 
-/// `VmRSS` and `VmHWM` of this process in bytes (Linux), NaN elsewhere.
-fn resident_memory() -> (f64, f64) {
-    let text = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
-    let field = |key: &str| {
-        text.lines()
-            .find(|l| l.starts_with(key))
-            .and_then(|l| l.split_whitespace().nth(1))
-            .and_then(|kb| kb.parse::<f64>().ok())
-            .map_or(f64::NAN, |kb| kb * 1024.0)
-    };
-    (field("VmRSS:"), field("VmHWM:"))
-}
-
 /// One measurement of a DSMC run split over ranks (the DSMC seed's Fig. 1 case by
 /// default): the slowest rank of the fastest segment, and every rank's breakdown.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -239,8 +245,8 @@ fn run_step<const D: usize>(e: &mut DsmcEngine<D>) {
 
 /// Words of one rank's breakdown: seconds, then the [`Traffic`] fields, then particles and
 /// the resident memory (now, peak).
-fn rank_words(seconds: f64, t: &super::domain::Traffic, particles: usize) -> [f64; 11] {
-    let (rss, peak) = resident_memory();
+fn rank_words(seconds: f64, t: &Traffic, particles: usize) -> [f64; 11] {
+    let (rss, peak) = super::resident_memory();
     [
         seconds,
         t.migration_seconds,
@@ -261,7 +267,7 @@ fn run_decomposed<const D: usize>(
     phi: f64,
     steps: u64,
     segments: u64,
-    comm: std::sync::Arc<dyn super::domain::Communicator>,
+    comm: std::sync::Arc<dyn Communicator>,
 ) -> Result<DecomposedResult, BenchError> {
     let ranks = comm.size();
     // Only this rank's slab is ever built (the same bits as `setup_at`, then decompose).
@@ -346,7 +352,7 @@ pub fn measure_decomposed(
     phi: f64,
     steps: u64,
     segments: u64,
-    comm: std::sync::Arc<dyn super::domain::Communicator>,
+    comm: std::sync::Arc<dyn Communicator>,
 ) -> Result<DecomposedResult, BenchError> {
     match dimension {
         2 => run_decomposed::<2>(n, phi, steps, segments, comm),

@@ -1,9 +1,13 @@
 //! `granular bench`: collisions per second on standard cases, from equilibrated states.
+//! The measurements are the library's (`granular::bench`); this module checks the flags
+//! and formats the results (a line per case, or `--json` one object per case).
+
+#[cfg(feature = "mpi")]
+mod ranks;
 
 use clap::Subcommand;
-use granular::edmd::bench::{FluidCase, advance_collisions, fluid};
-use granular::engine::Engine;
-use std::time::Instant;
+use granular::bench::edmd::FluidCase;
+use granular::bench::{self as lib, MemoryShortfall};
 
 #[derive(Subcommand)]
 pub enum BenchCommand {
@@ -40,7 +44,7 @@ pub enum BenchCommand {
     /// rank's particle-steps per second, compute and communication time, bytes and calls
     /// per step.
     #[cfg(feature = "mpi")]
-    DsmcRanks(crate::bench_ranks::DsmcRanksArgs),
+    DsmcRanks(ranks::DsmcRanksArgs),
     /// Event-driven engine: elastic grains in a periodic box (or walls, inelastic
     /// collisions, two kinds of grains), collisions per CPU second.
     Edmd {
@@ -78,18 +82,6 @@ pub enum BenchCommand {
     },
 }
 
-/// The standard cases of the engine-performance issue: (dimension, N, packing fraction,
-/// collisions per CPU second of the fastest public event-driven code on this machine kind,
-/// Smallenburg, Eur. Phys. J. E 45, 22 (2022), and its 2D port).
-const CASES: &[(usize, usize, f64, f64)] = &[
-    (2, 10_000, 0.7, 1.3e6),
-    (2, 100_000, 0.7, 5.0e5),
-    (2, 1_000_000, 0.7, 3.5e5),
-    (2, 10_000, 0.2, 5.2e5),
-    (3, 100_000, 0.45, 2.6e5),
-    (3, 1_000_000, 0.45, 1.8e5),
-];
-
 /// `--n`: a whole number, also written as `1e6`.
 pub(crate) fn parse_count(s: &str) -> Result<usize, String> {
     if let Ok(n) = s.trim().parse::<usize>() {
@@ -103,40 +95,22 @@ pub(crate) fn parse_count(s: &str) -> Result<usize, String> {
     }
 }
 
-/// Fewest grains of a bench case: fewer give too few collisions to measure (one grain
-/// in a periodic box never collides).
-pub(crate) const MIN_GRAINS: usize = 16;
-
-/// Peak bytes per grain of the event-driven bench (set-up included; about 300 measured
-/// for 10^5 grains in 3D), for the memory check before allocating.
-const EDMD_BYTES_PER_GRAIN: f64 = 400.0;
-
-/// Peak bytes per particle of the DSMC bench (positions, velocities, cells, sort buffers).
-const DSMC_BYTES_PER_PARTICLE: f64 = 300.0;
-
-/// The memory the system can give without swapping (`MemAvailable`), where it says.
-fn available_memory() -> Option<f64> {
-    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kb * 1024.0)
-}
-
 /// Refuses `--n n` when `n` grains at `bytes_per` bytes each would not fit in memory.
-pub(crate) fn check_memory(n: usize, bytes_per: f64) -> Result<(), String> {
-    let need = n as f64 * bytes_per;
-    if let Some(have) = available_memory()
-        && need > 0.8 * have
-    {
-        return Err(format!(
-            "--n {n}: the case would need about {:.3} GB of memory and {:.3} GB are available; \
-             give a smaller --n (at most about {:.0})",
-            need / 1e9,
-            have / 1e9,
-            (0.8 * have / bytes_per).floor()
-        ));
-    }
-    Ok(())
+fn check_memory(n: usize, bytes_per: f64) -> Result<(), String> {
+    lib::check_memory(n, bytes_per).map_err(
+        |MemoryShortfall {
+             need,
+             available,
+             max_grains,
+         }| {
+            format!(
+                "--n {n}: the case would need about {:.3} GB of memory and {:.3} GB are \
+                 available; give a smaller --n (at most about {max_grains:.0})",
+                need / 1e9,
+                available / 1e9,
+            )
+        },
+    )
 }
 
 /// The flags of `bench edmd` checked before anything is allocated: the accepted ranges are
@@ -154,12 +128,13 @@ fn check_edmd_flags(
         return Err(format!("--dimension {d}: use 2 or 3"));
     }
     if let Some(n) = n {
-        if n < MIN_GRAINS {
+        if n < lib::MIN_GRAINS {
             return Err(format!(
-                "--n {n}: give at least {MIN_GRAINS} grains (fewer collide too rarely to measure)"
+                "--n {n}: give at least {} grains (fewer collide too rarely to measure)",
+                lib::MIN_GRAINS
             ));
         }
-        check_memory(n, EDMD_BYTES_PER_GRAIN)?;
+        check_memory(n, lib::edmd::BYTES_PER_GRAIN)?;
     }
     if let Some(phi) = packing_fraction {
         // Below the densest lattice the set-up places grains on (square: pi/4; simple
@@ -184,14 +159,6 @@ fn check_edmd_flags(
     Ok(())
 }
 
-/// CPU time of the calling thread, in seconds: benchmarks report rates per CPU second, so
-/// that other processes on a shared machine do not count against the engine.
-fn thread_cpu_seconds() -> f64 {
-    cpu_time::ThreadTime::try_now()
-        .map(|t| t.as_duration().as_secs_f64())
-        .unwrap_or(f64::NAN)
-}
-
 pub fn run(cmd: BenchCommand) -> Result<(), String> {
     match cmd {
         BenchCommand::Intruder {
@@ -201,13 +168,11 @@ pub fn run(cmd: BenchCommand) -> Result<(), String> {
         } => {
             let cases: Vec<String> = match case {
                 Some(c) => vec![c],
-                None => granular::intruder::bench::CASES
-                    .iter()
-                    .map(|c| c.to_string())
-                    .collect(),
+                None => lib::intruder::CASES.iter().map(|c| c.to_string()).collect(),
             };
             for c in cases {
-                let r = granular::intruder::bench::measure_collision_rate(&c, collisions, 1)?;
+                let r = lib::intruder::measure_collision_rate(&c, collisions, 1)
+                    .map_err(|e| e.to_string())?;
                 if json {
                     println!("{}", serde_json::to_string(&r).unwrap_or_default());
                 } else {
@@ -232,10 +197,13 @@ pub fn run(cmd: BenchCommand) -> Result<(), String> {
                 return Err(format!("--dimension {d}: use 2 or 3"));
             }
             if let Some(n) = n {
-                if n < MIN_GRAINS {
-                    return Err(format!("--n {n}: give at least {MIN_GRAINS} particles"));
+                if n < lib::MIN_GRAINS {
+                    return Err(format!(
+                        "--n {n}: give at least {} particles",
+                        lib::MIN_GRAINS
+                    ));
                 }
-                check_memory(n, DSMC_BYTES_PER_PARTICLE)?;
+                check_memory(n, lib::dsmc::BYTES_PER_PARTICLE)?;
             }
             let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
             if let Some(t) = threads
@@ -246,34 +214,26 @@ pub fn run(cmd: BenchCommand) -> Result<(), String> {
                     4 * cores
                 ));
             }
-            let dims: Vec<usize> = dimension.map_or(vec![2, 3], |d| vec![d]);
-            let ns: Vec<usize> = n.map_or(vec![100_000, 1_000_000, 10_000_000], |n| vec![n]);
-            let ts: Vec<usize> = threads.map_or(vec![1, 2], |t| vec![t]);
-            for &d in &dims {
-                for &n in &ns {
-                    for &t in &ts {
-                        let r =
-                            granular::dsmc::bench::measure(d, n, t).map_err(|e| e.to_string())?;
-                        if json {
-                            println!("{}", serde_json::to_string(&r).unwrap_or_default());
-                        } else {
-                            println!(
-                                "dsmc {}D N = {:>9} threads = {}: {:.3e} particle-steps/s, {:.3e} collisions/s ({:.3} collisions per particle-step)",
-                                r.dimension,
-                                r.n,
-                                r.threads,
-                                r.particle_steps_per_second,
-                                r.collisions_per_second,
-                                r.collisions_per_particle_step
-                            );
-                        }
-                    }
+            for (d, n, t) in lib::dsmc::cases(dimension, n, threads) {
+                let r = lib::dsmc::measure(d, n, t).map_err(|e| e.to_string())?;
+                if json {
+                    println!("{}", serde_json::to_string(&r).unwrap_or_default());
+                } else {
+                    println!(
+                        "dsmc {}D N = {:>9} threads = {}: {:.3e} particle-steps/s, {:.3e} collisions/s ({:.3} collisions per particle-step)",
+                        r.dimension,
+                        r.n,
+                        r.threads,
+                        r.particle_steps_per_second,
+                        r.collisions_per_second,
+                        r.collisions_per_particle_step
+                    );
                 }
             }
             Ok(())
         }
         #[cfg(feature = "mpi")]
-        BenchCommand::DsmcRanks(args) => crate::bench_ranks::run(args),
+        BenchCommand::DsmcRanks(args) => ranks::run(args),
         BenchCommand::Edmd {
             dimension,
             n,
@@ -309,110 +269,47 @@ pub fn run(cmd: BenchCommand) -> Result<(), String> {
                     ));
                 }
             }
-            let mut cases: Vec<(usize, usize, f64, f64)> = CASES
-                .iter()
-                .copied()
-                .filter(|c| dimension.is_none_or(|d| d == c.0))
-                .filter(|c| n.is_none_or(|n| n == c.1))
-                .filter(|c| packing_fraction.is_none_or(|p| (p - c.2).abs() < 1e-9))
-                .collect();
-            if cases.is_empty() {
-                // A case outside the table: run exactly what was asked.
-                cases.push((
-                    dimension.unwrap_or(2),
-                    n.unwrap_or(10_000),
-                    packing_fraction.unwrap_or(0.5),
-                    f64::NAN,
-                ));
-            }
-            for (d, n, phi, reference) in cases {
+            for case in lib::edmd::select_cases(dimension, n, packing_fraction) {
                 let fluid_case = FluidCase {
                     walls,
                     restitution,
                     size_ratio,
                     mass_ratio,
                     gravity,
-                    ..FluidCase::standard(n, phi)
+                    ..FluidCase::standard(case.n, case.packing_fraction)
                 };
-                let mut r = match d {
-                    2 => case::<2>(&fluid_case, collisions_per_particle),
-                    3 => case::<3>(&fluid_case, collisions_per_particle),
-                    _ => return Err(format!("--dimension {d}: use 2 or 3")),
-                }?;
-                // The reference figures are for the standard case only.
-                let reference = if fluid_case.is_standard() {
-                    reference
-                } else {
-                    f64::NAN
-                };
-                if reference.is_finite() {
-                    r["reference_collisions_per_second"] = reference.into();
-                }
+                let r = lib::edmd::measure(
+                    case.dimension,
+                    &fluid_case,
+                    collisions_per_particle,
+                    case.reference,
+                )
+                .map_err(|e| e.to_string())?;
                 if json {
-                    println!("{}", serde_json::to_string(&r).unwrap_or_default());
+                    // Through a JSON value: one object with its keys in order, as always.
+                    let value = serde_json::to_value(&r).unwrap_or_default();
+                    println!("{}", serde_json::to_string(&value).unwrap_or_default());
                 } else {
                     println!(
-                        "edmd {}D N = {:>8} phi = {:.2}{}: {:.3e} collisions/s, {:.3e} events/s (per CPU second), {:.0} bytes/particle{} (setup {:.1} s)",
-                        r["dimension"],
-                        r["n"],
-                        r["packing_fraction"].as_f64().unwrap_or(0.0),
+                        "edmd {}D N = {} phi = {:.2}{}: {:.3e} collisions/s, {:.3e} events/s (per CPU second), {:.0} bytes/particle{} (setup {:.1} s)",
+                        r.dimension,
+                        r.n,
+                        r.packing_fraction,
                         describe(&fluid_case),
-                        r["collisions_per_second"].as_f64().unwrap_or(0.0),
-                        r["events_per_second"].as_f64().unwrap_or(0.0),
-                        r["bytes_per_particle"].as_f64().unwrap_or(0.0),
-                        if reference.is_finite() {
-                            format!(", reference {reference:.1e}")
-                        } else {
-                            String::new()
+                        r.collisions_per_second,
+                        r.events_per_second,
+                        r.bytes_per_particle,
+                        match r.reference_collisions_per_second {
+                            Some(reference) => format!(", reference {reference:.1e}"),
+                            None => String::new(),
                         },
-                        r["setup_seconds"].as_f64().unwrap_or(0.0)
+                        r.setup_seconds
                     );
                 }
             }
             Ok(())
         }
     }
-}
-
-/// Times one case from the library's equilibrated fluid (`granular::edmd::bench`).
-fn case<const D: usize>(c: &FluidCase, cpp: f64) -> Result<serde_json::Value, String> {
-    let (n, phi) = (c.n, c.packing_fraction);
-    let setup = Instant::now();
-    let mut e = fluid::<D>(c, 2024).map_err(|e| e.to_string())?;
-    let setup_seconds = setup.elapsed().as_secs_f64();
-    let (c0, ev0) = (e.collisions(), e.events());
-    let start = Instant::now();
-    let cpu_start = thread_cpu_seconds();
-    advance_collisions(&mut e, (cpp * n as f64 / 2.0) as u64).map_err(|e| e.to_string())?;
-    let cpu = thread_cpu_seconds() - cpu_start;
-    let wall = start.elapsed().as_secs_f64();
-    // Rates per CPU second (per wall second where the CPU clock is unavailable).
-    let secs = if cpu.is_finite() && cpu > 0.0 {
-        cpu
-    } else {
-        wall
-    };
-    let collisions = e.collisions() - c0;
-    let events = e.events() - ev0;
-    Ok(serde_json::json!({
-        "engine": "edmd",
-        "dimension": D,
-        "n": n,
-        "packing_fraction": phi,
-        "collisions": collisions,
-        "seconds": wall,
-        "cpu_seconds": cpu,
-        "collisions_per_second": collisions as f64 / secs,
-        "events_per_second": events as f64 / secs,
-        "bytes_per_particle": e.memory_bytes() as f64 / n as f64,
-        "walls": c.walls,
-        "restitution": c.restitution,
-        "size_ratio": c.size_ratio,
-        "mass_ratio": c.mass_ratio,
-        "gravity": c.gravity,
-        "setup_seconds": setup_seconds,
-        "threads": 1,
-    }))
 }
 
 /// What sets a case apart from the standard one, for the text output (empty for it).

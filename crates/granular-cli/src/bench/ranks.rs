@@ -4,7 +4,8 @@
 //! readable table on standard output, `--json` one object, `--csv FILE` one row per rank
 //! appended to FILE (what `granular scaling` reads).
 
-use granular::dsmc::bench::{DecomposedResult, RankResult};
+use granular::bench as lib;
+use granular::bench::dsmc::{DecomposedResult, RankResult};
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -16,11 +17,11 @@ pub struct DsmcRanksArgs {
     pub dimension: usize,
     /// Number of particles on all ranks together: strong scaling (`1e6` is read as
     /// 1000000).
-    #[arg(long, value_parser = super::bench::parse_count, default_value = "500000",
+    #[arg(long, value_parser = super::parse_count, default_value = "500000",
           conflicts_with = "n_per_rank")]
     pub n: usize,
     /// Number of particles per rank instead: weak scaling (N = this x the number of ranks).
-    #[arg(long, value_parser = super::bench::parse_count)]
+    #[arg(long, value_parser = super::parse_count)]
     pub n_per_rank: Option<usize>,
     /// Packing fraction.
     #[arg(long, default_value_t = 0.1)]
@@ -38,13 +39,6 @@ pub struct DsmcRanksArgs {
     #[arg(long)]
     pub csv: Option<PathBuf>,
 }
-
-/// Peak bytes per particle held by a rank, 2D: 80 measured at N = 10^6 and 10^7 on 2 ranks
-/// (the slope of the peak resident memory; each rank creates only its slab), rounded up.
-const PEAK_BYTES_2D: f64 = 90.0;
-
-/// The same in 3D: 112 measured at N = 10^6 and 4 x 10^6 (two more words of state).
-const PEAK_BYTES_3D: f64 = 120.0;
 
 /// Columns of the CSV, in order.
 const COLUMNS: &[&str] = &[
@@ -204,20 +198,15 @@ pub fn run(a: DsmcRanksArgs) -> Result<(), String> {
         Some(m) => ("weak", m.saturating_mul(ranks.size())),
         None => ("strong", a.n),
     };
-    if n < super::bench::MIN_GRAINS {
+    if n < lib::MIN_GRAINS {
         return Err(format!(
             "--n {n}: give at least {} particles",
-            super::bench::MIN_GRAINS
+            lib::MIN_GRAINS
         ));
     }
     // Each rank creates and holds only its slab: the ranks on this machine hold N together.
-    let per_particle = if a.dimension == 2 {
-        PEAK_BYTES_2D
-    } else {
-        PEAK_BYTES_3D
-    };
-    super::bench::check_memory(n, per_particle)?;
-    let r = granular::dsmc::bench::measure_decomposed(
+    super::check_memory(n, lib::dsmc::decomposed_bytes_per_particle(a.dimension))?;
+    let r = lib::dsmc::measure_decomposed(
         a.dimension,
         n,
         a.packing_fraction,

@@ -1,29 +1,21 @@
-//! The benchmark states of the event-driven engine, shared by `granular bench edmd` and
-//! the criterion benchmark: the standard one of the engine-performance issue (elastic
+//! The benchmark states of the event-driven engine, shared by `granular bench edmd`, the
+//! criterion benchmark and the tests of the engine's speed paths: the standard one of the engine-performance issue (elastic
 //! grains in a periodic box, an equilibrated fluid: a lattice at the target density —
 //! random placement below 0.4 — melted by 5 collisions per grain), and the same with
 //! walls, inelastic collisions, two kinds of grains or gravity ([`FluidCase`]).
 
-use super::init;
-use super::{Edmd, EdmdOptions};
+use super::BenchError;
 use crate::boundary::{AxisKind, SimulationBox};
 use crate::collision_law::CollisionLaw;
+use crate::edmd::init;
+use crate::edmd::{Edmd, EdmdOptions};
 use crate::engine::{Engine, EngineError};
 use crate::particles::ParticleSet;
 use crate::random::stream;
 use crate::setup::{self, InitError, Region};
 use crate::vector::Vector;
-
-/// Why the benchmark state could not be built.
-#[derive(Debug, thiserror::Error)]
-pub enum BenchError {
-    /// Placement failed.
-    #[error(transparent)]
-    Init(#[from] InitError),
-    /// The engine failed while melting.
-    #[error(transparent)]
-    Engine(#[from] EngineError),
-}
+use serde::Serialize;
+use std::time::Instant;
 
 /// A benchmark state: `n` grains at packing fraction `packing_fraction` in a square
 /// (cubic) box of side `n^(1/D)`. [`FluidCase::standard`] is the case of the
@@ -195,4 +187,176 @@ pub fn advance_collisions<const D: usize>(
         e.advance(t, u64::MAX)?;
     }
     Ok(())
+}
+
+/// One standard case of the engine-performance issue with the speed of the fastest public
+/// event-driven code on this machine kind (Smallenburg, Eur. Phys. J. E 45, 22 (2022),
+/// and its 2D port).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StandardCase {
+    /// 2 or 3.
+    pub dimension: usize,
+    /// Number of grains.
+    pub n: usize,
+    /// Packing fraction.
+    pub packing_fraction: f64,
+    /// Collisions per CPU second of the reference code (NaN: none).
+    pub reference: f64,
+}
+
+const fn standard(
+    dimension: usize,
+    n: usize,
+    packing_fraction: f64,
+    reference: f64,
+) -> StandardCase {
+    StandardCase {
+        dimension,
+        n,
+        packing_fraction,
+        reference,
+    }
+}
+
+/// The standard cases, in the order `granular bench edmd` runs them.
+pub const CASES: &[StandardCase] = &[
+    standard(2, 10_000, 0.7, 1.3e6),
+    standard(2, 100_000, 0.7, 5.0e5),
+    standard(2, 1_000_000, 0.7, 3.5e5),
+    standard(2, 10_000, 0.2, 5.2e5),
+    standard(3, 100_000, 0.45, 2.6e5),
+    standard(3, 1_000_000, 0.45, 1.8e5),
+];
+
+/// The standard cases that match every given filter; where none does, exactly the case
+/// asked for (2D, 10^4 grains and packing fraction 0.5 where not given), without a
+/// reference.
+pub fn select_cases(
+    dimension: Option<usize>,
+    n: Option<usize>,
+    packing_fraction: Option<f64>,
+) -> Vec<StandardCase> {
+    let cases: Vec<StandardCase> = CASES
+        .iter()
+        .copied()
+        .filter(|c| dimension.is_none_or(|d| d == c.dimension))
+        .filter(|c| n.is_none_or(|n| n == c.n))
+        .filter(|c| packing_fraction.is_none_or(|p| (p - c.packing_fraction).abs() < 1e-9))
+        .collect();
+    if cases.is_empty() {
+        return vec![standard(
+            dimension.unwrap_or(2),
+            n.unwrap_or(10_000),
+            packing_fraction.unwrap_or(0.5),
+            f64::NAN,
+        )];
+    }
+    cases
+}
+
+/// Peak bytes per grain of the event-driven bench (set-up included; about 300 measured
+/// for 10^5 grains in 3D), for the memory check before allocating.
+pub const BYTES_PER_GRAIN: f64 = 400.0;
+
+/// One measurement of [`measure`] (`granular bench edmd`, one JSON object per case).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Measurement {
+    /// `"edmd"`.
+    pub engine: &'static str,
+    /// 2 or 3.
+    pub dimension: usize,
+    /// Number of grains.
+    pub n: usize,
+    /// Packing fraction.
+    pub packing_fraction: f64,
+    /// Pair collisions timed.
+    pub collisions: u64,
+    /// Wall seconds of the timed part.
+    pub seconds: f64,
+    /// CPU seconds of the timed part (NaN where the system does not say).
+    pub cpu_seconds: f64,
+    /// Collisions per CPU second (per wall second where the CPU clock is unavailable).
+    pub collisions_per_second: f64,
+    /// Events per CPU second.
+    pub events_per_second: f64,
+    /// The engine's memory per grain.
+    pub bytes_per_particle: f64,
+    /// See [`FluidCase::walls`].
+    pub walls: bool,
+    /// See [`FluidCase::restitution`].
+    pub restitution: f64,
+    /// See [`FluidCase::size_ratio`].
+    pub size_ratio: f64,
+    /// See [`FluidCase::mass_ratio`].
+    pub mass_ratio: f64,
+    /// See [`FluidCase::gravity`].
+    pub gravity: f64,
+    /// Wall seconds to build and melt the fluid.
+    pub setup_seconds: f64,
+    /// Worker threads (the engine is sequential: 1).
+    pub threads: usize,
+    /// The reference code's collisions per CPU second, for a standard case.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reference_collisions_per_second: Option<f64>,
+}
+
+/// Times `case` in `dimension` dimensions: builds and melts the fluid ([`fluid`], seed
+/// 2024), then advances it by `collisions_per_particle` collisions per grain on the
+/// calling thread. `reference` (the [`StandardCase`]'s) is kept for the standard case only.
+pub fn measure(
+    dimension: usize,
+    case: &FluidCase,
+    collisions_per_particle: f64,
+    reference: f64,
+) -> Result<Measurement, BenchError> {
+    let mut m = match dimension {
+        2 => measure_in::<2>(case, collisions_per_particle),
+        3 => measure_in::<3>(case, collisions_per_particle),
+        d => Err(BenchError::Dimension(d)),
+    }?;
+    if case.is_standard() && reference.is_finite() {
+        m.reference_collisions_per_second = Some(reference);
+    }
+    Ok(m)
+}
+
+fn measure_in<const D: usize>(c: &FluidCase, cpp: f64) -> Result<Measurement, BenchError> {
+    let (n, phi) = (c.n, c.packing_fraction);
+    let setup = Instant::now();
+    let mut e = fluid::<D>(c, 2024)?;
+    let setup_seconds = setup.elapsed().as_secs_f64();
+    let (c0, ev0) = (e.collisions(), e.events());
+    let start = Instant::now();
+    let cpu_start = super::thread_cpu_seconds();
+    advance_collisions(&mut e, (cpp * n as f64 / 2.0) as u64)?;
+    let cpu = super::thread_cpu_seconds() - cpu_start;
+    let wall = start.elapsed().as_secs_f64();
+    // Rates per CPU second (per wall second where the CPU clock is unavailable).
+    let secs = if cpu.is_finite() && cpu > 0.0 {
+        cpu
+    } else {
+        wall
+    };
+    let collisions = e.collisions() - c0;
+    let events = e.events() - ev0;
+    Ok(Measurement {
+        engine: "edmd",
+        dimension: D,
+        n,
+        packing_fraction: phi,
+        collisions,
+        seconds: wall,
+        cpu_seconds: cpu,
+        collisions_per_second: collisions as f64 / secs,
+        events_per_second: events as f64 / secs,
+        bytes_per_particle: e.memory_bytes() as f64 / n as f64,
+        walls: c.walls,
+        restitution: c.restitution,
+        size_ratio: c.size_ratio,
+        mass_ratio: c.mass_ratio,
+        gravity: c.gravity,
+        setup_seconds,
+        threads: 1,
+        reference_collisions_per_second: None,
+    })
 }
