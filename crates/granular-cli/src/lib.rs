@@ -16,7 +16,7 @@ mod sweep;
 use clap::{Parser, Subcommand};
 use error::CliError;
 use granular::output::format_number;
-use granular::run::{DirectoryState, ProgressReport, Run, RunError};
+use granular::run::{DirectoryState, ProgressReport, Run, RunDir, RunError};
 use granular::scenario::Scenario;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
@@ -432,7 +432,7 @@ fn dispatch(cli: Cli) -> Result<(), CliError> {
         } => {
             let sc = load_with(&scenario, seed, &set, insist)?;
             let dir = out.unwrap_or_else(|| default_dir(&scenario));
-            if let DirectoryState::Run { finished } = DirectoryState::of(&dir)
+            if let DirectoryState::Run { finished } = RunDir::new(&dir).state()
                 && !replace
             {
                 let what = if finished {
@@ -460,7 +460,9 @@ fn dispatch(cli: Cli) -> Result<(), CliError> {
         Command::Export { run, format } => {
             let mut formats = format;
             formats.dedup();
-            let files = granular::trajectory::export(&run, &formats).map_err(|e| e.to_string())?;
+            let files = RunDir::new(&run)
+                .export_trajectories(&formats)
+                .map_err(|e| e.to_string())?;
             for f in files {
                 println!("{}", f.display());
             }

@@ -8,6 +8,7 @@
 mod cli;
 mod convert;
 mod errors;
+mod rundir;
 mod scenario;
 mod simulation;
 mod state;
@@ -28,6 +29,13 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sweep::run_sweep, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::merge_sweep, m)?)?;
     m.add_function(wrap_pyfunction!(cli::cli_main, m)?)?;
+    m.add_function(wrap_pyfunction!(rundir::run_files, m)?)?;
+    m.add_function(wrap_pyfunction!(rundir::file_name, m)?)?;
+    m.add_function(wrap_pyfunction!(rundir::sweep_member, m)?)?;
+    m.add_function(wrap_pyfunction!(rundir::read_summary, m)?)?;
+    m.add_function(wrap_pyfunction!(rundir::read_table, m)?)?;
+    m.add_function(wrap_pyfunction!(rundir::read_arrays, m)?)?;
+    m.add_function(wrap_pyfunction!(rundir::read_snapshot, m)?)?;
     theory::register(m)?;
     Ok(())
 }

@@ -1,12 +1,13 @@
-//! `granular plot DIR`: the figures of a finished run or sweep, redrawn from its files
-//! (never by rerunning). Written to `DIR/figures/` as PNG and SVG.
+//! The figures of a finished run of the edmd or dsmc engine, redrawn from its files
+//! (never by rerunning), for `granular plot DIR` (see `directory`). Written to
+//! `DIR/figures/` as PNG and SVG.
 
 use crate::plot::{
     Animation, ColourBy, HistogramPlot, LinePlot, PictureStyle, PlotError, Series, SnapshotPicture,
 };
-use crate::table::{column, column_of, read_csv};
+use crate::table::{column, column_of, read_run_csv, snapshot_files};
 use granular::boundary::AxisKind;
-use granular::run::Summary;
+use granular::run::{RunDir, RunFile, Summary};
 use granular::scenario::Scenario;
 use granular::stats::{ChiSquare, Histogram, chi_square_test};
 use granular::theory::equilibrium;
@@ -23,32 +24,6 @@ pub(crate) fn save_both(
     Ok(())
 }
 
-/// Draws the figures of a run or a sweep directory; returns the files written.
-pub(crate) fn plot(dir: &Path, animate: bool) -> Result<Vec<PathBuf>, String> {
-    if dir.join("sweep.csv").is_file() {
-        crate::sweep_plots::plot_sweep(dir)
-    } else if dir.join("timeseries.csv").is_file() {
-        plot_run(dir, animate)
-    } else {
-        Err(format!(
-            "{}: neither a run directory (timeseries.csv) nor a sweep directory (sweep.csv)",
-            dir.display()
-        ))
-    }
-}
-
-fn snapshots(dir: &Path) -> Vec<PathBuf> {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(dir.join("snapshots"))
-        .map(|rd| {
-            rd.filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|p| p.extension().is_some_and(|x| x == "npz"))
-                .collect()
-        })
-        .unwrap_or_default();
-    files.sort();
-    files
-}
-
 fn picture_style(scenario: &Scenario, species: usize) -> PictureStyle {
     let l = scenario.lengths();
     let axes = scenario.axes();
@@ -61,21 +36,21 @@ fn picture_style(scenario: &Scenario, species: usize) -> PictureStyle {
     }
 }
 
-fn plot_run(dir: &Path, animate: bool) -> Result<Vec<PathBuf>, String> {
-    let text = std::fs::read_to_string(dir.join("scenario.toml"))
-        .map_err(|e| format!("{}: {e}", dir.join("scenario.toml").display()))?;
-    let scenario = Scenario::from_resolved_toml(&text).map_err(|e| e.to_string())?;
-    if scenario.intruder.is_some() {
-        return crate::intruder_plots::plot_run(dir);
-    }
-    let out = dir.join("figures");
+/// Draws the figures of a run of the edmd or dsmc engine (`scenario`, read from `dir`).
+pub(crate) fn plot_run(
+    dir: &Path,
+    scenario: &Scenario,
+    animate: bool,
+) -> Result<Vec<PathBuf>, String> {
+    let run = RunDir::new(dir);
+    let out = run.figure_dir();
     std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
     let mut made = Vec::new();
-    let summary = Summary::read(dir).ok();
-    energy(dir, &scenario, &out, &mut made)?;
-    speed_histograms(dir, &scenario, summary.as_ref(), &out, &mut made)?;
-    impact_parameters(dir, &scenario, &out, &mut made)?;
-    snapshot_figures(dir, &scenario, animate, &out, &mut made)?;
+    let summary = run.summary().ok();
+    energy(dir, scenario, &out, &mut made)?;
+    speed_histograms(dir, scenario, summary.as_ref(), &out, &mut made)?;
+    impact_parameters(dir, scenario, &out, &mut made)?;
+    snapshot_figures(dir, scenario, animate, &out, &mut made)?;
     // Impact histograms at several times, S(k), density maps (opt-in [output] keys).
     made.extend(crate::observable_plots::observables(dir, &out)?);
     Ok(made)
@@ -92,7 +67,7 @@ fn energy(
     made: &mut Vec<PathBuf>,
 ) -> Result<(), String> {
     let names: Vec<String> = scenario.species.iter().map(|s| s.name.clone()).collect();
-    let ts = read_csv(&dir.join("timeseries.csv"))?;
+    let ts = read_run_csv(dir, RunFile::TimeSeries)?;
     let time = column(&ts, "time").unwrap_or_default();
     let run = crate::run_files::load(dir).ok();
     let t0 = run.as_ref().and_then(crate::run_files::haff_time);
@@ -155,7 +130,7 @@ fn speed_histograms(
     out: &Path,
     made: &mut Vec<PathBuf>,
 ) -> Result<(), String> {
-    let Ok(h) = read_csv(&dir.join("speed_histograms.csv")) else {
+    let Ok(h) = read_run_csv(dir, RunFile::SpeedHistograms) else {
         return Ok(());
     };
     let d = scenario.dimension;
@@ -236,7 +211,7 @@ fn scaled_speed_histogram(
     out: &Path,
     made: &mut Vec<PathBuf>,
 ) -> Result<(), String> {
-    let Ok(h) = read_csv(&dir.join("scaled_speed_histograms.csv")) else {
+    let Ok(h) = read_run_csv(dir, RunFile::ScaledSpeedHistograms) else {
         return Ok(());
     };
     let sp_col = h.0.iter().position(|c| c == "species").unwrap_or(0);
@@ -313,7 +288,7 @@ fn impact_parameters(
     made: &mut Vec<PathBuf>,
 ) -> Result<(), String> {
     let d = scenario.dimension;
-    let Ok(h) = read_csv(&dir.join("impact_parameter.csv")) else {
+    let Ok(h) = read_run_csv(dir, RunFile::ImpactParameter) else {
         return Ok(());
     };
     let (Some(lo), Some(hi), Some(dens)) = (
@@ -357,7 +332,7 @@ fn snapshot_figures(
     out: &Path,
     made: &mut Vec<PathBuf>,
 ) -> Result<(), String> {
-    let files = snapshots(dir);
+    let files = snapshot_files(dir);
     let species = scenario.species.len();
     let l = scenario.lengths();
     for (label, file) in [("first", files.first()), ("last", files.last())] {

@@ -5,11 +5,11 @@
 
 use std::path::{Path, PathBuf};
 
-use granular::run::Summary;
+use granular::run::{RunDir, RunFile};
 
 use crate::figures::{binned_cdf, chi_square_of_bins};
 use crate::plot::{HistogramPlot, LinePlot, PlotError, Series};
-use crate::table::{column_of as column, read_csv};
+use crate::table::{column_of as column, read_run_csv};
 
 fn save(
     stem: &Path,
@@ -22,17 +22,16 @@ fn save(
 
 /// Draws the figures of an intruder run directory into `DIR/figures/`.
 pub(crate) fn plot_run(dir: &Path) -> Result<Vec<PathBuf>, String> {
-    let out = dir.join("figures");
+    let run = RunDir::new(dir);
+    let out = run.figure_dir();
     std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
     let mut made = Vec::new();
-    let summary: Option<Summary> = std::fs::read_to_string(dir.join("summary.json"))
-        .ok()
-        .and_then(|t| serde_json::from_str(&t).ok());
+    let summary = run.summary().ok();
     let block = summary.as_ref().and_then(|s| s.intruder.clone());
     let theory = block.as_ref().and_then(|b| b.theory_temperature_ratio);
 
     // Running averages against time (after the transient; NaN rows are skipped).
-    let ts = read_csv(&dir.join("timeseries.csv"))?;
+    let ts = read_run_csv(dir, RunFile::TimeSeries)?;
     let rows: Vec<&Vec<String>> = ts.1.iter().collect();
     let time = column(&ts, "time", &rows);
     let pairs: &[(&str, &str)] = if ts.0.iter().any(|c| c == "temperature_ratio") {
@@ -71,7 +70,7 @@ pub(crate) fn plot_run(dir: &Path) -> Result<Vec<PathBuf>, String> {
     save(&stem, p.save_png_and_svg(&stem), &mut made)?;
 
     // Histograms with their reference densities.
-    let h = read_csv(&dir.join("intruder_histograms.csv"))?;
+    let h = read_run_csv(dir, RunFile::IntruderHistograms)?;
     let reference = match block.as_ref().map(|b| b.histogram_reference.as_str()) {
         Some("gaussian_eq18") => "Gaussian at the temperature of Eq. 18".to_string(),
         Some("gaussian_best_fit") => "best-fit zero-mean Gaussian".to_string(),

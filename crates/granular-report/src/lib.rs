@@ -15,6 +15,7 @@
 //! `granular::intruder::theory`); this crate reads files and draws.
 
 mod compare;
+mod directory;
 mod figures;
 pub mod html;
 mod intruder_plots;
@@ -59,7 +60,7 @@ impl From<String> for ReportError {
 /// Draws the figures of a run or sweep directory into `DIR/figures/` (PNG and SVG; with
 /// `animate`, an animation of the snapshots too); returns the files written.
 pub fn plot_dir(dir: &Path, animate: bool) -> Result<Vec<PathBuf>, ReportError> {
-    Ok(figures::plot(dir, animate)?)
+    Ok(directory::plot(dir, animate)?)
 }
 
 /// Overlays the finished `edmd` / `dsmc` runs `dirs` into `out` (the first run sets Haff's

@@ -6,6 +6,7 @@
 use crate::plot::{HeatMaps, HeatPanel, LinePlot, Series};
 use crate::run_files::{RunFiles, floats, get, haff_time, load, save, tag};
 use granular::output::npz::read_npz;
+use granular::run::{RunDir, RunFile};
 use granular::theory::{equilibrium, haff};
 use std::path::{Path, PathBuf};
 
@@ -23,7 +24,7 @@ pub(crate) fn observables(dir: &Path, out: &Path) -> Result<Vec<PathBuf>, String
 pub(crate) fn impact(runs: &[RunFiles], out: &Path, made: &mut Vec<PathBuf>) -> Result<(), String> {
     let t0 = haff_time(&runs[0]);
     for run in runs {
-        let path = run.dir.join("impact_histograms.npz");
+        let path = RunDir::new(&run.dir).file(RunFile::ImpactHistograms);
         if !path.is_file() {
             continue;
         }
@@ -79,7 +80,7 @@ pub(crate) struct SkData {
 }
 
 pub(crate) fn read_sk(run: &RunFiles) -> Result<Option<SkData>, String> {
-    let path = run.dir.join("structure_factor.npz");
+    let path = RunDir::new(&run.dir).file(RunFile::StructureFactor);
     if !path.is_file() {
         return Ok(None);
     }
@@ -207,7 +208,7 @@ pub(crate) fn density_maps(
     let mut fig = HeatMaps::new("number density in bins / mean density", 3).log_scale(true);
     let mut any = false;
     for run in runs {
-        let path = run.dir.join("density_maps.npz");
+        let path = RunDir::new(&run.dir).file(RunFile::DensityMaps);
         if !path.is_file() || run.scenario.dimension != 2 {
             continue;
         }

@@ -3,6 +3,7 @@
 
 use crate::plot::LinePlot;
 use granular::output::npz::NpzArray;
+use granular::run::{RunDir, RunFile};
 use granular::scenario::{EngineKind, Scenario};
 use granular::theory::haff;
 use std::path::{Path, PathBuf};
@@ -34,16 +35,14 @@ pub(crate) fn floats<'a>(arrays: &'a Arrays, name: &str, file: &Path) -> Result<
 }
 
 pub(crate) fn load(dir: &Path) -> Result<RunFiles, String> {
-    let path = dir.join("scenario.toml");
-    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let scenario =
-        Scenario::from_resolved_toml(&text).map_err(|e| format!("{}: {e}", path.display()))?;
-    let ts = crate::table::read_csv(&dir.join("timeseries.csv"))?;
+    let run = RunDir::new(dir);
+    let scenario = run.scenario().map_err(|e| e.to_string())?;
+    let ts = crate::table::read_run_csv(dir, RunFile::TimeSeries)?;
     let col = |name: &str| {
         crate::table::column(&ts, name).ok_or_else(|| {
             format!(
                 "{}: no column `{name}`",
-                dir.join("timeseries.csv").display()
+                run.file(RunFile::TimeSeries).display()
             )
         })
     };

@@ -7,8 +7,9 @@
 
 use crate::figures::save_both;
 use crate::plot::{LinePlot, PALETTE, Series};
-use crate::table::{Table, column, read_csv};
+use crate::table::{Table, column, read_run_csv};
 use granular::run::sweep::SweepTable as LibSweepTable;
+use granular::run::{RunDir, RunFile};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -188,7 +189,7 @@ pub(crate) fn observable_label(name: &str, dimension_hint: Option<usize>) -> Opt
 pub(crate) fn plot_sweep(dir: &Path) -> Result<Vec<PathBuf>, String> {
     let sweep = read_sweep(dir)?;
     let (symbol, key_text) = key_label(&sweep.key);
-    let out = dir.join("figures");
+    let out = RunDir::new(dir).figure_dir();
     std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
     let mut made = Vec::new();
     let points = point_dirs(dir)?;
@@ -196,7 +197,7 @@ pub(crate) fn plot_sweep(dir: &Path) -> Result<Vec<PathBuf>, String> {
         .values()
         .flat_map(|seeds| seeds.first())
         .next()
-        .and_then(|s| granular::run::Summary::read(s).ok())
+        .and_then(|s| RunDir::new(s).summary().ok())
         .map(|s| s.dimension);
     // One figure per observable with error bars over seeds: one curve per combination of
     // the other keys' values (one colour each).
@@ -287,7 +288,7 @@ fn energy_against_time(
     for (i, seeds) in points.values().enumerate() {
         let tables: Vec<Table> = seeds
             .iter()
-            .filter_map(|s| read_csv(&s.join("timeseries.csv")).ok())
+            .filter_map(|s| read_run_csv(s, RunFile::TimeSeries).ok())
             .collect();
         let Some(head) = tables.first() else {
             continue;
@@ -325,8 +326,9 @@ fn energy_against_time(
                 Some(species) => format!("{point}: {species}"),
                 None => {
                     // Total energy: per grain with the grain count of the member.
-                    let n =
-                        granular::run::Summary::read(&seeds[0]).map_or(1.0, |s| s.n.max(1) as f64);
+                    let n = RunDir::new(&seeds[0])
+                        .summary()
+                        .map_or(1.0, |s| s.n.max(1) as f64);
                     mean.iter_mut().for_each(|m| *m /= n);
                     point.clone()
                 }

@@ -1,31 +1,31 @@
 //! The CSV tables of a run directory (`timeseries.csv`, `speed_histograms.csv`, ...) read
 //! back as text: a header and rows, with `#` lines as comments.
 
-use std::path::Path;
+use granular::run::{RunDir, RunFile};
+use std::path::{Path, PathBuf};
+
+/// The snapshot files of the run directory `dir` in output order (none when it has no
+/// snapshot folder or it cannot be read).
+pub(crate) fn snapshot_files(dir: &Path) -> Vec<PathBuf> {
+    RunDir::new(dir)
+        .snapshots()
+        .map(|files| files.into_iter().map(|f| f.path).collect())
+        .unwrap_or_default()
+}
 
 /// A CSV table: the header and the rows, as text.
 pub(crate) type Table = (Vec<String>, Vec<Vec<String>>);
 
-/// Reads a CSV file (lines starting with `#` are comments) into header and rows.
+/// Reads a CSV file (lines starting with `#` are comments) into header and rows, with the
+/// library's reader ([`granular::run::Table`]).
 pub(crate) fn read_csv(path: &Path) -> Result<Table, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let mut reader = csv::ReaderBuilder::new()
-        .comment(Some(b'#'))
-        .from_reader(text.as_bytes());
-    let header: Vec<String> = reader
-        .headers()
-        .map_err(|e| e.to_string())?
-        .iter()
-        .map(str::to_string)
-        .collect();
-    let rows = reader
-        .records()
-        .map(|r| {
-            r.map(|r| r.iter().map(str::to_string).collect())
-                .map_err(|e| e.to_string())
-        })
-        .collect::<Result<Vec<Vec<String>>, String>>()?;
-    Ok((header, rows))
+    let t = granular::run::Table::read(path).map_err(|e| e.to_string())?;
+    Ok((t.header, t.rows))
+}
+
+/// The CSV file `file` of the run directory `dir`.
+pub(crate) fn read_run_csv(dir: &Path, file: RunFile) -> Result<Table, String> {
+    read_csv(&RunDir::new(dir).file(file))
 }
 
 pub(crate) fn column(t: &Table, name: &str) -> Option<Vec<f64>> {

@@ -159,7 +159,10 @@ fn an_attached_output_observes_every_output_time() {
     assert_eq!(summary.warnings, ["seen by the user's output"]);
     // The summary reads back typed.
     assert_eq!(
-        Summary::read(&dir).expect("summary").outputs,
+        granular::run::RunDir::new(&dir)
+            .summary()
+            .expect("summary")
+            .outputs,
         summary.outputs
     );
     let _ = std::fs::remove_dir_all(dir);

@@ -1,10 +1,11 @@
 //! Trajectories (`[output] trajectory`): one frame per snapshot in every format, the same
-//! files from `export`, and a resumed run that cuts them back to its checkpoint.
+//! files from `RunDir::export_trajectories`, and a resumed run that cuts them back to its checkpoint.
 
 use crate::common::tmp;
 use granular::run::Run;
+use granular::run::RunDir;
 use granular::scenario::Scenario;
-use granular::trajectory::{Format, export};
+use granular::trajectory::Format;
 use std::path::Path;
 
 const RUN: &str = r#"
@@ -80,7 +81,9 @@ fn every_snapshot_is_a_frame_and_export_writes_the_same_files() {
         let p = e.unwrap().path();
         std::fs::copy(&p, copy.join("snapshots").join(p.file_name().unwrap())).unwrap();
     }
-    let written = export(&copy, &Format::ALL).unwrap();
+    let written = RunDir::new(&copy)
+        .export_trajectories(&Format::ALL)
+        .unwrap();
     assert_eq!(written.len(), 4);
     for name in FILES {
         assert!(read(&copy, name) == read(&dir, name), "{name} differs");
@@ -127,13 +130,17 @@ fn export_names_the_intruder_engine_and_a_missing_run() {
          [stop]\ncollisions = 1000\n",
     )
     .unwrap();
-    let e = export(&dir, &[Format::Xyz]).unwrap_err().to_string();
+    let e = RunDir::new(&dir)
+        .export_trajectories(&[Format::Xyz])
+        .unwrap_err()
+        .to_string();
     assert!(
         e.contains("intruder engine, which has no grain trajectories"),
         "{e}"
     );
     assert!(!dir.join("trajectory").exists());
-    let e = export(&tmp("trajectory-empty"), &[Format::Gsd])
+    let e = RunDir::new(tmp("trajectory-empty"))
+        .export_trajectories(&[Format::Gsd])
         .unwrap_err()
         .to_string();
     assert!(

@@ -1,12 +1,13 @@
-"""Reading run and sweep directories (the files of ``granular run`` and ``granular sweep``, docs/output.md)
-in pure Python: summaries as dicts, tables as pandas DataFrames when pandas is installed (NumPy
-structured arrays otherwise), snapshots and histograms as NumPy arrays."""
+"""Reading run and sweep directories (the files of ``granular run`` and ``granular sweep``, docs/output.md):
+summaries as dicts, tables as pandas DataFrames when pandas is installed (NumPy structured arrays
+otherwise), snapshots and histograms as NumPy arrays.
+
+The files are named, listed and read by the compiled core (the library's run directory,
+``granular::run::RunDir``); this module only shapes what it returns into Python objects."""
 
 from __future__ import annotations
 
-import csv
 import importlib
-import io
 import json
 import re
 from dataclasses import dataclass, field
@@ -15,24 +16,13 @@ from typing import Any, Iterator, Optional, Union
 
 import numpy as np
 
+from . import _core
+
 __all__ = ["RunData", "SweepData", "load_run", "load_sweep", "read_table"]
 
 #: A table: a pandas DataFrame when pandas is installed (and ``frame`` is not False), otherwise a NumPy
 #: structured array with one named field per column.
 Table = Any
-
-_NPZ_FILES = ("impact_histograms", "structure_factor", "density_maps", "intruder_histograms")
-_CSV_HISTOGRAMS = {
-    "speed": "speed_histograms.csv",
-    "velocity": "velocity_histograms.csv",
-    "impact_parameter": "impact_parameter.csv",
-    "intruder": "intruder_histograms.csv",
-}
-_CSV_CORRELATIONS = {
-    "pair_correlation": "pair_correlation.csv",
-    "mean_square_displacement": "mean_square_displacement.csv",
-    "velocity_autocorrelation": "velocity_autocorrelation.csv",
-}
 
 
 def _pandas(frame: Optional[bool]) -> Any:
@@ -47,40 +37,31 @@ def _pandas(frame: Optional[bool]) -> Any:
         return None
 
 
-def _column(values: list[str]) -> np.ndarray:
-    """A CSV column as float64 when every entry is a number (``nan``/``inf`` included), else as str."""
-    try:
-        return np.array([float(v) for v in values], dtype=np.float64)
-    except ValueError:
-        return np.array(values, dtype=str)
-
-
 def read_table(path: Union[str, Path], frame: Optional[bool] = None) -> Table:
     """Reads one of the run directory's CSV files (``#`` comment lines skipped, header row first).
 
     Numeric columns become float64, others str. Returns a pandas DataFrame when pandas is installed
     (``frame=None``) or asked for (``frame=True``), a NumPy structured array with ``frame=False``.
     """
-    text = Path(path).read_text()
-    lines = [line for line in text.splitlines() if line and not line.startswith("#")]
-    rows = list(csv.reader(io.StringIO("\n".join(lines))))
-    if not rows:
+    header, cells = _core.read_table(Path(path))
+    if not header:
         raise ValueError(f"{path}: the table is empty (no header row)")
-    header, body = rows[0], rows[1:]
-    columns = {name: _column([r[i] for r in body]) for i, name in enumerate(header)}
+    columns = {
+        name: col if isinstance(col, np.ndarray) else np.array(col, dtype=str) for name, col in zip(header, cells)
+    }
+    rows = len(next(iter(columns.values())))
     pd = _pandas(frame)
     if pd is not None:
         return pd.DataFrame(columns)
     dtype = [(name, col.dtype) for name, col in columns.items()]
-    out = np.empty(len(body), dtype=dtype)
+    out = np.empty(rows, dtype=dtype)
     for name, col in columns.items():
         out[name] = col
     return out
 
 
-def _load_npz(path: Path) -> dict[str, np.ndarray]:
-    with np.load(path, allow_pickle=False) as data:
-        return {k: data[k] for k in data.files}
+def _load_npz(path: Union[str, Path]) -> dict[str, np.ndarray]:
+    return dict(_core.read_arrays(Path(path)))
 
 
 @dataclass
@@ -102,30 +83,30 @@ class Snapshot:
 
     @classmethod
     def load(cls, path: Union[str, Path]) -> "Snapshot":
-        """Reads ``snapshot_NNNNNN.npz``."""
-        a = _load_npz(Path(path))
+        """Reads ``snapshot_NNNNNN.npz`` (checked: consistent shapes, a name for every species index)."""
+        s = _core.read_snapshot(Path(path))
+        names = list(s["species_names"])
+        # The file's arrays, as it holds them.
+        arrays = {
+            "time": np.array(s["time"], dtype=np.float64),
+            "dimension": np.array(s["dimension"], dtype=np.uint64),
+            "positions": s["positions"],
+            "velocities": s["velocities"],
+            "radii": s["radii"],
+            "masses": s["masses"],
+            "species": s["species"],
+            "species_names": np.array(names, dtype=str),
+        }
         return cls(
-            time=float(a["time"]),
-            positions=a["positions"],
-            velocities=a["velocities"],
-            radii=a["radii"],
-            masses=a["masses"],
-            species=a["species"],
-            species_names=_species_names(a.get("species_names")),
-            arrays=a,
+            time=float(s["time"]),
+            positions=s["positions"],
+            velocities=s["velocities"],
+            radii=s["radii"],
+            masses=s["masses"],
+            species=s["species"],
+            species_names=names,
+            arrays=arrays,
         )
-
-
-def _species_names(raw: Optional[np.ndarray]) -> list[str]:
-    """A snapshot's species names: an array of strings, or (older files) one JSON list."""
-    if raw is None:
-        return []
-    if raw.size == 1:
-        text = str(raw.reshape(-1)[0])
-        if text.startswith("["):
-            return [str(n) for n in json.loads(text)]
-        return [text]
-    return [str(n) for n in raw]
 
 
 @dataclass
@@ -168,7 +149,9 @@ class RunData:
         from . import Scenario
 
         if self.scenario_toml is None:
-            raise FileNotFoundError(f"{self.path / 'scenario.toml'}: no scenario file in the run directory")
+            raise FileNotFoundError(
+                f"{self.path / _core.file_name('scenario')}: no scenario file in the run directory"
+            )
         return Scenario.from_toml(self.scenario_toml)
 
 
@@ -181,23 +164,19 @@ def load_run(path: Union[str, Path], frame: Optional[bool] = None) -> RunData:
     d = Path(path)
     if not d.is_dir():
         raise FileNotFoundError(f"{d}: no such run directory")
-    summary_path = d / "summary.json"
-    summary = json.loads(summary_path.read_text()) if summary_path.exists() else None
-    ts_path = d / "timeseries.csv"
-    if not ts_path.exists():
-        raise FileNotFoundError(f"{ts_path}: not a run directory (no timeseries.csv); a sweep? use load_sweep")
-    histograms = {k: read_table(d / f, frame) for k, f in _CSV_HISTOGRAMS.items() if (d / f).exists()}
-    arrays = {k: _load_npz(d / f"{k}.npz") for k in _NPZ_FILES if (d / f"{k}.npz").exists()}
-    scenario = d / "scenario.toml"
+    files = _core.run_files(d)
+    if files["timeseries"] is None:
+        name = _core.file_name("timeseries")
+        raise FileNotFoundError(f"{d / name}: not a run directory (no {name}); a sweep? use load_sweep")
     return RunData(
         path=d,
-        summary=summary,
-        timeseries=read_table(ts_path, frame),
-        histograms=histograms,
-        arrays=arrays,
-        scenario_toml=scenario.read_text() if scenario.exists() else None,
-        snapshot_paths=sorted((d / "snapshots").glob("snapshot_*.npz")),
-        correlations={k: read_table(d / f, frame) for k, f in _CSV_CORRELATIONS.items() if (d / f).exists()},
+        summary=json.loads(_core.read_summary(d)) if files["summary"] is not None else None,
+        timeseries=read_table(files["timeseries"], frame),
+        histograms={k: read_table(f, frame) for k, f in files["histograms"].items()},
+        arrays={k: _load_npz(f) for k, f in files["arrays"].items()},
+        scenario_toml=Path(files["scenario"]).read_text() if files["scenario"] is not None else None,
+        snapshot_paths=[Path(p) for p in files["snapshots"]],
+        correlations={k: read_table(f, frame) for k, f in files["correlations"].items()},
     )
 
 
@@ -229,28 +208,25 @@ class SweepData:
 
     def summaries(self) -> list[list[dict[str, Any]]]:
         """``summary.json`` of every finished member, ``[point][seed]``."""
-        return [
-            [json.loads((m / "summary.json").read_text()) for m in row if (m / "summary.json").exists()]
-            for row in self.members
-        ]
+        summary = _core.file_name("summary")
+        return [[json.loads(_core.read_summary(m)) for m in row if (m / summary).exists()] for row in self.members]
 
 
 def load_sweep(path: Union[str, Path], frame: Optional[bool] = None) -> SweepData:
     """Reads a sweep directory written by ``granular sweep`` (or ``granular merge``) or
     :func:`granular.run_sweep`: ``sweep.csv`` as a table and its sidecar ``sweep.json``."""
     d = Path(path)
-    table_path = d / "sweep.csv"
+    table_name = _core.file_name("sweep_table")
+    table_path = d / table_name
     if not table_path.exists():
         raise FileNotFoundError(
-            f"{table_path}: not a finished sweep directory (no sweep.csv; after sharded runs: granular merge {d})"
+            f"{table_path}: not a finished sweep directory (no {table_name}; after sharded runs: granular merge {d})"
         )
-    meta_path = d / "sweep.json"
+    meta_path = d / _core.file_name("sweep_meta")
     if meta_path.exists():
         meta = json.loads(meta_path.read_text())
         keys = [k["key"] for k in meta["keys"]]
-        members = [
-            [d / f"point_{p['point']:03}" / f"seed_{s:03}" for s in range(meta["seeds"])] for p in meta["points"]
-        ]
+        members = [[d / _core.sweep_member(p["point"], s) for s in range(meta["seeds"])] for p in meta["points"]]
     else:  # an older sweep: the key in a comment line, members from the directory
         meta = {}
         first = table_path.read_text().splitlines()[0]

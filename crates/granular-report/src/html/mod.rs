@@ -9,9 +9,10 @@ mod page;
 pub mod player;
 mod sweep;
 
-use crate::table::{column, read_csv};
+use crate::table::{column, read_run_csv};
 use granular::Summary;
-use granular::scenario::Scenario;
+use granular::run::sweep::SWEEP_TABLE;
+use granular::run::{RunDir, RunFile};
 use page::{Page, escape, number, table};
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
@@ -22,9 +23,9 @@ const PLAYER_JS: &str = include_str!("player.js");
 /// Writes the report of a run or sweep directory; returns the pages written (for a sweep,
 /// the members' pages first and the sweep's own page last).
 pub(crate) fn report(dir: &Path) -> Result<Vec<PathBuf>, String> {
-    if dir.join("sweep.csv").is_file() {
+    if dir.join(SWEEP_TABLE).is_file() {
         sweep::report(dir)
-    } else if dir.join("timeseries.csv").is_file() {
+    } else if RunDir::new(dir).has_time_series() {
         report_run(dir).map(|p| vec![p])
     } else {
         Err(format!(
@@ -35,26 +36,22 @@ pub(crate) fn report(dir: &Path) -> Result<Vec<PathBuf>, String> {
     }
 }
 
-fn read_text(path: &Path) -> Result<String, String> {
-    std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))
-}
-
 /// Writes `DIR/report.html` of one finished run (drawing its figures with `granular plot`
 /// first); returns its path.
 pub(crate) fn report_run(dir: &Path) -> Result<PathBuf, String> {
-    let scenario_text = read_text(&dir.join("scenario.toml"))?;
-    let scenario = Scenario::from_resolved_toml(&scenario_text)
-        .map_err(|e| format!("{}: {e}", dir.join("scenario.toml").display()))?;
-    if !dir.join("summary.json").is_file() {
+    let run = RunDir::new(dir);
+    let scenario_text = run.scenario_text().map_err(|e| e.to_string())?;
+    let scenario = run.scenario().map_err(|e| e.to_string())?;
+    if !run.has(RunFile::Summary) {
         return Err(format!(
             "{}: no summary.json, the run has not finished; continue it with `granular resume {}`",
             dir.display(),
             dir.display()
         ));
     }
-    let summary = Summary::read(dir).map_err(|e| e.to_string())?;
-    crate::figures::plot(dir, false)?;
-    let ts = read_csv(&dir.join("timeseries.csv"))?;
+    let summary = run.summary().map_err(|e| e.to_string())?;
+    crate::directory::plot(dir, false)?;
+    let ts = read_run_csv(dir, RunFile::TimeSeries)?;
     let name = dir
         .file_name()
         .map_or("run".into(), |s| s.to_string_lossy().to_string());
@@ -114,7 +111,7 @@ pub(crate) fn report_run(dir: &Path) -> Result<PathBuf, String> {
             escape(&scenario_text)
         ),
     );
-    let path = dir.join("report.html");
+    let path = run.file(RunFile::Report);
     std::fs::write(&path, page.finish(&script)).map_err(|e| format!("{}: {e}", path.display()))?;
     Ok(path)
 }

@@ -3,10 +3,12 @@
 //! every frame (over all its grains) and the Maxwell-Boltzmann density at the frame's
 //! temperature per species (`theory::equilibrium`, HD-12 in 2D).
 
+use crate::table::snapshot_files;
 use base64::Engine as _;
 use base64::engine::general_purpose::STANDARD;
 use granular::boundary::AxisKind;
 use granular::engine::Snapshot;
+use granular::run::RunDir;
 use granular::scenario::Scenario;
 use granular::theory::equilibrium;
 use serde_json::{Value, json};
@@ -45,19 +47,6 @@ const SPEED_BINS: usize = 40;
 fn base64_f32(values: impl Iterator<Item = f64>) -> String {
     let bytes: Vec<u8> = values.flat_map(|v| (v as f32).to_le_bytes()).collect();
     STANDARD.encode(bytes)
-}
-
-/// The snapshot files of a run directory, in time order.
-pub(crate) fn snapshot_files(dir: &Path) -> Vec<PathBuf> {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(dir.join("snapshots"))
-        .map(|rd| {
-            rd.filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|p| p.extension().is_some_and(|x| x == "npz"))
-                .collect()
-        })
-        .unwrap_or_default();
-    files.sort();
-    files
 }
 
 /// Which of `total` items to keep when at most `keep` fit: evenly spaced, first and last
@@ -154,8 +143,7 @@ pub(crate) fn player_data(
     let Some(first_file) = files.first() else {
         return Ok(None);
     };
-    let read =
-        |f: &PathBuf| granular::run::read_snapshot(f).map_err(|e| format!("{}: {e}", f.display()));
+    let read = |f: &PathBuf| granular::run::read_snapshot(f).map_err(|e| e.to_string());
     let first = read(first_file)?;
     let n = first.radii.len();
     let d = first.dimension;
@@ -185,7 +173,7 @@ pub(crate) fn player_data(
         if s.radii.len() != n {
             return Err(format!(
                 "{}: snapshots hold different numbers of grains ({} and {n})",
-                dir.join("snapshots").display(),
+                RunDir::new(dir).snapshot_dir().display(),
                 s.radii.len()
             ));
         }

@@ -3,6 +3,7 @@
 //! and a link to the report of every member, which is written too.
 
 use super::page::{Page, escape, figures, table};
+use granular::run::{RunDir, RunFile};
 use rayon::prelude::*;
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
@@ -20,7 +21,7 @@ pub(crate) struct SweepTable {
 /// Reads `sweep.csv` as it is: one header row, `point`, a column per swept key, then
 /// `members` and the observables (`granular::run::sweep::table`).
 pub(crate) fn read_sweep_table(dir: &Path) -> Result<SweepTable, String> {
-    let (header, rows) = crate::table::read_csv(&dir.join("sweep.csv"))?;
+    let (header, rows) = crate::table::read_csv(&dir.join(granular::run::sweep::SWEEP_TABLE))?;
     let keys = header
         .iter()
         .skip(1)
@@ -50,14 +51,14 @@ fn members(dir: &Path) -> Vec<PathBuf> {
     sorted(dir, "point_")
         .iter()
         .flat_map(|p| sorted(p, "seed_"))
-        .filter(|m| m.join("summary.json").is_file())
+        .filter(|m| RunDir::new(m).has(RunFile::Summary))
         .collect()
 }
 
 /// Writes the members' reports and `DIR/report.html`; returns the pages written.
 pub(crate) fn report(dir: &Path) -> Result<Vec<PathBuf>, String> {
     let sweep = read_sweep_table(dir)?;
-    crate::figures::plot(dir, false)?;
+    crate::directory::plot(dir, false)?;
     let members = members(dir);
     let mut written = members
         .par_iter()
@@ -107,7 +108,7 @@ pub(crate) fn report(dir: &Path) -> Result<Vec<PathBuf>, String> {
     }
     links.push_str("</ul>");
     page.section("members", "Members", &links);
-    let path = dir.join("report.html");
+    let path = RunDir::new(dir).file(RunFile::Report);
     std::fs::write(&path, page.finish("")).map_err(|e| format!("{}: {e}", path.display()))?;
     written.push(path);
     Ok(written)

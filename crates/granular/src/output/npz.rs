@@ -531,10 +531,17 @@ pub fn read_snapshot(path: impl AsRef<Path>) -> Result<Snapshot, NpzError> {
             ));
         }
     };
-    let species_names = get("species_names")?
+    let mut species_names = get("species_names")?
         .as_strings()
         .map(<[String]>::to_vec)
         .ok_or_else(|| NpzError::Format("snapshot `species_names` is not a string array".into()))?;
+    // Older files: the names as one JSON list.
+    if let [one] = species_names.as_slice()
+        && one.starts_with('[')
+        && let Ok(names) = serde_json::from_str::<Vec<String>>(one)
+    {
+        species_names = names;
+    }
     let snapshot = Snapshot {
         time,
         dimension,

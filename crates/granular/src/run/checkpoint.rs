@@ -16,7 +16,7 @@ const HEADER_LEN: usize = 8 + 4 + 8 + 4;
 
 /// The checkpoint file of the run directory `dir`.
 pub fn path(dir: &Path) -> PathBuf {
-    dir.join("checkpoint.msgpack")
+    super::RunDir::new(dir).file(super::RunFile::Checkpoint)
 }
 
 /// The header and payload of a checkpoint.
@@ -37,7 +37,9 @@ fn damaged(path: &Path, what: String) -> RunError {
         message: format!(
             "{what}. The run cannot continue from it; rerun the scenario: \
              `granular run {} --out {} --replace`",
-            dir.join("scenario.toml").display(),
+            super::RunDir::new(dir)
+                .file(super::RunFile::Scenario)
+                .display(),
             dir.display()
         ),
     }

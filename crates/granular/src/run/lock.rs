@@ -66,7 +66,7 @@ impl Lock {
     /// Takes the lock of `dir` (which exists). Returns the lock and, when a stale lock
     /// (left by a run that no longer runs) was taken over, a line for the log.
     pub fn acquire(dir: &Path) -> Result<(Lock, Option<String>), RunError> {
-        let path = dir.join(".lock");
+        let path = dir.join(crate::run::RunFile::Lock.name());
         let io = |source| RunError::Io {
             path: path.clone(),
             source,

@@ -1,23 +1,10 @@
-//! The run directory: a [`Simulation`] run to its stop rule with the standard outputs of
-//! its scenario attached ([`outputs`]), a log, checkpoints and the summary:
-//!
-//! | file | content |
-//! |---|---|
-//! | `scenario.toml` | the fully resolved scenario |
-//! | `timeseries.csv` | one row of scalar observables per output time |
-//! | `snapshots/snapshot_NNNNNN.npz` | positions, velocities, radii, masses, species (NumPy) |
-//! | `speed_histograms.csv` | initial and pooled equilibrium speed histograms per species |
-//! | `velocity_histograms.csv` | pooled equilibrium velocity-component histograms per species |
-//! | `impact_parameter.csv` | histogram of `b / σ` of all pair collisions |
-//! | `impact_histograms.npz`, `structure_factor.npz`, `density_maps.npz` | opt-in observables at output times ([`outputs::SpatialObservables`]) |
-//! | `intruder_histograms.csv`, `.npz` | intruder engine: velocity histograms on the time grid with reference densities |
-//! | `summary.json` | engine, version, seed, timings, final observables, goodness of fit |
-//! | `checkpoint.msgpack` | full state at the last checkpoint, with its CRC-32 ([`checkpoint`]; removed when the run ends) |
-//! | `checkpoint.parts/` | a run over several ranks: each rank's particles at the last checkpoint ([`parts`]) |
-//! | `.lock` | the process id of the run writing the directory (removed when it ends; see `docs/output.md`) |
-//! | `log.txt` | what happened, with wall-clock times |
+//! A run: a [`Simulation`] run to its stop rule with the standard outputs of its scenario
+//! attached ([`outputs`]), a log, checkpoints and the summary, recorded into a run
+//! directory. The directory's files, their names and their readers are [`dir`]'s
+//! ([`RunDir`]).
 
 pub mod checkpoint;
+pub mod dir;
 pub(crate) mod grains;
 mod lock;
 pub mod outputs;
@@ -28,7 +15,8 @@ pub mod sweep;
 /// The intruder engines behind one type (moved to [`crate::build::intruder`]).
 pub use crate::build::intruder;
 pub use crate::build::{AnyEngine, BuildError, build, build_on, dsmc_setup, initial_particles};
-pub use crate::output::npz::{read_snapshot, write_snapshot};
+pub use crate::output::npz::write_snapshot;
+pub use dir::{DirectoryState, RunDir, RunFile, Table, read_snapshot};
 pub use outputs::{Output, StandardOutputs};
 pub use summary::{AverageValue, AveragesSummary, Resolved, Summary};
 
@@ -73,6 +61,14 @@ pub enum RunError {
     /// A NumPy file could not be written or read.
     #[error(transparent)]
     Npz(#[from] crate::output::npz::NpzError),
+    /// A file of the run directory could not be read as what it should be.
+    #[error("{path}: {message}")]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        message: String,
+    },
     /// A trajectory file could not be written.
     #[error(transparent)]
     Trajectory(#[from] crate::trajectory::TrajectoryError),
@@ -151,9 +147,9 @@ pub struct ProgressReport {
     pub events_per_second: f64,
 }
 
-/// Everything a checkpoint holds.
+/// Everything a checkpoint holds ([`RunDir::checkpoint`] reads it).
 #[derive(Serialize, Deserialize)]
-struct Checkpoint {
+pub(crate) struct Checkpoint {
     format: u32,
     scenario: String,
     simulation: SimulationState,
@@ -194,47 +190,6 @@ pub struct Run {
 /// A collective "does any rank say yes" (a decomposed run's ranks agree on when to
 /// checkpoint and on an interruption, which each sees at its own time).
 pub type Agree = Box<dyn FnMut(bool) -> bool + Send>;
-
-/// What a directory holds, for deciding whether a run may be written into it.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum DirectoryState {
-    /// It does not exist.
-    Missing,
-    /// An empty directory.
-    Empty,
-    /// A run directory: `scenario.toml` with `log.txt`, `summary.json` or a checkpoint.
-    Run {
-        /// `summary.json` is present and no checkpoint: the run finished.
-        finished: bool,
-    },
-    /// Something else: a file, or a directory with other files.
-    Other,
-}
-
-impl DirectoryState {
-    /// What `dir` holds.
-    pub fn of(dir: &Path) -> DirectoryState {
-        if !dir.exists() {
-            return DirectoryState::Missing;
-        }
-        let Ok(mut entries) = std::fs::read_dir(dir) else {
-            return DirectoryState::Other;
-        };
-        if entries.next().is_none() {
-            return DirectoryState::Empty;
-        }
-        let has = |f: &str| dir.join(f).is_file();
-        if has("scenario.toml")
-            && (has("log.txt") || has("summary.json") || has("checkpoint.msgpack"))
-        {
-            DirectoryState::Run {
-                finished: has("summary.json") && !has("checkpoint.msgpack"),
-            }
-        } else {
-            DirectoryState::Other
-        }
-    }
-}
 
 /// Warnings about the set-up, for the log and the summary's `warnings`: DSMC's validity
 /// conditions violated by the initial state (computed when the engine was built, and
@@ -377,7 +332,8 @@ impl Run {
             dir: dir.to_path_buf(),
             message,
         };
-        match DirectoryState::of(dir) {
+        let run_dir = RunDir::new(dir);
+        match run_dir.state() {
             DirectoryState::Missing => {
                 return Err(nothing(
                     "no such directory: give the run directory \
@@ -389,8 +345,8 @@ impl Run {
                 return Err(nothing(format!(
                     "the run is finished (summary.json is present and no checkpoint): nothing \
                      to resume. Its results are in {}; to run it again: `granular run {} --out {} --replace`",
-                    dir.join("summary.json").display(),
-                    dir.join("scenario.toml").display(),
+                    run_dir.file(RunFile::Summary).display(),
+                    run_dir.file(RunFile::Scenario).display(),
                     dir.display()
                 )));
             }
@@ -399,22 +355,14 @@ impl Run {
                     "no checkpoint ({} is missing): the run stopped before its first \
                      checkpoint, or this is not a run directory. Start it again: `granular run {} --out {} --replace`",
                     path.display(),
-                    dir.join("scenario.toml").display(),
+                    run_dir.file(RunFile::Scenario).display(),
                     dir.display()
                 )));
             }
             _ => {}
         }
         let lock = lock::Lock::acquire(dir)?;
-        let bytes = std::fs::read(&path).map_err(io_err(&path))?;
-        let payload = checkpoint::decode(&path, &bytes)?;
-        let cp: Checkpoint = rmp_serde::from_slice(payload).map_err(|e| RunError::Checkpoint {
-            path: path.clone(),
-            message: format!(
-                "{e}: its checksum is right but its state does not read; it was written by \
-                 another build of granular. Rerun the scenario with --replace"
-            ),
-        })?;
+        let cp = run_dir.checkpoint()?;
         let scenario =
             Scenario::from_toml_insisting(&cp.scenario, &[]).map_err(|e| RunError::Checkpoint {
                 path: path.clone(),
@@ -425,7 +373,7 @@ impl Run {
         outputs.relocate(dir);
         // Drop rows written after the checkpoint, so the series continues seamlessly.
         outputs.rewind(ranks.as_ref().is_none_or(|(_, c)| c.rank() == 0))?;
-        let log_path = dir.join("log.txt");
+        let log_path = run_dir.file(RunFile::Log);
         let log = std::fs::OpenOptions::new()
             .append(true)
             .create(true)
@@ -572,7 +520,8 @@ impl Recorder {
         dir: &Path,
         scenario: &Scenario,
     ) -> Result<(std::fs::File, (lock::Lock, Option<String>)), RunError> {
-        if DirectoryState::of(dir) == DirectoryState::Other {
+        let run_dir = RunDir::new(dir);
+        if run_dir.state() == DirectoryState::Other {
             return Err(RunError::Directory {
                 dir: dir.to_path_buf(),
                 message: "is neither empty nor a run directory; granular writes runs only \
@@ -583,13 +532,10 @@ impl Recorder {
         }
         std::fs::create_dir_all(dir).map_err(io_err(dir))?;
         let lock = lock::Lock::acquire(dir)?;
-        let _ = std::fs::remove_dir_all(dir.join("snapshots"));
-        let _ = std::fs::remove_file(dir.join("checkpoint.msgpack"));
-        let _ = std::fs::remove_dir_all(dir.join(parts::PARTS_DIR));
-        let _ = std::fs::remove_file(dir.join("summary.json"));
-        let path = dir.join("scenario.toml");
+        run_dir.clear_earlier_run();
+        let path = run_dir.file(RunFile::Scenario);
         std::fs::write(&path, scenario.to_toml()).map_err(io_err(&path))?;
-        let log_path = dir.join("log.txt");
+        let log_path = run_dir.file(RunFile::Log);
         let log = std::fs::File::create(&log_path).map_err(io_err(&log_path))?;
         Ok((log, lock))
     }
@@ -739,11 +685,11 @@ impl Recorder {
         for o in &mut self.attached {
             o.finish(simulation, &mut summary)?;
         }
-        let path = self.dir.join("summary.json");
+        let run_dir = RunDir::new(&self.dir);
+        let path = run_dir.file(RunFile::Summary);
         let text = serde_json::to_string_pretty(&summary).unwrap_or_default();
         std::fs::write(&path, text + "\n").map_err(io_err(&path))?;
-        let _ = std::fs::remove_file(self.dir.join("checkpoint.msgpack"));
-        let _ = std::fs::remove_dir_all(self.dir.join(parts::PARTS_DIR));
+        run_dir.remove_checkpoint();
         self.log(
             wall,
             &format!("finished ({reason}): {events} events, {collisions} collisions, {wall:.3} s"),
@@ -833,7 +779,7 @@ impl RunHooks for DirectoryHooks<'_> {
 /// run started with (`stored`, from the checkpoint). Layout and comments may differ: the
 /// file is compared after reading it.
 fn check_scenario_file(dir: &Path, stored: &str, scenario: &Scenario) -> Result<(), RunError> {
-    let path = dir.join("scenario.toml");
+    let path = RunDir::new(dir).file(RunFile::Scenario);
     let Ok(text) = std::fs::read_to_string(&path) else {
         // Missing: the checkpoint has the scenario; write it back.
         return std::fs::write(&path, stored).map_err(io_err(&path));

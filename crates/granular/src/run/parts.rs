@@ -22,7 +22,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 /// The folder of the checkpoint parts in the run directory.
-pub const PARTS_DIR: &str = "checkpoint.parts";
+pub const PARTS_DIR: &str = super::dir::CHECKPOINT_PARTS;
 
 /// What a decomposed run's `checkpoint.msgpack` says about its parts.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -262,7 +262,7 @@ pub(crate) fn load(
         path: checkpoint::path(shared),
         message: format!(
             "{message}. Rerun the scenario: `granular run {} --out {} --replace`",
-            shared.join("scenario.toml").display(),
+            shared.join(super::RunFile::Scenario.name()).display(),
             shared.display()
         ),
     })

@@ -1,12 +1,11 @@
 //! `summary.json`, typed: what a finished run reports, read back by `sweep`, `plot`, the
-//! Python package and anyone else with [`Summary::read`].
+//! Python package and anyone else with [`RunDir::summary`](super::RunDir::summary).
 //!
 //! Numbers that are not defined (a NaN: no window, no samples) are written as `null` and
 //! read back as NaN (or `None` where the field is optional).
 
 use serde::{Deserialize, Deserializer, Serialize};
 use std::collections::BTreeMap;
-use std::path::Path;
 
 /// `null` in JSON for a NaN or infinite number, read back as NaN.
 fn nan_from_null<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
@@ -321,16 +320,6 @@ pub struct Summary {
 }
 
 impl Summary {
-    /// Reads `summary.json` of a run directory.
-    pub fn read(dir: &Path) -> Result<Summary, super::RunError> {
-        let path = dir.join("summary.json");
-        let text = std::fs::read_to_string(&path).map_err(super::io_err(&path))?;
-        serde_json::from_str(&text).map_err(|e| super::RunError::Checkpoint {
-            path,
-            message: format!("not a summary of this version of granular: {e}"),
-        })
-    }
-
     /// The final value of an observable by column name, or a summary field that sweeps
     /// tabulate (`crater_size`).
     pub fn observable(&self, name: &str) -> Option<f64> {

@@ -10,16 +10,15 @@
 //! written with `z = 0` (see each module for how the format marks it as two-dimensional).
 //!
 //! [`Writer`] appends frames to one file (or series) as a run goes, and can be cut back to
-//! a checkpoint; [`export()`] converts the `.npz` snapshots of an existing run directory.
+//! a checkpoint; `RunDir::export_trajectories` (in `run`) converts the `.npz` snapshots of an
+//! existing run directory.
 
-mod export;
 pub mod gsd;
 pub mod lammps;
 pub mod vtk;
 mod writer;
 pub mod xyz;
 
-pub use export::export;
 pub use writer::Writer;
 
 use crate::engine::Snapshot;

@@ -19,12 +19,12 @@ impl ImpactParameter {
     /// Written to `dir/impact_parameter.csv`.
     pub fn new(dir: &Path) -> ImpactParameter {
         ImpactParameter {
-            path: dir.join("impact_parameter.csv"),
+            path: dir.join(crate::run::RunFile::ImpactParameter.name()),
         }
     }
 
     pub(crate) fn relocate(&mut self, dir: &Path) {
-        self.path = dir.join("impact_parameter.csv");
+        self.path = dir.join(crate::run::RunFile::ImpactParameter.name());
     }
 }
 

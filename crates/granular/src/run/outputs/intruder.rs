@@ -235,13 +235,13 @@ fn write_statistics(
             }
         }
     }
-    let path = dir.join("intruder_histograms.csv");
+    let path = dir.join(crate::run::RunFile::IntruderHistograms.name());
     std::fs::write(&path, csv).map_err(io_err(&path))?;
     let npz: Vec<(&str, NpzArray)> = arrays
         .iter()
         .map(|(k, v)| (k.as_str(), NpzArray::f64_1d(v.clone())))
         .collect();
-    write_npz(dir.join("intruder_histograms.npz"), &npz)?;
+    write_npz(dir.join(crate::run::RunFile::IntruderArrays.name()), &npz)?;
     Ok(block)
 }
 

@@ -62,7 +62,11 @@ impl PairCorrelationOutput {
                     .collect()
             })
             .collect();
-        write_table(&self.dir.join("pair_correlation.csv"), &header, &rows)
+        write_table(
+            &self.dir.join(crate::run::RunFile::PairCorrelation.name()),
+            &header,
+            &rows,
+        )
     }
 }
 

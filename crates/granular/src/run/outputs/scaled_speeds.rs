@@ -133,7 +133,7 @@ impl ScaledSpeeds {
     /// Writes `scaled_speed_histograms.csv`: the pooled density of `c` per species against
     /// the Maxwell-Boltzmann density of `c`, `2 c e^{-c²}` in 2D (HD-12 with `m = 2`, `T = 1`).
     pub fn write(&self, dir: &Path, d: usize, names: &[String]) -> Result<(), RunError> {
-        let path = dir.join("scaled_speed_histograms.csv");
+        let path = dir.join(crate::run::RunFile::ScaledSpeedHistograms.name());
         let mut out =
             String::from("species,c_low,c_high,density,count,maxwell_boltzmann_density\n");
         for (s, h) in self.histograms.iter().enumerate() {

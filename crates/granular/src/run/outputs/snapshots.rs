@@ -26,7 +26,7 @@ impl Snapshots {
     /// the last).
     pub fn new(dir: &Path, every: u64) -> Snapshots {
         Snapshots {
-            dir: dir.join("snapshots"),
+            dir: dir.join(crate::run::dir::SNAPSHOTS),
             every,
             written: 0,
             shared: None,
@@ -34,11 +34,11 @@ impl Snapshots {
     }
 
     pub(crate) fn relocate(&mut self, dir: &Path) {
-        self.dir = dir.join("snapshots");
+        self.dir = dir.join(crate::run::dir::SNAPSHOTS);
     }
 
     pub(crate) fn share(&mut self, dir: &Path) {
-        self.shared = Some(dir.join("snapshots"));
+        self.shared = Some(dir.join(crate::run::dir::SNAPSHOTS));
     }
 
     /// Snapshots written so far.
@@ -47,7 +47,7 @@ impl Snapshots {
     }
 
     fn write(&mut self, simulation: &Simulation) -> Result<(), RunError> {
-        let name = format!("snapshot_{:06}.npz", simulation.outputs_done());
+        let name = crate::run::dir::snapshot_name(simulation.outputs_done());
         if simulation.engine().domain().is_some() {
             // Every rank its block of grain ids, into the one file (collective).
             let dir = self.shared.as_ref().unwrap_or(&self.dir);

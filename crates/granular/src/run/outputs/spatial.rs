@@ -101,7 +101,7 @@ impl SpatialObservables {
                 })
                 .collect();
             write_npz(
-                self.dir.join("impact_histograms.npz"),
+                self.dir.join(crate::run::RunFile::ImpactHistograms.name()),
                 &[
                     ("t_start", NpzArray::f64_1d(st.impact_t_start.clone())),
                     ("t_end", NpzArray::f64_1d(st.impact_t_end.clone())),
@@ -115,7 +115,7 @@ impl SpatialObservables {
             let rows = st.sk_values.len();
             let shells = st.sk_k.len();
             write_npz(
-                self.dir.join("structure_factor.npz"),
+                self.dir.join(crate::run::RunFile::StructureFactor.name()),
                 &[
                     ("times", NpzArray::f64_1d(st.sk_times.clone())),
                     ("k", NpzArray::f64_1d(st.sk_k.clone())),
@@ -136,7 +136,7 @@ impl SpatialObservables {
                 data: NpzData::F64(st.density_values.concat()),
             };
             write_npz(
-                self.dir.join("density_maps.npz"),
+                self.dir.join(crate::run::RunFile::DensityMaps.name()),
                 &[
                     ("times", NpzArray::f64_1d(st.density_times.clone())),
                     ("lengths", NpzArray::f64_1d(lengths.to_vec())),

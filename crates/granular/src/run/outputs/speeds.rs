@@ -82,7 +82,7 @@ impl SpeedStatistics {
         &self,
         d: usize,
     ) -> Result<Vec<Option<MaxwellBoltzmannFit>>, RunError> {
-        let path = self.dir.join("speed_histograms.csv");
+        let path = self.dir.join(crate::run::RunFile::SpeedHistograms.name());
         let mut out = String::from(
             "species,speed_low,speed_high,initial_density,equilibrium_density,equilibrium_count,maxwell_boltzmann_density\n",
         );
@@ -138,7 +138,9 @@ impl SpeedStatistics {
 
     /// Velocity components against the Gaussian of variance `T / m`.
     fn write_velocity_histograms(&self) -> Result<(), RunError> {
-        let path = self.dir.join("velocity_histograms.csv");
+        let path = self
+            .dir
+            .join(crate::run::RunFile::VelocityHistograms.name());
         let mut out = String::from(
             "species,velocity_low,velocity_high,equilibrium_density,equilibrium_count,gaussian_density\n",
         );

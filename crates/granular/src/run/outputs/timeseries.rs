@@ -27,7 +27,7 @@ impl TimeSeries {
     /// A time series written to `dir/timeseries.csv`.
     pub fn new(dir: &Path) -> TimeSeries {
         TimeSeries {
-            path: dir.join("timeseries.csv"),
+            path: dir.join(crate::run::RunFile::TimeSeries.name()),
             columns: Vec::new(),
             previous: None,
             last: Vec::new(),
@@ -36,7 +36,7 @@ impl TimeSeries {
     }
 
     pub(crate) fn relocate(&mut self, dir: &Path) {
-        self.path = dir.join("timeseries.csv");
+        self.path = dir.join(crate::run::RunFile::TimeSeries.name());
     }
 
     /// Cuts the file back to the rows written before the checkpoint.

@@ -30,7 +30,7 @@ impl Trajectory {
     /// only the first and the last), as for the snapshots.
     pub fn new(dir: &Path, formats: &[Format], every: u64) -> Trajectory {
         Trajectory {
-            dir: dir.join("trajectory"),
+            dir: dir.join(crate::run::dir::TRAJECTORY),
             formats: formats.to_vec(),
             every,
             cell: None,
@@ -40,7 +40,7 @@ impl Trajectory {
     }
 
     pub(crate) fn relocate(&mut self, dir: &Path) {
-        self.dir = dir.join("trajectory");
+        self.dir = dir.join(crate::run::dir::TRAJECTORY);
         for w in &mut self.writers {
             w.relocate(&self.dir);
         }

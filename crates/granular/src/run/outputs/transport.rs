@@ -48,8 +48,8 @@ impl TransportOutput {
 
     fn write(&self, c: &LogLagCorrelator, interval: f64) -> Result<(), RunError> {
         for (file, quantity) in [
-            ("mean_square_displacement.csv", "msd"),
-            ("velocity_autocorrelation.csv", "vacf"),
+            (crate::run::RunFile::MeanSquareDisplacement.name(), "msd"),
+            (crate::run::RunFile::VelocityAutocorrelation.name(), "vacf"),
         ] {
             let mut header = vec!["lag".to_string(), "origins".to_string()];
             for n in &self.names {

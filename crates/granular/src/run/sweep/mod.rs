@@ -17,9 +17,9 @@ mod shard;
 pub mod table;
 
 pub use shard::Shard;
-pub use table::{SweepMeta, SweepRow, SweepTable};
+pub use table::{SWEEP_META, SWEEP_TABLE, SweepMeta, SweepRow, SweepTable};
 
-use super::{DirectoryState, Run, RunError, Summary};
+use super::{DirectoryState, Run, RunDir, RunError, RunFile, Summary};
 use crate::random::{MEMBER, derive_key};
 use crate::scenario::{Scenario, ScenarioError, SweepMode, SweepSpec};
 use crate::stats::RunningStats;
@@ -271,7 +271,7 @@ pub fn run_shard_with(
     };
     std::fs::create_dir_all(dir).map_err(io)?;
     let resolved = base.to_toml();
-    let path = dir.join("scenario.toml");
+    let path = dir.join(RunFile::Scenario.name());
     match std::fs::read_to_string(&path) {
         Ok(old) if old != resolved => {
             return Err(SweepError::OtherSweep {
@@ -332,11 +332,12 @@ fn run_member(
         member: name.clone(),
         source,
     };
-    if DirectoryState::of(&member_dir) == (DirectoryState::Run { finished: true }) {
+    let member = RunDir::new(&member_dir);
+    if member.state() == (DirectoryState::Run { finished: true }) {
         return Ok(false);
     }
-    let resumed = super::checkpoint::path(&member_dir)
-        .is_file()
+    let resumed = member
+        .has(RunFile::Checkpoint)
         .then(|| Run::resume(&member_dir).ok())
         .flatten();
     let run = match resumed {
@@ -382,7 +383,7 @@ fn observables(summary: &Summary) -> Vec<(String, f64)> {
 /// that lists them, unless `allow_missing` (then `sweep.json` lists them and `members`
 /// counts the finished ones). The files depend only on the finished members.
 pub fn merge(dir: &Path, allow_missing: bool) -> Result<Merged, SweepError> {
-    let path = dir.join("scenario.toml");
+    let path = dir.join(RunFile::Scenario.name());
     let Ok(text) = std::fs::read_to_string(&path) else {
         return Err(SweepError::NotASweep {
             dir: dir.to_path_buf(),
@@ -396,14 +397,13 @@ pub fn merge(dir: &Path, allow_missing: bool) -> Result<Merged, SweepError> {
         let mut row = Vec::with_capacity(plan.spec.seeds);
         for s in 0..plan.spec.seeds {
             let name = SweepPlan::member_name(p, s);
-            let member_dir = dir.join(&name);
-            match DirectoryState::of(&member_dir) {
+            let member = RunDir::new(dir.join(&name));
+            match member.state() {
                 DirectoryState::Run { finished: true } => {
-                    let summary =
-                        Summary::read(&member_dir).map_err(|source| SweepError::Member {
-                            member: member_dir.display().to_string(),
-                            source,
-                        })?;
+                    let summary = member.summary().map_err(|source| SweepError::Member {
+                        member: member.path().display().to_string(),
+                        source,
+                    })?;
                     row.push(Some(summary));
                 }
                 DirectoryState::Run { finished: false } => {
@@ -496,7 +496,7 @@ fn sidecar(
     SweepMeta {
         format: 1,
         granular_version: env!("CARGO_PKG_VERSION").to_string(),
-        scenario: "scenario.toml".into(),
+        scenario: RunFile::Scenario.name().into(),
         description: base.description.clone(),
         engine: toml::Value::try_from(base.engine)
             .ok()

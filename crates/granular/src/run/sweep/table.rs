@@ -10,6 +10,12 @@ use super::SweepError;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
+/// The sweep's table, `sweep.csv`.
+pub const SWEEP_TABLE: &str = "sweep.csv";
+
+/// The table's sidecar, `sweep.json`.
+pub const SWEEP_META: &str = "sweep.json";
+
 /// One row of `sweep.csv`: a point of the scan.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SweepRow {
@@ -185,7 +191,7 @@ pub(super) fn write(dir: &Path, rows: &[SweepRow], meta: &SweepMeta) -> Result<(
         header.push(format!("{o}_stderr"));
     }
     let csv_err = |e: csv::Error| SweepError::Table {
-        path: dir.join("sweep.csv"),
+        path: dir.join(SWEEP_TABLE),
         message: e.to_string(),
     };
     w.write_record(&header).map_err(csv_err)?;
@@ -201,21 +207,21 @@ pub(super) fn write(dir: &Path, rows: &[SweepRow], meta: &SweepMeta) -> Result<(
         w.write_record(&rec).map_err(csv_err)?;
     }
     let bytes = w.into_inner().map_err(|e| SweepError::Table {
-        path: dir.join("sweep.csv"),
+        path: dir.join(SWEEP_TABLE),
         message: e.to_string(),
     })?;
     let json = serde_json::to_string_pretty(meta).map_err(|e| SweepError::Table {
-        path: dir.join("sweep.json"),
+        path: dir.join(SWEEP_META),
         message: e.to_string(),
     })? + "\n";
-    super::write_atomically(&dir.join("sweep.json"), json.as_bytes())?;
-    super::write_atomically(&dir.join("sweep.csv"), &bytes)
+    super::write_atomically(&dir.join(SWEEP_META), json.as_bytes())?;
+    super::write_atomically(&dir.join(SWEEP_TABLE), &bytes)
 }
 
 impl SweepTable {
     /// Reads `DIR/sweep.csv` with `DIR/sweep.json` (the csv crate; the columns by name).
     pub fn read(dir: &Path) -> Result<SweepTable, SweepError> {
-        let meta_path = dir.join("sweep.json");
+        let meta_path = dir.join(SWEEP_META);
         let table_err = |path: &Path, message: String| SweepError::Table {
             path: path.to_path_buf(),
             message,
@@ -231,7 +237,7 @@ impl SweepTable {
         })?;
         let meta: SweepMeta =
             serde_json::from_str(&text).map_err(|e| table_err(&meta_path, e.to_string()))?;
-        let csv_path = dir.join("sweep.csv");
+        let csv_path = dir.join(SWEEP_TABLE);
         let mut reader =
             csv::Reader::from_path(&csv_path).map_err(|e| table_err(&csv_path, e.to_string()))?;
         let header: Vec<String> = reader

@@ -1,17 +1,17 @@
-//! [`export()`]: the `.npz` snapshots of an existing run directory as trajectories.
+//! `granular export`: the `.npz` snapshots of an existing run directory as trajectories.
 
-use super::{Cell, Format, Frame, TrajectoryError, Writer, io_err};
-use crate::output::npz::read_snapshot;
+use super::{RunDir, RunFile};
 use crate::scenario::{EngineKind, Scenario};
-use std::path::{Path, PathBuf};
+use crate::trajectory::{Cell, Format, Frame, TrajectoryError, Writer};
+use std::path::PathBuf;
 
 /// Writes the snapshots `run/snapshots/snapshot_NNNNNN.npz`, in the order of `NNNNNN`, to
 /// `run/trajectory/` in each of `formats` (an earlier trajectory of the same format is
 /// replaced) and returns the files a viewer opens. The box comes from the run's resolved
 /// `scenario.toml`. Fails, naming the fix, for a run of the intruder engine (it has no
 /// grain positions) and for a directory without snapshots.
-pub fn export(run: &Path, formats: &[Format]) -> Result<Vec<PathBuf>, TrajectoryError> {
-    let scenario_path = run.join("scenario.toml");
+pub(super) fn export(run: &RunDir, formats: &[Format]) -> Result<Vec<PathBuf>, TrajectoryError> {
+    let scenario_path = run.file(RunFile::Scenario);
     let text = std::fs::read_to_string(&scenario_path).map_err(|e| {
         TrajectoryError::Export(format!(
             "{}: {e}; give a run directory written by `granular run`",
@@ -23,26 +23,30 @@ pub fn export(run: &Path, formats: &[Format]) -> Result<Vec<PathBuf>, Trajectory
     if scenario.engine == EngineKind::Intruder {
         return Err(TrajectoryError::Export(format!(
             "{} is a run of the intruder engine, which has no grain trajectories (one intruder in a bath that is not simulated grain by grain); export runs of the edmd or dsmc engine",
-            run.display()
+            run.path().display()
         )));
     }
-    let snapshots = snapshot_files(&run.join("snapshots"))?;
+    let snapshots = run.snapshots().map_err(|e| match e {
+        crate::run::RunError::Io { path, source } => TrajectoryError::Io { path, source },
+        other => TrajectoryError::Export(other.to_string()),
+    })?;
     if snapshots.is_empty() {
         return Err(TrajectoryError::Export(format!(
             "{} has no snapshots/snapshot_NNNNNN.npz to export; run the scenario (to the end, or until a checkpoint) first",
-            run.display()
+            run.path().display()
         )));
     }
     let cell = Cell::from_scenario(&scenario);
-    let dir = run.join("trajectory");
+    let dir = run.trajectory_dir();
     let mut writers = formats
         .iter()
         .map(|f| Writer::create(*f, &dir))
         .collect::<Result<Vec<_>, _>>()?;
-    for (step, path) in &snapshots {
-        let snapshot = read_snapshot(path)?;
+    for file in &snapshots {
+        // The library's snapshot reader, its error as before (it names the file).
+        let snapshot = crate::output::npz::read_snapshot(&file.path)?;
         let frame = Frame {
-            step: *step,
+            step: file.index,
             snapshot: &snapshot,
             cell: &cell,
         };
@@ -51,26 +55,4 @@ pub fn export(run: &Path, formats: &[Format]) -> Result<Vec<PathBuf>, Trajectory
         }
     }
     Ok(writers.iter().map(Writer::path).collect())
-}
-
-/// The snapshot files of `dir` with their output index, in increasing order.
-fn snapshot_files(dir: &Path) -> Result<Vec<(u64, PathBuf)>, TrajectoryError> {
-    if !dir.is_dir() {
-        return Ok(Vec::new());
-    }
-    let mut files = Vec::new();
-    for entry in std::fs::read_dir(dir).map_err(io_err(dir))? {
-        let path = entry.map_err(io_err(dir))?.path();
-        let index = path
-            .file_name()
-            .and_then(|n| n.to_str())
-            .and_then(|n| n.strip_prefix("snapshot_"))
-            .and_then(|n| n.strip_suffix(".npz"))
-            .and_then(|n| n.parse::<u64>().ok());
-        if let Some(i) = index {
-            files.push((i, path));
-        }
-    }
-    files.sort();
-    Ok(files)
 }
