@@ -7,7 +7,9 @@
 
 pub mod equilibrium;
 pub mod haff;
+pub mod hard_wall;
 pub mod intruder;
 pub mod rough;
 pub mod sonine;
+pub mod stability;
 pub mod transport;
