@@ -1,5 +1,5 @@
 //! `granular compare DIR... --out OUT`: overlays finished runs (typically the event-driven
-//! and the DSMC run of one scenario, section 3.2 of the DSMC seed, Figs. 2-3), from their
+//! and the DSMC run of one scenario, section 3.2 of Müller & Herrmann's DSMC paper, Figs. 2-3), from their
 //! files:
 //!
 //! | figure | content |
@@ -49,8 +49,35 @@ fn first_departure(t: &[f64], ratio: &[f64], threshold: f64, t0: f64) -> serde_j
         .map_or(serde_json::Value::Null, |(t, _)| serde_json::json!(t / t0))
 }
 
-/// The numbers quoted in docs/dsmc.md: `t0`, when each run leaves Haff's law, when the
-/// runs part, and the `S(k)` peak at every observation.
+/// The critical size `L_c` of the homogeneous cooling state of a run's gas (HCS-2,
+/// `theory::stability::critical_length`: Haff's law holds only in a box smaller than it)
+/// and the longest edge of its box.
+fn critical_size(run: &RunFiles) -> (f64, f64) {
+    let sc = &run.scenario;
+    let d = sc.dimension;
+    let lengths = sc.lengths();
+    let n = sc.particle_count() as f64 / lengths.iter().product::<f64>();
+    let radius = sc.radius(0);
+    let e = sc.collisions.restitution;
+    let chi = if sc.engine == granular::scenario::EngineKind::Dsmc && !sc.dsmc.enskog {
+        1.0
+    } else {
+        haff::contact_value(d, haff::packing_fraction(d, n, radius))
+    };
+    let critical = granular::theory::stability::critical_length(
+        d,
+        n,
+        radius,
+        e,
+        granular::theory::sonine::cooling_a2_first(d, e),
+        chi,
+    );
+    (critical, lengths.iter().cloned().fold(0.0, f64::max))
+}
+
+/// The numbers quoted in docs/dsmc.md: `t0`, the critical size of the homogeneous cooling
+/// state against the box (above 1 Haff's law cannot hold for long), when each run leaves
+/// Haff's law, when the runs part, and the `S(k)` peak at every observation.
 fn numbers(runs: &[RunFiles]) -> Result<serde_json::Value, String> {
     let t0 = haff_time(&runs[0]).unwrap_or(f64::NAN);
     let mut per_run = serde_json::Map::new();
@@ -62,7 +89,10 @@ fn numbers(runs: &[RunFiles]) -> Result<serde_json::Value, String> {
             .zip(&run.energy)
             .map(|(t, k)| k / haff::haff_energy(k0, *t, t0))
             .collect();
+        let (critical, longest) = critical_size(run);
         let mut entry = serde_json::json!({
+            "critical_size": critical,
+            "box_over_critical_size": longest / critical,
             "final_time_over_t0": run.time.last().map(|t| t / t0),
             "final_energy_over_initial": run.energy.last().map(|k| k / k0),
             "final_energy_over_haff": ratio.last(),

@@ -4,9 +4,11 @@
 //! for runs with snapshots, an interactive player on a canvas. Style sheet and script are
 //! written by hand and inlined; the page loads nothing from the network.
 
+mod cooling;
 mod numbers;
 mod page;
 pub mod player;
+mod steady;
 mod sweep;
 
 use crate::table::{column, read_run_csv};
@@ -76,7 +78,7 @@ pub(crate) fn report_run(dir: &Path) -> Result<PathBuf, String> {
         numbers::intruder(&summary)
     } else {
         let run = crate::run_files::load(dir).ok();
-        numbers::grains(&scenario, &summary, &ts, run.as_ref())
+        numbers::grains(&scenario, &summary, run.as_ref())
     };
     page.section("theory", "Summary against theory", &numbers::render(&rows));
 

@@ -1,39 +1,53 @@
-//! The summary numbers of a run next to their theory, with the deviation in standard errors
-//! where both an error and a theory exist. Every theory value comes from the library
-//! (`granular::theory`, `granular::intruder::theory`) or from `summary.json`, which the
-//! library wrote with the same functions; nothing here is a formula of its own.
+//! The summary numbers of a run next to their theory. Each row says what is measured and
+//! what it is compared with; the deviation is counted in the combined uncertainty
+//! `sqrt(error² + accuracy²)` of the run's standard error and the theory's stated accuracy,
+//! and a theory whose conditions the run does not meet is not compared: the row says why,
+//! in a neutral colour. Every theory value comes from the library (`granular::theory`,
+//! `granular::intruder::theory`) or from `summary.json`, which the library wrote with the
+//! same functions; nothing here is a formula of its own.
 
-use super::page::{escape, number, table};
+use super::page::{escape, number, short, table};
 use crate::run_files::RunFiles;
-use crate::table::{Table, column};
 use granular::Summary;
+use granular::boundary::AxisKind;
 use granular::intruder::theory::GAUSSIAN_KURTOSIS;
-use granular::scenario::{EngineKind, Scenario};
-use granular::stats::batch_means;
-use granular::theory::{equilibrium, haff};
+use granular::scenario::Scenario;
+use granular::theory::{equilibrium, hard_wall};
 
-/// One measured number, its standard error, its theory value and where that comes from
-/// (`NaN` where there is none).
+/// One measured number, its standard error, its theory value with the theory's stated
+/// accuracy, and where that comes from (`NaN` where there is none).
 pub(crate) struct Comparison {
     pub quantity: String,
     pub measured: f64,
+    /// The run's standard error of `measured`.
     pub error: f64,
     pub theory: f64,
+    /// The stated accuracy of `theory` (absolute; 0 for an exact result).
+    pub accuracy: f64,
     pub source: String,
     /// Whether `measured / theory - 1` means something (not for a chi-square).
     pub relative: bool,
+    /// Why the theory does not apply to this run (the row is then not compared).
+    pub not_applicable: Option<String>,
 }
 
 impl Comparison {
-    fn new(quantity: impl Into<String>, measured: f64, error: f64, theory: f64) -> Self {
+    pub(crate) fn new(quantity: impl Into<String>, measured: f64, error: f64, theory: f64) -> Self {
         Self {
             quantity: quantity.into(),
             measured,
             error,
             theory,
+            accuracy: 0.0,
             source: String::new(),
             relative: true,
+            not_applicable: None,
         }
+    }
+
+    /// A row with nothing measured (the theory does not apply).
+    pub(crate) fn unmeasured(quantity: impl Into<String>) -> Self {
+        Self::new(quantity, f64::NAN, f64::NAN, f64::NAN)
     }
 
     fn absolute(mut self) -> Self {
@@ -41,18 +55,63 @@ impl Comparison {
         self
     }
 
-    fn source(mut self, source: impl Into<String>) -> Self {
+    pub(crate) fn source(mut self, source: impl Into<String>) -> Self {
         self.source = source.into();
         self
     }
 
-    /// `(measured - theory) / error`, `NaN` when any of them is missing.
+    /// Sets the theory's stated accuracy (absolute).
+    pub(crate) fn accuracy(mut self, accuracy: f64) -> Self {
+        self.accuracy = accuracy;
+        self
+    }
+
+    /// Marks the theory as not applying to this run, saying why.
+    pub(crate) fn not_applicable(mut self, why: impl Into<String>) -> Self {
+        self.not_applicable = Some(why.into());
+        self
+    }
+
+    /// The combined uncertainty `sqrt(error² + accuracy²)` (`NaN` without an error).
+    pub(crate) fn uncertainty(&self) -> f64 {
+        let accuracy = if self.accuracy.is_finite() {
+            self.accuracy
+        } else {
+            0.0
+        };
+        (self.error * self.error + accuracy * accuracy).sqrt()
+    }
+
+    /// `(measured - theory) / uncertainty`; `NaN` when any is missing or the theory does
+    /// not apply.
     pub(crate) fn deviation(&self) -> f64 {
-        if self.error > 0.0 {
-            (self.measured - self.theory) / self.error
+        let u = self.uncertainty();
+        if self.not_applicable.is_none() && u > 0.0 {
+            (self.measured - self.theory) / u
         } else {
             f64::NAN
         }
+    }
+}
+
+/// Why the Maxwell-Boltzmann distribution does not describe the run (`None`: it does).
+fn not_in_equilibrium(scenario: &Scenario) -> Option<String> {
+    let c = &scenario.collisions;
+    let wall = c.wall_restitution.unwrap_or(c.restitution);
+    if scenario.driving.is_some() {
+        Some(
+            "a driven gas is not Maxwell-Boltzmann: its distribution departs from it by a2 \
+             (the steady-state rows)"
+                .into(),
+        )
+    } else if c.restitution < 1.0 || (wall < 1.0 && scenario.axes().contains(&AxisKind::Wall)) {
+        Some(format!(
+            "inelastic collisions (restitution {}, walls {}) keep the gas out of equilibrium",
+            number(c.restitution),
+            number(wall)
+        ))
+    } else {
+        None
     }
 }
 
@@ -60,216 +119,181 @@ impl Comparison {
 pub(crate) fn grains(
     scenario: &Scenario,
     summary: &Summary,
-    ts: &Table,
     run: Option<&RunFiles>,
 ) -> Vec<Comparison> {
-    let d = scenario.dimension;
     let mut rows = Vec::new();
+    let equilibrium_excluded = not_in_equilibrium(scenario);
     for (name, fit) in &summary.maxwell_boltzmann_fit {
         let dof = fit.degrees_of_freedom as f64;
-        rows.push(
-            Comparison::new(
-                format!("χ² of the speeds of {name} against Maxwell-Boltzmann"),
-                fit.chi_square,
-                (2.0 * dof).sqrt(),
-                dof,
-            )
-            .absolute()
-            .source(format!(
-                "HD-12 at T = {}; expected χ² = degrees of freedom ({}), spread √(2·dof); p = {}, {} speeds from {} snapshots",
-                number(fit.temperature),
-                fit.degrees_of_freedom,
-                number(fit.p_value),
-                fit.samples,
-                fit.snapshots
-            )),
-        );
+        let mut row = Comparison::new(
+            format!("χ² of the speeds of {name} against Maxwell-Boltzmann"),
+            fit.chi_square,
+            (2.0 * dof).sqrt(),
+            dof,
+        )
+        .absolute()
+        .source(format!(
+            "HD-12 at T = {}; expected χ² = degrees of freedom ({}), spread √(2·dof); p = {}, {} speeds from {} snapshots",
+            number(fit.temperature),
+            fit.degrees_of_freedom,
+            number(fit.p_value),
+            fit.samples,
+            fit.snapshots
+        ));
+        if let Some(why) = &equilibrium_excluded {
+            row = row.not_applicable(why.clone());
+        }
+        rows.push(row);
         if let Some(s) = summary.species.get(name) {
-            rows.push(
-                Comparison::new(
-                    format!("mean speed of {name}"),
-                    s.mean_speed,
-                    s.mean_speed_error,
-                    s.maxwell_boltzmann_mean_speed,
-                )
-                .source("Maxwell-Boltzmann mean speed at the pooled temperature"),
-            );
+            let mut row = Comparison::new(
+                format!("mean speed of {name}"),
+                s.mean_speed,
+                s.mean_speed_error,
+                s.maxwell_boltzmann_mean_speed,
+            )
+            .source("Maxwell-Boltzmann mean speed at the pooled temperature");
+            if let Some(why) = &equilibrium_excluded {
+                row = row.not_applicable(why.clone());
+            }
+            rows.push(row);
         }
     }
-    let e = scenario.collisions.restitution;
     for (name, s) in &summary.scaled_speeds {
-        rows.push(
-            Comparison::new(
+        let range = format!(
+            "pooled over the snapshots at temperatures {} to {}; no error (one number per run)",
+            number(s.temperature_min),
+            number(s.temperature_max)
+        );
+        let row = match s.theory_a2 {
+            Some([first, second]) => Comparison::new(
                 format!("a2 of the scaled speeds of {name}"),
                 s.a2,
                 f64::NAN,
-                haff::sonine_a2(d, e),
+                second,
             )
+            .accuracy((first - second).abs())
             .source(format!(
-                "first Sonine correction of the homogeneous cooling state at restitution {}; temperatures {} to {}",
-                number(e),
-                number(s.temperature_min),
-                number(s.temperature_max)
+                "van Noije and Ernst's second estimate of the homogeneous cooling state's a2 \
+                 (first {}), at restitution {}; {range}",
+                number(first),
+                number(scenario.collisions.restitution)
             )),
-        );
+            None => Comparison::new(
+                format!("a2 of the scaled speeds of {name}"),
+                s.a2,
+                f64::NAN,
+                f64::NAN,
+            )
+            .not_applicable(
+                "the cooling state's a2 is the theory of one species in a periodic box \
+                 without gravity",
+            )
+            .source(range),
+        };
+        rows.push(row);
     }
-    let simple = scenario.species.len() == 1 && scenario.gravity.iter().all(|g| *g == 0.0);
-    if simple
-        && e < 1.0
-        && let Some(c) = run.and_then(|r| haff_comparison(r, summary))
-    {
-        rows.push(c);
+    if let Some(row) = run.and_then(|r| super::cooling::haff_row(r, summary)) {
+        rows.push(row);
     }
-    if simple && e == 1.0 {
-        rows.extend(equation_of_state(scenario, summary, ts));
-    }
+    rows.extend(equation_of_state(scenario, summary));
+    rows.extend(super::steady::rows(scenario, summary));
     rows
 }
 
-/// Haff's time from kinetic theory for the engine of the run (`haff_time` with the first
-/// Sonine correction): the event-driven gas with the Enskog contact value at its packing
-/// fraction (`enskog_haff_time`), DSMC with the contact value its Enskog factor used, or
-/// `chi = 1` (the Boltzmann gas DSMC simulates without `dsmc.enskog`).
-fn theory_haff_time(run: &RunFiles, summary: &Summary) -> Option<(f64, f64)> {
-    let sc = &run.scenario;
-    let d = sc.dimension;
-    let radius = sc.radius(0);
-    let volume: f64 = sc.lengths().iter().product();
-    let n = sc.particle_count() as f64 / volume;
-    let t0 = *run.temperature.first()?;
-    let (e, m) = (sc.collisions.restitution, sc.species[0].mass);
-    if !(t0 > 0.0 && e < 1.0) {
-        return None;
+/// The compressibility factor `Z = P / (n T)`, `n = N / V`, of an elastic one-species run
+/// (the run averages after equilibration, `summary.json`'s `averages`), against the
+/// hard-disk or hard-sphere equation of state at the bulk density of the box, with the
+/// walls' shift of the measured pressures (`theory::hard_wall`, W-1 to W-4).
+fn equation_of_state(scenario: &Scenario, summary: &Summary) -> Vec<Comparison> {
+    let simple = scenario.species.len() == 1 && scenario.gravity.iter().all(|g| *g == 0.0);
+    if !simple || not_in_equilibrium(scenario).is_some() {
+        return Vec::new();
     }
-    Some(match sc.engine {
-        EngineKind::Dsmc => {
-            let chi = summary
-                .resolved
-                .as_ref()
-                .and_then(|r| r.contact_value)
-                .unwrap_or(1.0);
-            (haff::haff_time(d, n, radius, t0, m, e, chi, true), chi)
-        }
-        _ => {
-            let phi = haff::packing_fraction(d, n, radius);
-            (
-                haff::enskog_haff_time(d, n, radius, t0, m, e),
-                haff::contact_value(d, phi),
-            )
-        }
-    })
-}
-
-/// Haff's time `t0` fitted to the kinetic energy (least squares in `ln K` with the library's
-/// `haff_energy`, DSMC-3) while `K > K(0)/10`, against kinetic theory
-/// ([`theory_haff_time`]).
-fn haff_comparison(run: &RunFiles, summary: &Summary) -> Option<Comparison> {
-    let (theory, chi) = theory_haff_time(run, summary)?;
-    let k0 = *run.energy.first()?;
-    let points: Vec<(f64, f64)> = run
-        .time
-        .iter()
-        .zip(&run.energy)
-        .skip(1)
-        .take_while(|(_, k)| **k > 0.1 * k0)
-        .map(|(t, k)| (*t, k.ln()))
-        .collect();
-    if points.len() < 3 {
-        return None;
-    }
-    let residuals = |t0: f64| -> f64 {
-        points
-            .iter()
-            .map(|(t, lk)| (lk - haff::haff_energy(k0, *t, t0).ln()).powi(2))
-            .sum()
-    };
-    // Golden-section search in ln t0 over six decades around the theory value.
-    let (mut a, mut b) = ((theory * 1e-3).ln(), (theory * 1e3).ln());
-    let g = (5f64.sqrt() - 1.0) / 2.0;
-    for _ in 0..200 {
-        let (c, d) = (b - g * (b - a), a + g * (b - a));
-        if residuals(c.exp()) < residuals(d.exp()) {
-            b = d;
-        } else {
-            a = c;
-        }
-    }
-    let t0 = (0.5 * (a + b)).exp();
-    let n = points.len() as f64;
-    let sigma2 = residuals(t0) / (n - 1.0);
-    let h = 1e-6 * t0;
-    let jj: f64 = points
-        .iter()
-        .map(|(t, _)| {
-            let up = haff::haff_energy(k0, *t, t0 + h).ln();
-            let down = haff::haff_energy(k0, *t, t0 - h).ln();
-            ((up - down) / (2.0 * h)).powi(2)
-        })
-        .sum();
-    let error = (sigma2 / jj).sqrt();
-    Some(
-        Comparison::new("Haff's time t0 (fit of the kinetic energy)", t0, error, theory).source(
-            format!(
-                "DSMC-3 with t0 from kinetic theory (contact value chi = {}, first Sonine correction); \
-                 fitted over {} rows while K > K(0)/10; the error is the fit's, rows are correlated, so it is a lower bound",
-                number(chi),
-                points.len()
-            ),
-        ),
-    )
-}
-
-/// The compressibility factor `Z = P / (n T)` of an elastic one-species run, averaged over
-/// the rows after equilibration (batch means), against the hard-disk or hard-sphere
-/// equation of state at the resolved packing fraction.
-fn equation_of_state(scenario: &Scenario, summary: &Summary, ts: &Table) -> Vec<Comparison> {
-    let eta = match &summary.resolved {
-        Some(r) => r.packing_fraction,
-        None => return Vec::new(),
-    };
-    let (Some(cpp), Some(temperature)) = (
-        column(ts, "collisions_per_particle"),
-        column(ts, "temperature"),
-    ) else {
+    let Some(averages) = &summary.averages else {
         return Vec::new();
     };
-    let volume: f64 = scenario.lengths().iter().product();
-    let density = scenario.particle_count() as f64 / volume;
-    let after = scenario.output.equilibration_collisions_per_particle;
-    let theory = equilibrium::compressibility(scenario.dimension, eta);
-    let law = if scenario.dimension == 2 {
+    let d = scenario.dimension;
+    let lengths = scenario.lengths();
+    let walls: Vec<bool> = scenario
+        .axes()
+        .iter()
+        .map(|a| *a == AxisKind::Wall)
+        .collect();
+    let n = scenario.particle_count();
+    let theory = hard_wall::walled_box(&lengths, &walls, n, scenario.radius(0));
+    let eta = theory.bulk_packing_fraction;
+    let law = if d == 2 {
         "hard-disk equation of state (Liu 2020, fitted to Kolafa and Rottner)"
     } else {
         "Carnahan-Starling"
     };
+    let walled = walls.iter().any(|w| *w);
+    let density = n as f64 / lengths.iter().product::<f64>();
+    let temperature = averages
+        .observables
+        .get("temperature")
+        .map_or(f64::NAN, |t| t.mean);
     let mut rows = Vec::new();
-    for (col, what) in [
-        ("pressure", "from the collisional virial"),
-        ("wall_pressure", "from the momentum given to the walls"),
+    for (key, what, z, wall) in [
+        (
+            "compressibility_factor",
+            "from the collisional virial",
+            theory.virial_compressibility,
+            theory.virial_accuracy,
+        ),
+        (
+            "wall_pressure",
+            "from the momentum given to the walls",
+            theory.wall_compressibility,
+            theory.wall_accuracy,
+        ),
     ] {
-        let Some(p) = column(ts, col) else {
+        let Some(a) = averages.observables.get(key) else {
             continue;
         };
-        let z: Vec<f64> = p
-            .iter()
-            .zip(&temperature)
-            .zip(&cpp)
-            .filter(|((p, _), c)| **c >= after && p.is_finite())
-            .map(|((p, t), _)| p / (density * t))
-            .collect();
-        if z.len() < 20 {
+        let Some(error) = a.error else { continue };
+        let scale = if key == "wall_pressure" {
+            1.0 / (density * temperature)
+        } else {
+            1.0
+        };
+        if !z.is_finite() || !(a.mean * scale).is_finite() {
             continue;
         }
-        let (mean, error) = batch_means(&z, 10);
+        let eos = equilibrium::compressibility_accuracy(d, eta) * z;
+        let correction = if walled {
+            format!(
+                "at the bulk packing fraction {} of the box (W-3), with the walls' shift of the \
+                 measured pressure, {} % (W-4, scaled particle theory)",
+                short(eta, 4),
+                short(100.0 * (z / theory.uncorrected - 1.0), 2)
+            )
+        } else {
+            format!("at packing fraction {}", number(eta))
+        };
+        let mut parts = format!(
+            "equation of state {} %",
+            short(100.0 * equilibrium::compressibility_accuracy(d, eta), 2)
+        );
+        if walled {
+            parts.push_str(&format!(
+                ", wall correction {} %",
+                short(100.0 * wall / z, 2)
+            ));
+        }
         rows.push(
-            Comparison::new(format!("compressibility factor Z = P/(nT), {what}"), mean, error, theory)
-                .source(format!(
-                    "{law} at packing fraction {} (stated accuracy a few 10^-3 relative, not in the error); \
-                     {} rows after {} collisions per grain, error by 10 batch means",
-                    number(eta),
-                    z.len(),
-                    number(after)
-                )),
+            Comparison::new(
+                format!("compressibility factor Z = P/(nT), n = N/V, {what}"),
+                a.mean * scale,
+                error * scale,
+                z,
+            )
+            .accuracy((eos * eos + wall * wall).sqrt())
+            .source(format!(
+                "{law} {correction}; stated accuracy: {parts}; {} samples after equilibration, \
+                 error by blocking",
+                a.samples
+            )),
         );
     }
     rows
@@ -285,53 +309,47 @@ pub(crate) fn intruder(summary: &Summary) -> Vec<Comparison> {
     if b.model == "needle" {
         // Equipartition holds only for the elastic needle; the summary names it then.
         let theory = if b.theory.is_some() { 1.0 } else { f64::NAN };
-        let source = b
-            .theory
-            .clone()
-            .unwrap_or_else(|| "no exact theory for an inelastic needle (alpha < 1)".into());
         for (key, what) in [
             ("translational_temperature_ratio", "T_tr / T_B"),
             ("rotational_temperature_ratio", "T_rot / T_B"),
             ("correlation_r", "correlation R (Eq. 30)"),
         ] {
-            rows.push(
-                Comparison::new(what, v(key), v(&format!("{key}_error")), theory)
-                    .source(source.clone()),
-            );
+            let row = Comparison::new(what, v(key), v(&format!("{key}_error")), theory);
+            rows.push(match &b.theory {
+                Some(source) => row.source(format!("{source} (exact)")),
+                None => row
+                    .not_applicable("there is no exact theory for an inelastic needle (alpha < 1)"),
+            });
         }
     } else {
-        rows.push(
-            Comparison::new(
-                "temperature ratio T / T_B",
-                v("temperature_ratio"),
-                v("temperature_ratio_error"),
-                b.theory_temperature_ratio.unwrap_or(f64::NAN),
-            )
-            .source(
-                b.theory
-                    .clone()
-                    .unwrap_or_else(|| "no exact theory for this bath and mass ratio".into()),
-            ),
+        let row = Comparison::new(
+            "temperature ratio T / T_B",
+            v("temperature_ratio"),
+            v("temperature_ratio_error"),
+            b.theory_temperature_ratio.unwrap_or(f64::NAN),
         );
+        rows.push(match &b.theory {
+            Some(source) => row.source(format!("{source} (exact)")),
+            None => row.not_applicable("there is no exact theory for this bath and mass ratio"),
+        });
         let gaussian = b.histogram_reference == "gaussian_eq18";
         // Disk and sphere: the summary carries G-41 and G-42 (Gaussian bath).
-        let (kurtosis_theory, kurtosis_source) = match b.theory_kurtosis {
-            Some(k) => (k, "Maxwellian in d dimensions, (d + 2)/d (G-41)"),
-            None if gaussian => (
-                GAUSSIAN_KURTOSIS,
-                "Gaussian (Martin-Piasecki: the stationary intruder is Gaussian)",
-            ),
-            None => (f64::NAN, ""),
-        };
-        rows.push(
+        let row = |theory: f64| {
             Comparison::new(
                 "kurtosis <v⁴>/<v²>²",
                 v("kurtosis"),
                 v("kurtosis_error"),
-                kurtosis_theory,
+                theory,
             )
-            .source(kurtosis_source),
-        );
+        };
+        rows.push(match b.theory_kurtosis {
+            Some(k) => row(k).source("Maxwellian in d dimensions, (d + 2)/d (G-41, exact)"),
+            None if gaussian => row(GAUSSIAN_KURTOSIS).source(
+                "Gaussian (Martin-Piasecki: the stationary intruder in a Gaussian bath is Gaussian, exact)",
+            ),
+            None => row(f64::NAN)
+                .not_applicable("the intruder is Gaussian only in a Gaussian bath"),
+        });
         if let Some(rate) = b.theory_collision_rate {
             rows.push(
                 Comparison::new(
@@ -340,14 +358,18 @@ pub(crate) fn intruder(summary: &Summary) -> Vec<Comparison> {
                     v("collision_rate_error"),
                     rate,
                 )
-                .source("mean rate of the Maxwellian intruder at the G-40 temperature (G-42)"),
+                .source(
+                    "mean rate of the Maxwellian intruder at the G-40 temperature (G-42, exact)",
+                ),
             );
         }
     }
     rows
 }
 
-/// The comparison table, the deviation coloured by its size (`ok` below 2, `warn` below 3).
+/// The comparison table, the deviation in combined standard uncertainties coloured by its
+/// size (`ok` below 2, `warn` below 3, `bad` from 3; `none`, neutral, where nothing is
+/// compared).
 pub(crate) fn render(rows: &[Comparison]) -> String {
     if rows.is_empty() {
         return "<p>This run has no quantity with an exact theory to compare with \
@@ -372,8 +394,15 @@ pub(crate) fn render(rows: &[Comparison]) -> String {
             } else {
                 number(c.measured)
             };
+            let theory = if c.accuracy > 0.0 && c.theory.is_finite() {
+                format!("{} ± {}", number(c.theory), number(c.accuracy))
+            } else {
+                number(c.theory)
+            };
             let deviation = if z.is_finite() {
                 format!("{z:+.2} σ")
+            } else if c.not_applicable.is_some() {
+                "not compared".into()
             } else {
                 "—".into()
             };
@@ -383,26 +412,37 @@ pub(crate) fn render(rows: &[Comparison]) -> String {
             } else {
                 "—".into()
             };
+            let notes = match &c.not_applicable {
+                Some(why) if c.source.is_empty() => format!("Not compared: {why}."),
+                Some(why) => format!("Not compared: {why}. {}", c.source),
+                None => c.source.clone(),
+            };
             vec![
                 escape(&c.quantity),
                 measured,
-                number(c.theory),
+                theory,
                 format!("<span class=\"z {class}\">{deviation}</span>"),
                 relative,
-                escape(&c.source),
+                escape(&notes),
             ]
         })
         .collect();
-    table(
+    let mut out = String::from(
+        "<p>Deviation: (measured − theory) / √(error² + accuracy²), the run's standard error \
+         combined with the theory's stated accuracy; green below 2, amber below 3, red from 3. \
+         A theory whose conditions the run does not meet is not compared, and the row says why.</p>",
+    );
+    out.push_str(&table(
         "numbers",
         &[
             "quantity",
             "measured ± standard error",
-            "theory",
+            "theory ± stated accuracy",
             "deviation",
             "relative",
             "theory and notes",
         ],
         &body,
-    )
+    ));
+    out
 }

@@ -46,6 +46,28 @@ pub(crate) fn number(x: f64) -> String {
     }
 }
 
+/// A number for the notes of a table: `digits` significant digits (`0.12`, `1.7e-5` as
+/// `0.000017`), `—` when not finite.
+pub(crate) fn short(x: f64, digits: usize) -> String {
+    if !x.is_finite() {
+        return "—".into();
+    }
+    if x == 0.0 {
+        return "0".into();
+    }
+    let magnitude = x.abs().log10().floor() as i32;
+    if !(-6..6).contains(&magnitude) {
+        return format!("{:.*e}", digits.saturating_sub(1), x);
+    }
+    let decimals = (digits as i32 - 1 - magnitude).max(0) as usize;
+    let s = format!("{x:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
 /// An HTML page under construction: a title, a navigation bar and sections.
 pub(crate) struct Page {
     title: String,

@@ -200,8 +200,8 @@ pub fn enskog_haff_time(
 /// Probability density of the reduced impact parameter `x = |b| / 2R` in `[0, 1]` under
 /// molecular chaos, as DSMC draws it (DSMC section 2, after DSMC-2: `b` uniform on
 /// `[-2R, 2R]` in 2D, uniform on the disk of radius `2R` in 3D): `1` for disks, `2x` for
-/// spheres. Event-driven runs follow it while the gas stays homogeneous (DSMC seed,
-/// Fig. 2b).
+/// spheres. Event-driven runs follow it while the gas stays homogeneous (Müller &
+/// Herrmann's DSMC paper, Fig. 2b).
 pub fn impact_parameter_density(dimension: usize, x: f64) -> f64 {
     check_dimension(dimension);
     if dimension == 2 { 1.0 } else { 2.0 * x }

@@ -38,6 +38,25 @@ pub fn white_noise_a2(dimension: usize, restitution: f64) -> f64 {
     numerator(e) / (73.0 + 56.0 * d - 3.0 * e * (35.0 + 8.0 * d) + 30.0 * e * e * (1.0 - e))
 }
 
+/// The stated accuracy of the cooling state's `a2`: the spread of the two truncations,
+/// `|first - second|` (they differ by terms quadratic in `a2` that both drop).
+pub fn cooling_a2_accuracy(dimension: usize, restitution: f64) -> f64 {
+    (cooling_a2_first(dimension, restitution) - cooling_a2_second(dimension, restitution)).abs()
+}
+
+/// The stated accuracy of the heated gas's `a2`: the terms quadratic in `a2` that its one
+/// estimate drops, taken as large relative to `a2²` as in the cooling state,
+/// `|first - second| (a2_heated / a2_cooling,first)²` (an estimate; zero where both
+/// vanish, at `e = 1` and `e = 1/√2`).
+pub fn white_noise_a2_accuracy(dimension: usize, restitution: f64) -> f64 {
+    let first = cooling_a2_first(dimension, restitution);
+    if first == 0.0 {
+        return 0.0;
+    }
+    cooling_a2_accuracy(dimension, restitution)
+        * (white_noise_a2(dimension, restitution) / first).powi(2)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -91,7 +91,10 @@ mod tests {
             let nu0 = (t / m).sqrt() / mode_length(d, n, r, 1.0);
             let zeta = reduced_cooling_rate(d, e, a2) * nu0;
             let library = cooling_rate(d, n, r, t, m, e, 1.0, true);
-            assert!((zeta / library - 1.0).abs() < 1e-12, "{d}D: {zeta} {library}");
+            assert!(
+                (zeta / library - 1.0).abs() < 1e-12,
+                "{d}D: {zeta} {library}"
+            );
             // Elastic: η* = 1 and ν0 = ω (2D), 4ω/5 (3D).
             assert!((reduced_shear_viscosity(d, 1.0, 0.0) - 1.0).abs() < 1e-15);
             let omega = collision_frequency(d, n, r, t, m, 1.0);
