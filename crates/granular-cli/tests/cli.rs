@@ -11,6 +11,8 @@ mod robust;
 mod scaling;
 #[path = "cli/shards.rs"]
 mod shards;
+#[path = "cli/theory.rs"]
+mod theory;
 
 fn granular() -> Command {
     Command::new(env!("CARGO_BIN_EXE_granular"))

@@ -100,6 +100,18 @@ fn energy(
                     true,
                     move |t| haff::haff_energy(k0, t, t0),
                 ));
+        } else if let Some(drift) = conserved_to_round_off(&per_grain).filter(|_| names.len() < 2) {
+            // Constant to round-off: drawn as its relative change, with the constancy in
+            // the title, not zoomed onto the noise of the last digits.
+            let k0 = per_grain[0];
+            let change: Vec<f64> = per_grain.iter().map(|k| k / k0 - 1.0).collect();
+            energy = LinePlot::new(format!(
+                "Kinetic energy, conserved to round-off (largest |E/E(0) − 1| = {})",
+                crate::plot::format_tick(drift)
+            ))
+            .x_label("time t [τ]")
+            .y_label("relative change of the kinetic energy E/E(0) − 1")
+            .series(Series::line("all grains", time.clone(), change));
         } else {
             energy =
                 energy
@@ -119,6 +131,17 @@ fn energy(
         energy.save_png_and_svg(out.join("energy")),
         made,
     )
+}
+
+/// The largest `|E/E(0) - 1|` of a series that stays constant to round-off (below 10⁻⁹,
+/// the elastic event-driven gas); `None` otherwise.
+fn conserved_to_round_off(values: &[f64]) -> Option<f64> {
+    let first = *values.first()?;
+    let drift = values
+        .iter()
+        .map(|v| (v / first - 1.0).abs())
+        .fold(0.0, f64::max);
+    (first != 0.0 && values.len() > 1 && drift < 1e-9).then_some(drift)
 }
 
 /// Speed histograms per species: initial, and the pooled equilibrium ones with
@@ -245,7 +268,7 @@ fn scaled_speed_histogram(
         total as u64
     ))
     .x_label("scaled speed c = v/v_T(t)")
-    .y_label("probability density p(c)")
+    .y_label("probability density p(c) (dimensionless)")
     .theory_points("Maxwell-Boltzmann", centres, mb.clone());
     if let Some(fit) = chi_square_of_bins(&edges, &counts, binned_cdf(&edges, &mb)) {
         p = p.goodness_of_fit(fit.statistic, fit.degrees_of_freedom, fit.p_value);

@@ -116,7 +116,10 @@ pub(crate) fn plot_run(dir: &Path) -> Result<Vec<PathBuf>, String> {
                 "intruder speed |V| [L/τ]",
                 "probability density p(|V|) [τ/L]",
             ),
-            _ => (name.as_str(), "probability density"),
+            _ => (
+                name.as_str(),
+                "probability density [1/unit of the abscissa]",
+            ),
         };
         for log in [false, true] {
             let stem = out.join(format!("histogram_{name}{}", if log { "_log" } else { "" }));

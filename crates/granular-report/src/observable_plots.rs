@@ -140,7 +140,7 @@ pub(crate) fn structure_factor(
         } else {
             "time t [τ]"
         })
-        .y_label("largest structure factor max S(k)")
+        .y_label("largest structure factor max S(k) (dimensionless)")
         .log_x(true)
         .log_y(true);
     let mut any = false;
@@ -150,7 +150,7 @@ pub(crate) fn structure_factor(
         };
         let mut plot = LinePlot::new(format!("Structure factor: {}", run.label))
             .x_label("wave number k [2π/L]")
-            .y_label("structure factor S(k)")
+            .y_label("structure factor S(k) (dimensionless)")
             .log_x(true)
             .log_y(true);
         let mut px = Vec::new();

@@ -234,7 +234,7 @@ fn plot_fig3(t: &Table) -> Panels<LinePlot, LinePlot> {
     let alpha = col(t, "alpha");
     let left = LinePlot::new("Fig. 3: T/T_B, M = m, Gaussian bath")
         .size(HALF.0, HALF.1)
-        .x_label("restitution α")
+        .x_label("restitution α (dimensionless)")
         .y_label("temperature ratio T/T_B")
         .series(
             Series::markers("simulation", alpha.clone(), col(t, "T_over_TB"))
@@ -249,7 +249,7 @@ fn plot_fig3(t: &Table) -> Panels<LinePlot, LinePlot> {
         ));
     let right = LinePlot::new("Kurtosis ⟨v⁴⟩/⟨v²⟩²")
         .size(HALF.0, HALF.1)
-        .x_label("restitution α")
+        .x_label("restitution α (dimensionless)")
         .y_label("kurtosis ⟨v⁴⟩/⟨v²⟩²")
         .y_range(2.8, 3.2)
         .series(
@@ -267,7 +267,7 @@ fn plot_fig3(t: &Table) -> Panels<LinePlot, LinePlot> {
 fn plot_fig4(t: &Table) -> LinePlot {
     let alpha = col(t, "alpha");
     let mut p = LinePlot::new("Fig. 4: T/T_B, power-law bath (Eq. 19)")
-        .x_label("restitution α")
+        .x_label("restitution α (dimensionless)")
         .y_label("temperature ratio T/T_B");
     // One colour per mass: its simulation markers and its Eq. 18 line.
     for (j, m) in ["1", "0.5"].iter().enumerate() {
@@ -364,11 +364,11 @@ fn plot_fig7(t: &Table) -> Panels<LinePlot, LinePlot> {
     let alpha = col(t, "alpha");
     let mut left = LinePlot::new("Fig. 7: needle correlation R (Eq. 30)")
         .size(HALF.0, HALF.1)
-        .x_label("restitution α")
+        .x_label("restitution α (dimensionless)")
         .y_label("correlation R = ⟨v²ω²⟩/(⟨v²⟩⟨ω²⟩)");
     let mut right = LinePlot::new("Temperatures")
         .size(HALF.0, HALF.1)
-        .x_label("restitution α")
+        .x_label("restitution α (dimensionless)")
         .y_label("temperature ratio T/T_B");
     // One colour per mass ratio in both panels; translational (solid, circles) and
     // rotational (dashed, squares) temperatures told apart by line style.

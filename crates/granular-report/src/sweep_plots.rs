@@ -98,7 +98,10 @@ pub(crate) fn key_label(key: &str) -> (String, String) {
             "mass" => (format!("m{i}"), format!("mass m{i} [m]")),
             "radius" => (format!("r{i}"), format!("radius r{i} [L]")),
             "count" => (format!("N{i}"), format!("number of grains N{i}")),
-            "packing_fraction" => (format!("φ{i}"), format!("packing fraction φ{i}")),
+            "packing_fraction" => (
+                format!("φ{i}"),
+                format!("packing fraction φ{i} (dimensionless)"),
+            ),
             "velocity.speed" => (format!("v{i}"), format!("initial speed v{i} [L/τ]")),
             "velocity.temperature" => (
                 format!("T{i}"),
@@ -109,12 +112,20 @@ pub(crate) fn key_label(key: &str) -> (String, String) {
         return (symbol, label);
     }
     let known: &[(&str, &str, &str)] = &[
-        ("collisions.restitution", "ξ", "restitution ξ"),
-        ("collisions.wall_restitution", "ξ_w", "wall restitution ξ_w"),
+        (
+            "collisions.restitution",
+            "ξ",
+            "restitution ξ (dimensionless)",
+        ),
+        (
+            "collisions.wall_restitution",
+            "ξ_w",
+            "wall restitution ξ_w (dimensionless)",
+        ),
         (
             "collisions.wall_tangential_restitution",
             "β_w",
-            "tangential wall restitution β_w",
+            "tangential wall restitution β_w (dimensionless)",
         ),
         ("collisions.tc", "t_c", "TC time t_c [τ]"),
         ("box.lengths[0]", "L_x", "box length L_x [L]"),
@@ -123,8 +134,8 @@ pub(crate) fn key_label(key: &str) -> (String, String) {
         ("seed", "seed", "seed"),
         ("dsmc.time_step", "Δt", "DSMC time step Δt [τ]"),
         ("dsmc.cell_size", "Δx", "DSMC cell size Δx [L]"),
-        ("intruder.alpha", "α", "restitution α"),
-        ("intruder.restitution", "α", "restitution α"),
+        ("intruder.alpha", "α", "restitution α (dimensionless)"),
+        ("intruder.restitution", "α", "restitution α (dimensionless)"),
         ("intruder.mass", "M", "intruder mass M [m]"),
         ("intruder.mass_ratio", "M/m", "mass ratio M/m"),
         ("stop.time", "t_end", "run time t_end [τ]"),
@@ -356,7 +367,7 @@ mod tests {
     fn keys_are_labelled_by_meaning() {
         assert_eq!(
             key_label("collisions.restitution"),
-            ("ξ".into(), "restitution ξ".into())
+            ("ξ".into(), "restitution ξ (dimensionless)".into())
         );
         assert_eq!(
             key_label("species[0].mass"),

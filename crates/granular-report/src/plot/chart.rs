@@ -6,7 +6,7 @@ use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint, Ranged, ValueFo
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
-use super::{Metrics, PlotError, font, format_log_tick, format_tick};
+use super::{Metrics, PlotError, font, format_log_tick, format_tick, format_tick_at};
 
 /// Where the legend goes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -170,21 +170,26 @@ where
         builder.caption(frame.title, font(title_size(frame.title, area, m)));
     }
     let mut chart = builder.build_cartesian_2d(x, y)?;
-    let tick = |log: bool| {
+    // Powers of ten on a log axis of three decades or more; plain numbers on a shorter one,
+    // whose ticks are 1, 2 and 5 times the decades (`LogAxis`). A linear axis has at most 7
+    // labels, so its ticks are at least a seventh of the range apart: labels within a
+    // twentieth of their values are all different.
+    let tick = |log: bool, (a, b): (f64, f64)| {
+        let powers = log && (b / a).log10().abs() >= 3.0;
+        let resolution = if log { f64::NAN } else { (b - a).abs() / 10.0 };
         move |v: &f64| {
-            if log {
+            if powers {
                 format_log_tick(*v)
-            } else {
+            } else if log {
                 format_tick(*v)
+            } else {
+                format_tick_at(*v, resolution)
             }
         }
     };
-    // Powers of ten on a log axis of three decades or more; plain numbers on a shorter one,
-    // whose ticks are 1, 2 and 5 times the decades (`LogAxis`).
-    let decades = |(a, b): (f64, f64)| (b / a).log10().abs() >= 3.0;
     let (x_fmt, y_fmt) = (
-        tick(frame.log_x && decades(frame.x_range)),
-        tick(frame.log_y && decades(frame.y_range)),
+        tick(frame.log_x, frame.x_range),
+        tick(frame.log_y, frame.y_range),
     );
     chart
         .configure_mesh()
@@ -386,7 +391,9 @@ pub(crate) fn padded_range(
         Ok((10f64.powf(a), 10f64.powf(b)))
     } else {
         let span = hi - lo;
-        let span = if span > 0.0 {
+        // A quantity constant to round-off (a spread below 10⁻⁹ of its size) is drawn on a
+        // fixed range of ±20 % around it, not zoomed onto the noise of its last digits.
+        let span = if span > 1e-9 * lo.abs().max(hi.abs()) {
             span
         } else if lo != 0.0 {
             lo.abs() * 0.2

@@ -227,6 +227,81 @@ impl<A: Draw, B: Draw> Draw for Panels<A, B> {
     }
 }
 
+/// [`format_tick`], with more digits where needed so that the label is within
+/// `resolution / 2` of the value: on a linear axis whose ticks are at least `2 resolution`
+/// apart no two labels are equal (a narrow range around a large value, such as 1.5725 to
+/// 1.5731, needs more digits than [`format_tick`] gives).
+pub(crate) fn format_tick_at(v: f64, resolution: f64) -> String {
+    let plain = format_tick(v);
+    let half = 0.5 * resolution;
+    if !(half > 0.0 && half.is_finite() && v.is_finite())
+        || parse_tick(&plain).is_some_and(|x| (x - v).abs() <= half)
+    {
+        return plain;
+    }
+    let a = v.abs();
+    if (1e-3..1e5).contains(&a) {
+        let decimals = (-half.log10()).ceil().clamp(0.0, 17.0) as usize;
+        let s = format!("{v:.decimals$}");
+        return if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').into()
+        } else {
+            s
+        };
+    }
+    let exponent = a.log10().floor() as i32;
+    let mantissa = v / 10f64.powi(exponent);
+    let decimals = (-(half / 10f64.powi(exponent)).log10())
+        .ceil()
+        .clamp(0.0, 17.0) as usize;
+    let m = format!("{mantissa:.decimals$}");
+    let m = if m.contains('.') {
+        m.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        m
+    };
+    format!("{m}×10{}", superscript(exponent))
+}
+
+/// The number a tick label of [`format_tick`] or [`format_tick_at`] stands for.
+pub(crate) fn parse_tick(label: &str) -> Option<f64> {
+    let power = |p: &str| -> Option<f64> {
+        let digits: String = p
+            .chars()
+            .map(|c| match c {
+                '⁻' => '-',
+                '⁰' => '0',
+                '¹' => '1',
+                '²' => '2',
+                '³' => '3',
+                '⁴' => '4',
+                '⁵' => '5',
+                '⁶' => '6',
+                '⁷' => '7',
+                '⁸' => '8',
+                '⁹' => '9',
+                other => other,
+            })
+            .collect();
+        Some(10f64.powi(digits.parse().ok()?))
+    };
+    let label = label.replace('−', "-");
+    if let Some((m, p)) = label.split_once("×10") {
+        return Some(m.parse::<f64>().ok()? * power(p)?);
+    }
+    if let Some(p) = label.strip_prefix("-10") {
+        return Some(-power(p)?);
+    }
+    if let Some(p) = label.strip_prefix("10")
+        && p.chars()
+            .next()
+            .is_some_and(|c| !c.is_ascii_digit() && c != '.')
+    {
+        return power(p);
+    }
+    label.parse().ok()
+}
+
 /// Tick label text: plain decimals for ordinary magnitudes, `a×10ⁿ` otherwise.
 pub(crate) fn format_tick(v: f64) -> String {
     if v == 0.0 || !v.is_finite() {
@@ -336,6 +411,17 @@ mod tests {
 
     #[test]
     fn tick_labels() {
+        // Narrow ranges get the digits that keep neighbouring ticks apart.
+        assert_eq!(format_tick_at(1.57255, 1e-5), "1.57255");
+        assert_eq!(format_tick_at(1.5725, 1e-5), "1.5725");
+        assert_eq!(format_tick_at(0.5, 1e-14), "0.5");
+        assert_ne!(format_tick_at(0.5 + 2e-13, 1e-14), "0.5");
+        assert_eq!(format_tick_at(123456.5, 0.1), "1.234565×10⁵");
+        for label in ["0.3", "−10⁶", "2.5×10⁶", "1.234565×10⁵", "-0.25"] {
+            let x = parse_tick(label).unwrap();
+            assert_eq!(format_tick_at(x, x.abs() * 1e-9), label);
+        }
+        assert_eq!(parse_tick("10⁻³"), Some(1e-3));
         assert_eq!(format_tick(0.0), "0");
         assert_eq!(format_tick(0.30000000000000004), "0.3");
         assert_eq!(format_tick(2.5), "2.5");

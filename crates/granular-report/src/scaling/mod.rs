@@ -1,6 +1,6 @@
 //! `granular scaling`: the speed-up of decomposed DSMC, measured (`granular bench
 //! dsmc-ranks --csv`) and modelled ([`model`]) up to 1024 ranks, as a figure like the DSMC
-//! seed's Fig. 1 and as tables.
+//! Fig. 1 of Müller & Herrmann's DSMC paper and as tables.
 
 pub mod model;
 
