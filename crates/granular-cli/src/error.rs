@@ -115,7 +115,8 @@ impl Diagnostic for CliError {
             return None;
         }
         let (start, len) = line_span(s.source.inner(), s.error.line?)?;
-        let label = LabeledSpan::new(Some(format!("`{}`", s.error.key)), start, len);
+        let text = (!s.error.key.is_empty()).then(|| format!("`{}`", s.error.key));
+        let label = LabeledSpan::new(text, start, len);
         Some(Box::new(std::iter::once(label)))
     }
 }

@@ -5,6 +5,7 @@
 //! terminal, and reports errors (through `miette`). All physics and file formats live in
 //! the library, the figures in `granular-report`.
 
+mod args;
 mod bench;
 mod error;
 mod interrupt;
@@ -75,7 +76,7 @@ enum Command {
         #[arg(long)]
         out: Option<PathBuf>,
         /// Worker threads, 1 to the number of cores (default: all cores).
-        #[arg(long)]
+        #[arg(long, allow_hyphen_values = true, value_parser = args::threads)]
         threads: Option<usize>,
         /// Override a scenario key for every member (repeatable).
         #[arg(long = "set", value_name = "KEY=VALUE")]
@@ -124,7 +125,7 @@ enum Command {
         out: PathBuf,
     },
     /// The speed-up of decomposed DSMC, measured (`mpirun -n K granular bench dsmc-ranks
-    /// --csv FILE`) and modelled up to 1024 ranks: a figure like the DSMC seed's Fig. 1 and
+    /// --csv FILE`) and modelled up to 1024 ranks: a figure like Fig. 1 of Müller & Herrmann's DSMC paper and
     /// the model's tables (see docs/performance.md).
     Scaling {
         /// The benchmark's CSV (strong-scaling rows on 1 and 2 ranks at least).
@@ -132,15 +133,15 @@ enum Command {
         /// Directory for dsmc_speedup.png/.svg, scaling_model.csv and scaling_model.json.
         #[arg(long)]
         out: PathBuf,
-        /// Assumed network latency per message, microseconds.
-        #[arg(long, default_value_t = 2.0)]
+        /// Assumed network latency per message, microseconds (0 or more).
+        #[arg(long, default_value_t = 2.0, allow_hyphen_values = true, value_parser = args::number)]
         latency_us: f64,
-        /// Assumed network bandwidth per rank, GB/s (10^9 bytes per second).
-        #[arg(long, default_value_t = 1.0)]
+        /// Assumed network bandwidth per rank, GB/s (10^9 bytes per second; above 0).
+        #[arg(long, default_value_t = 1.0, allow_hyphen_values = true, value_parser = args::number)]
         bandwidth_gbs: f64,
         /// Compute nanoseconds per particle-step instead of the measured one (for a
-        /// prediction on another machine).
-        #[arg(long)]
+        /// prediction on another machine; above 0).
+        #[arg(long, allow_hyphen_values = true, value_parser = args::number)]
         compute_ns: Option<f64>,
     },
     /// Write the snapshots of a run directory as trajectories for OVITO, ParaView, ASE,
@@ -182,7 +183,7 @@ struct ReproduceArgs {
     #[arg(long)]
     quick: bool,
     /// Worker threads, 1 to the number of cores (default: all cores); results do not depend on it.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true, value_parser = args::threads)]
     threads: Option<usize>,
     /// Seed of all random streams, 0 to 18446744073709551615.
     #[arg(long, default_value_t = 1, allow_hyphen_values = true, value_parser = parse_seed)]
@@ -370,6 +371,15 @@ fn default_dir(scenario: &Path) -> PathBuf {
     )
 }
 
+/// The text of the scenario file at `path` (a special file, a directory or a file of more
+/// than `granular::scenario::MAX_FILE_BYTES` refused before reading).
+fn read_scenario(path: &Path) -> Result<String, String> {
+    granular::scenario::read_text_file(path).map_err(|e| match e.kind() {
+        std::io::ErrorKind::InvalidInput | std::io::ErrorKind::InvalidData => e.to_string(),
+        _ => format!("{}: {e}", path.display()),
+    })
+}
+
 /// The scenario at `path` with its overrides; `insist`: without the cost limits.
 fn load_with(
     path: &Path,
@@ -377,7 +387,7 @@ fn load_with(
     set: &[String],
     insist: bool,
 ) -> Result<Scenario, CliError> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let text = read_scenario(path)?;
     let mut overrides = set.to_vec();
     if let Some(s) = seed {
         // A string: TOML integers stop at i64::MAX, seeds at u64::MAX.
@@ -602,8 +612,7 @@ fn dispatch(cli: Cli) -> Result<(), CliError> {
             insist,
         } => {
             let threads = worker_threads(threads)?;
-            let text = std::fs::read_to_string(&scenario)
-                .map_err(|e| format!("{}: {e}", scenario.display()))?;
+            let text = read_scenario(&scenario)?;
             let dir = out.unwrap_or_else(|| default_dir(&scenario));
             let mut set = set;
             let base = load_with(&scenario, None, &set, insist)?;

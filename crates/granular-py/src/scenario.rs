@@ -115,8 +115,11 @@ impl PyScenario {
     /// (message starting with the path) or FileNotFoundError/OSError.
     #[staticmethod]
     fn load(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
-        let text = std::fs::read_to_string(&path).map_err(|e| {
-            let msg = format!("{}: {e}", path.display());
+        let text = granular::scenario::read_text_file(&path).map_err(|e| {
+            let msg = match e.kind() {
+                std::io::ErrorKind::InvalidInput | std::io::ErrorKind::InvalidData => e.to_string(),
+                _ => format!("{}: {e}", path.display()),
+            };
             if e.kind() == std::io::ErrorKind::NotFound {
                 PyFileNotFoundError::new_err(msg)
             } else {

@@ -16,8 +16,8 @@ pub enum BenchCommand {
         /// Only this case (1d-gaussian, 1d-power-law, needle, 1d-gaussian-direct, needle-paper).
         #[arg(long)]
         case: Option<String>,
-        /// Collisions per case.
-        #[arg(long, default_value_t = 5_000_000)]
+        /// Collisions per case (1 or more; `1e6` is read as 1000000).
+        #[arg(long, default_value_t = 5_000_000, allow_hyphen_values = true, value_parser = crate::args::count)]
         collisions: u64,
         /// One JSON object per case on standard output.
         #[arg(long)]
@@ -26,20 +26,20 @@ pub enum BenchCommand {
     /// DSMC engine: 2D and 3D at N = 10^5, 10^6, 10^7, with 1 and 2 threads.
     Dsmc {
         /// Only this dimension (2 or 3).
-        #[arg(long)]
+        #[arg(long, allow_hyphen_values = true, value_parser = crate::args::dimension)]
         dimension: Option<usize>,
         /// Only this number of particles (at least 16; `1e6` is read as 1000000).
-        #[arg(long, value_parser = parse_count)]
+        #[arg(long, allow_hyphen_values = true, value_parser = parse_count)]
         n: Option<usize>,
-        /// Only this number of threads.
-        #[arg(long)]
+        /// Only this number of threads (1 to four times the cores).
+        #[arg(long, allow_hyphen_values = true, value_parser = crate::args::threads)]
         threads: Option<usize>,
         /// One JSON object per case on standard output.
         #[arg(long)]
         json: bool,
     },
     /// DSMC split over the ranks of `mpirun` (the `mpi` build): strong scaling (fixed N,
-    /// by default the DSMC seed's Fig. 1 case: 2D, N = 500 000, packing fraction 0.1,
+    /// by default the case of Fig. 1 of Müller & Herrmann's DSMC paper: 2D, N = 500 000, packing fraction 0.1,
     /// periodic, about 10 grains per cell) or weak scaling (`--n-per-rank`), with every
     /// rank's particle-steps per second, compute and communication time, bytes and calls
     /// per step.
@@ -49,32 +49,33 @@ pub enum BenchCommand {
     /// collisions, two kinds of grains), collisions per CPU second.
     Edmd {
         /// Only this dimension (2 or 3).
-        #[arg(long)]
+        #[arg(long, allow_hyphen_values = true, value_parser = crate::args::dimension)]
         dimension: Option<usize>,
         /// Only this number of grains (at least 16; `1e6` is read as 1000000).
-        #[arg(long, value_parser = parse_count)]
+        #[arg(long, allow_hyphen_values = true, value_parser = parse_count)]
         n: Option<usize>,
-        /// Only this packing fraction.
-        #[arg(long)]
+        /// Only this packing fraction (above 0; at most 0.78 in 2D, 0.52 in 3D).
+        #[arg(long, allow_hyphen_values = true, value_parser = crate::args::number)]
         packing_fraction: Option<f64>,
-        /// Collisions per grain to measure over (after equilibration).
-        #[arg(long, default_value_t = 50.0)]
+        /// Collisions per grain to measure over (after equilibration; above 0).
+        #[arg(long, default_value_t = 50.0, allow_hyphen_values = true, value_parser = crate::args::number)]
         collisions_per_particle: f64,
         /// Hard walls on every face instead of a periodic box.
         #[arg(long)]
         walls: bool,
         /// Restitution of pair and wall collisions, in [0, 1]; below 1 with the TC model
         /// (contact duration 10^-3 mean free times).
-        #[arg(long, default_value_t = 1.0)]
+        #[arg(long, default_value_t = 1.0, allow_hyphen_values = true, value_parser = crate::args::number)]
         restitution: f64,
-        /// Radius of half of the grains over the other half's (a 50:50 size mixture).
-        #[arg(long, default_value_t = 1.0)]
+        /// Radius of half of the grains over the other half's (a 50:50 size mixture; above 0).
+        #[arg(long, default_value_t = 1.0, allow_hyphen_values = true, value_parser = crate::args::number)]
         size_ratio: f64,
-        /// Mass of half of the grains over the other half's (a 50:50 mass mixture).
-        #[arg(long, default_value_t = 1.0)]
+        /// Mass of half of the grains over the other half's (a 50:50 mass mixture; above 0).
+        #[arg(long, default_value_t = 1.0, allow_hyphen_values = true, value_parser = crate::args::number)]
         mass_ratio: f64,
-        /// Gravity along the last axis, downwards (needs --walls).
-        #[arg(long, default_value_t = 0.0)]
+        /// Gravity along the last axis (needs --walls): positive pulls the grains down the
+        /// axis, towards its wall at 0, negative up, towards the other.
+        #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = crate::args::number)]
         gravity: f64,
         /// One JSON object per case on standard output.
         #[arg(long)]
@@ -252,12 +253,12 @@ pub fn run(cmd: BenchCommand) -> Result<(), String> {
                     "--restitution {restitution}: the restitution must lie in [0, 1] (1: elastic)"
                 ));
             }
-            if !(gravity.is_finite() && gravity >= 0.0) {
+            if !gravity.is_finite() {
                 return Err(format!(
-                    "--gravity {gravity}: give the magnitude, a number >= 0 (it points down the last axis)"
+                    "--gravity {gravity}: give a finite acceleration (positive: down the last axis; negative: up)"
                 ));
             }
-            if gravity > 0.0 && !walls {
+            if gravity != 0.0 && !walls {
                 return Err(format!(
                     "--gravity {gravity} needs --walls: in a periodic box the grains would fall forever"
                 ));

@@ -1,5 +1,5 @@
 //! `mpirun -n K granular bench dsmc-ranks` (the `mpi` build): DSMC split over the ranks,
-//! strong scaling (fixed total N, the DSMC seed's Fig. 1 case by default) or weak scaling
+//! strong scaling (fixed total N, by default the case of Fig. 1 of Müller & Herrmann's DSMC paper) or weak scaling
 //! (fixed N per rank), with every rank's compute and communication time and traffic. A
 //! readable table on standard output, `--json` one object, `--csv FILE` one row per rank
 //! appended to FILE (what `granular scaling` reads).
@@ -13,24 +13,24 @@ use std::path::PathBuf;
 #[derive(clap::Args, Debug)]
 pub struct DsmcRanksArgs {
     /// Dimension (2 or 3).
-    #[arg(long, default_value_t = 2)]
+    #[arg(long, default_value_t = 2, allow_hyphen_values = true, value_parser = crate::args::dimension)]
     pub dimension: usize,
     /// Number of particles on all ranks together: strong scaling (`1e6` is read as
     /// 1000000).
     #[arg(long, value_parser = super::parse_count, default_value = "500000",
-          conflicts_with = "n_per_rank")]
+          conflicts_with = "n_per_rank", allow_hyphen_values = true)]
     pub n: usize,
     /// Number of particles per rank instead: weak scaling (N = this x the number of ranks).
-    #[arg(long, value_parser = super::parse_count)]
+    #[arg(long, value_parser = super::parse_count, allow_hyphen_values = true)]
     pub n_per_rank: Option<usize>,
-    /// Packing fraction.
-    #[arg(long, default_value_t = 0.1)]
+    /// Packing fraction (above 0).
+    #[arg(long, default_value_t = 0.1, allow_hyphen_values = true, value_parser = crate::args::number)]
     pub packing_fraction: f64,
-    /// Steps per timed segment (after 2 warm-up steps).
-    #[arg(long, default_value_t = 20)]
+    /// Steps per timed segment (after 2 warm-up steps; 1 or more).
+    #[arg(long, default_value_t = 20, allow_hyphen_values = true, value_parser = crate::args::count)]
     pub steps: u64,
-    /// Timed segments; the fastest (by its slowest rank) is reported.
-    #[arg(long, default_value_t = 3)]
+    /// Timed segments; the fastest (by its slowest rank) is reported (1 or more).
+    #[arg(long, default_value_t = 3, allow_hyphen_values = true, value_parser = crate::args::count)]
     pub segments: u64,
     /// One JSON object on standard output instead of the table.
     #[arg(long)]

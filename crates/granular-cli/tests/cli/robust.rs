@@ -677,8 +677,41 @@ fn sweep_refuses_a_point_above_the_limits_unless_insist() {
     );
 }
 
+/// Words of Rust, not of the command line or the scenario: type names, serde's and the
+/// standard library's phrases. No error message may contain one (issue 37).
+const RUST_JARGON: [&str; 16] = [
+    "usize",
+    "u64",
+    "u32",
+    "u8",
+    "i64",
+    "i128",
+    "f64",
+    "f32",
+    "struct ",
+    "enum ",
+    "RawVelocity",
+    "`scenario`",
+    "invalid digit",
+    "any valid TOML value",
+    "Option<",
+    "Vec<",
+];
+
+/// The first Rust word in `message` (as a whole word: `u64` but not `mu64x`).
+fn rust_jargon(message: &str) -> Option<&'static str> {
+    RUST_JARGON.iter().copied().find(|w| {
+        message.match_indices(w).any(|(i, _)| {
+            let before = message[..i].chars().next_back();
+            let after = message[i + w.len()..].chars().next();
+            let word = |c: Option<char>| c.is_some_and(|c| c.is_alphanumeric() || c == '_');
+            !word(before) && (w.ends_with(' ') || !word(after))
+        })
+    })
+}
+
 /// The corpus of bad command lines (`tests/bad_command_lines/cases.txt`): each exits with
-/// status 2 and shows its expected text.
+/// status 2, shows its expected text and speaks no Rust ([`RUST_JARGON`]).
 #[test]
 fn every_bad_command_line_fails_with_its_expected_text() {
     let cases = std::fs::read_to_string(
@@ -704,6 +737,9 @@ fn every_bad_command_line_fails_with_its_expected_text() {
         let err = stderr(&out);
         if out.status.code() != Some(2) || !err.contains(expect) {
             failures.push(format!("{line}\n  status {:?}: {err}", out.status.code()));
+        }
+        if let Some(word) = rust_jargon(&err) {
+            failures.push(format!("{line}\n  speaks Rust (`{word}`): {err}"));
         }
         n += 1;
     }
