@@ -591,7 +591,7 @@ fn outputs_scenario() -> granular::scenario::Scenario {
         [output]
         interval = 0.01
         equilibration_collisions_per_particle = 0.0
-        histogram_sample_spacing = 0.0
+        histogram_sample_spacing = 1e-6
         structure_factor = true
         structure_factor_max_index = 4
         density_map = [6, 5]

@@ -1,6 +1,6 @@
 //! The bad-scenario corpus (`tests/bad_scenarios/*.toml`, the expected key and error text
-//! in each file's header) and a property test of the scenario reader: no input, from the
-//! file or from `--set`, makes it panic.
+//! in each file's header; no message speaks Rust, [`RUST_JARGON`]) and a property test of
+//! the scenario reader: no input, from the file or from `--set`, makes it panic.
 
 use granular::scenario::Scenario;
 use proptest::prelude::*;
@@ -29,6 +29,57 @@ fn header(text: &str) -> Case {
         }
     }
     case
+}
+
+/// Words of Rust, not of the scenario: type names, serde's and the standard library's
+/// phrases. No error message may contain one (issue 37).
+const RUST_JARGON: [&str; 16] = [
+    "usize",
+    "u64",
+    "u32",
+    "u8",
+    "i64",
+    "i128",
+    "f64",
+    "f32",
+    "struct ",
+    "enum ",
+    "RawVelocity",
+    "`scenario`",
+    "invalid digit",
+    "any valid TOML value",
+    "Option<",
+    "Vec<",
+];
+
+/// The first Rust word in `message` (as a whole word: `u64` but not `mu64x`).
+fn rust_jargon(message: &str) -> Option<&'static str> {
+    RUST_JARGON.iter().copied().find(|w| {
+        message.match_indices(w).any(|(i, _)| {
+            let before = message[..i].chars().next_back();
+            let after = message[i + w.len()..].chars().next();
+            let word = |c: Option<char>| c.is_some_and(|c| c.is_alphanumeric() || c == '_');
+            !word(before) && (w.ends_with(' ') || !word(after))
+        })
+    })
+}
+
+#[test]
+fn rust_jargon_is_found_as_whole_words() {
+    assert_eq!(
+        rust_jargon("invalid type: integer, expected usize"),
+        Some("usize")
+    );
+    assert_eq!(rust_jargon("expected struct RawVelocity"), Some("struct "));
+    assert_eq!(
+        rust_jargon("line 3: `scenario`: duplicate key"),
+        Some("`scenario`")
+    );
+    assert_eq!(
+        rust_jargon("a whole number, 0 or more; the f64 kind"),
+        Some("f64")
+    );
+    assert_eq!(rust_jargon("the speed u64x and mu64 are fine"), None);
 }
 
 #[test]
@@ -65,7 +116,10 @@ fn every_bad_scenario_fails_naming_its_key_and_the_fix() {
                         failures.push(format!("{name}: no {fragment:?} in: {shown}"));
                     }
                 }
-                if e.key == "scenario" || !shown.contains(&format!("`{}`", e.key)) {
+                if let Some(word) = rust_jargon(&shown) {
+                    failures.push(format!("{name}: speaks Rust (`{word}`): {shown}"));
+                }
+                if e.key.is_empty() || !shown.contains(&format!("`{}`", e.key)) {
                     failures.push(format!("{name}: the error does not name its key: {shown}"));
                 }
                 // A key written in the file gets its line (an error of a `--set` value
@@ -159,7 +213,10 @@ proptest! {
     #[test]
     fn random_overrides_never_panic(sets in proptest::collection::vec((key(), value()), 0..4)) {
         let sets: Vec<String> = sets.into_iter().map(|(k, v)| format!("{k}={v}")).collect();
-        let _ = Scenario::from_toml(BASE, &sets);
+        if let Err(e) = Scenario::from_toml(BASE, &sets) {
+            let shown = e.to_string();
+            prop_assert!(rust_jargon(&shown).is_none(), "speaks Rust: {}", shown);
+        }
     }
 
     #[test]
@@ -168,7 +225,10 @@ proptest! {
         for (k, v) in &lines {
             text.push_str(&format!("{k} = {v}\n"));
         }
-        let _ = Scenario::from_toml(&text, &[]);
+        if let Err(e) = Scenario::from_toml(&text, &[]) {
+            let shown = e.to_string();
+            prop_assert!(rust_jargon(&shown).is_none(), "speaks Rust: {}", shown);
+        }
         text.push_str(&junk);
         let _ = Scenario::from_toml(&text, &[]);
         // Cut anywhere (on a character boundary).

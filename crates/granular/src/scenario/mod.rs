@@ -10,6 +10,7 @@
 pub(crate) mod advice;
 mod de;
 mod driving;
+mod file;
 mod intruder;
 mod observables;
 mod overrides;
@@ -21,6 +22,7 @@ mod tables;
 mod validate;
 
 pub use driving::{DrivingKind, DrivingSpec};
+pub use file::{MAX_FILE_BYTES, read_text_file};
 pub use intruder::{BathTable, DsmcTwinTable, IntruderSpec, NeedleTable, OneDTable, bath_file};
 pub use overrides::apply_override;
 pub use preflight::{
@@ -116,7 +118,7 @@ pub struct Scenario {
     /// The Gillespie intruder (`engine = "intruder"`): model, bath and parameters.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub intruder: Option<IntruderSpec>,
-    /// Crater measure (Problem 4 of the hard-disk seed).
+    /// Crater measure (Problem 4 of the hard-disk assignment).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub crater: Option<CraterSpec>,
     /// Parameter scan run by `granular sweep`.
@@ -385,7 +387,7 @@ pub struct RegionSpec {
 pub enum VelocitySpec {
     /// All grains at rest.
     Zero,
-    /// Speed `speed` in a uniformly random direction (Problem 1 of the hard-disk seed).
+    /// Speed `speed` in a uniformly random direction (Problem 1 of the hard-disk assignment).
     FixedSpeed {
         /// The common speed (length/time).
         speed: f64,
@@ -555,7 +557,7 @@ pub struct OutputSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub equilibration_time: Option<f64>,
     /// Collisions per grain between two pooled samples of the equilibrium histogram
-    /// (appendix C.2 of the seed: many collisions apart so samples are independent).
+    /// (appendix C.2 of the hard-disk assignment: many collisions apart so samples are independent).
     #[serde(default = "sample_spacing")]
     pub histogram_sample_spacing: f64,
     /// Wall-clock seconds between checkpoints.
@@ -752,9 +754,15 @@ pub struct ScenarioError {
 
 impl fmt::Display for ScenarioError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        // A key-less error (a TOML syntax error) names no key.
+        let key = if self.key.is_empty() {
+            String::new()
+        } else {
+            format!("`{}`: ", self.key)
+        };
         match self.line {
-            Some(l) => write!(f, "line {l}: `{}`: {}", self.key, self.message),
-            None => write!(f, "`{}`: {}", self.key, self.message),
+            Some(l) => write!(f, "line {l}: {key}{}", self.message),
+            None => write!(f, "{key}{}", self.message),
         }
     }
 }
@@ -846,7 +854,7 @@ impl Scenario {
             Ok(s) => Ok(s),
             Err(_) if overrides.is_empty() => Err(match toml::from_str::<Scenario>(source) {
                 Err(e) => spans::parse_error(source, source, &e),
-                Ok(_) => ScenarioError::new("scenario", "could not be read"),
+                Ok(_) => ScenarioError::new("", "the scenario could not be read"),
             }),
             Err(plain) => {
                 // Locate the error in the overridden text, then in the file.

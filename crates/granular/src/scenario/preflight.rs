@@ -10,6 +10,7 @@ use super::validate::num;
 use super::{BathTable, EngineKind, IntruderSpec, Scenario, ScenarioError, VelocitySpec};
 use crate::boundary::AxisKind;
 use crate::intruder::ball::BallParams;
+use crate::output::format_number;
 
 /// Most outputs (rows of `timeseries.csv`) a run may write.
 pub const MAX_OUTPUTS: f64 = 1e6;
@@ -143,18 +144,33 @@ pub fn available_memory() -> f64 {
     crate::host::available_memory().unwrap_or(FALLBACK_MEMORY)
 }
 
-/// The grains (and DSMC cells) must fit in the available memory.
+/// The grains (and DSMC cells) must fit in the available memory; the error blames what
+/// takes most of it: the grains' count, or DSMC's cell size.
 fn memory(sc: &Scenario, n: f64) -> Result<(), ScenarioError> {
-    let mut need = n * bytes_per_grain(sc);
+    let grains = n * bytes_per_grain(sc);
+    let mut cells = 0.0;
     if sc.engine == EngineKind::Dsmc
         && let Some(l) = sc.dsmc.cell_size
     {
-        let cells: f64 = sc.lengths().iter().map(|x| (x / l).ceil()).product();
-        need += cells * 64.0;
+        cells = sc.lengths().iter().map(|x| (x / l).ceil()).product::<f64>();
     }
+    let need = grains + cells * BYTES_PER_CELL;
     let have = available_memory();
     if need <= have {
         return Ok(());
+    }
+    let gib = |b: f64| format_number((b / GIB * 10.0).round() / 10.0);
+    if cells * BYTES_PER_CELL > grains {
+        return Err(ScenarioError::new(
+            "dsmc.cell_size",
+            format!(
+                "is {}: it cuts the box into {} cells, which need about {} GiB (about {BYTES_PER_CELL} bytes per cell), but {} GiB are available; give a larger cell, about the mean free path (leave it out for the automatic size)",
+                format_number(sc.dsmc.cell_size.unwrap_or(f64::NAN)),
+                format_number(cells),
+                gib(cells * BYTES_PER_CELL),
+                gib(have)
+            ),
+        ));
     }
     let (s, _) = sc
         .species
@@ -165,13 +181,17 @@ fn memory(sc: &Scenario, n: f64) -> Result<(), ScenarioError> {
     Err(ScenarioError::new(
         format!("species[{s}].count"),
         format!(
-            "gives {n:.3e} grains in all, which need about {} GiB (about {} bytes per grain), but {:.1} GiB are available; lower the count",
-            num((need / GIB * 10.0).round() / 10.0),
+            "gives {} grains in all, which need about {} GiB (about {} bytes per grain), but {} GiB are available; lower the count",
+            format_number(n),
+            gib(need),
             bytes_per_grain(sc),
-            have / GIB
+            gib(have)
         ),
     ))
 }
+
+/// Bytes of one DSMC cell in the memory estimate.
+const BYTES_PER_CELL: f64 = 64.0;
 
 /// The DSMC time step must stay below the initial mean free time.
 fn dsmc_step(sc: &Scenario, g: &Gas) -> Result<(), ScenarioError> {

@@ -197,11 +197,18 @@ fn walk_value(v: &DeValue, offset: usize, path: &mut Vec<Segment>) {
 /// the line from `source` (the file; `text` may be the file with `--set` applied).
 pub(super) fn parse_error(source: &str, text: &str, e: &toml::de::Error) -> ScenarioError {
     let span = e.span();
-    let message = e.message().trim().to_string();
+    let raw = e.message().trim().to_string();
+    if raw.starts_with("duplicate key")
+        && let Some(s) = &span
+        && let Some(dup) = duplicate_key(text, s.start)
+    {
+        return dup;
+    }
+    let message = plain_words(&raw);
     let key = span
         .as_ref()
         .and_then(|s| path_at(text, s.start))
-        .unwrap_or_else(|| "scenario".to_string());
+        .unwrap_or_default();
     let key = unknown_field_key(&message, key);
     let line = if std::ptr::eq(source, text) {
         span.map(|s| line_of(source, s.start))
@@ -233,11 +240,138 @@ fn unknown_field_key(message: &str, key: String) -> String {
     let Some(name) = rest.split('`').next() else {
         return key;
     };
-    if key == "scenario" || name.starts_with(&format!("{key}.")) {
+    if key.is_empty() || name.starts_with(&format!("{key}.")) {
         return name.to_string();
     }
     if key == name || key.ends_with(&format!(".{name}")) {
         return key;
     }
     format!("{key}.{name}")
+}
+
+/// A second definition of a key or a table at byte `offset` of `text`: the error names the
+/// key and the lines of both definitions.
+fn duplicate_key(text: &str, offset: usize) -> Option<ScenarioError> {
+    let line_start = text[..offset].rfind('\n').map_or(0, |i| i + 1);
+    let line_text = text[line_start..].lines().next()?.trim();
+    let second = line_of(text, offset);
+    // `[box]`, `[[species]]` or `key = value`.
+    let (name, header) = if let Some(h) = line_text.strip_prefix('[') {
+        (
+            h.trim_start_matches('[')
+                .split(']')
+                .next()?
+                .trim()
+                .to_string(),
+            true,
+        )
+    } else {
+        (line_text.split('=').next()?.trim().to_string(), false)
+    };
+    if name.is_empty() {
+        return None;
+    }
+    let first = text.lines().enumerate().find_map(|(i, l)| {
+        let l = l.trim();
+        let same = if header {
+            l.starts_with('[') && l.trim_matches(|c| c == '[' || c == ']').trim() == name
+        } else {
+            l.split('=').next().is_some_and(|k| k.trim() == name) && l.contains('=')
+        };
+        (same && i + 1 < second).then_some(i + 1)
+    });
+    let what = if header {
+        format!("the table `[{name}]`")
+    } else {
+        format!("the key `{name}`")
+    };
+    let lines = match first {
+        Some(f) => format!("on lines {f} and {second}"),
+        None => format!("again on line {second}"),
+    };
+    let fix = if header {
+        "merge them into one table"
+    } else {
+        "keep one"
+    };
+    Some(ScenarioError {
+        key: name,
+        message: format!("{what} is given twice, {lines}; {fix}"),
+        line: Some(second),
+    })
+}
+
+/// Serde's and TOML's words for types (`usize`, `f64`, `struct RawVelocity`, `i128`) in the
+/// words of the scenario: "a whole number", "a number", "a table like ...".
+pub(super) fn plain_words(message: &str) -> String {
+    // What a value is, as serde says it ("invalid type: floating point `1.5`, ...").
+    let mut m = message.to_string();
+    if let Some(rest) = m.strip_prefix("invalid type: integer `")
+        && let Some((value, tail)) = rest.split_once("` as i128")
+    {
+        return format!(
+            "the whole number {value} is too large (whole numbers go up to 9223372036854775807){}",
+            tail.split_once(", expected any valid TOML value")
+                .map_or(String::new(), |(_, t)| t.to_string())
+        );
+    }
+    if let Some(rest) = m.strip_prefix("invalid type: string \"")
+        && let Some((value, tail)) = rest.split_once('"')
+        && !value.is_empty()
+        && value.bytes().all(|b| b.is_ascii_digit())
+        && tail.contains("expected")
+    {
+        return format!(
+            "the whole number {value} is too large (whole numbers go up to 9223372036854775807)"
+        );
+    }
+    let replacements: [(&str, &str); 22] = [
+        ("invalid type: floating point `", "got the number `"),
+        ("invalid type: integer `", "got the whole number `"),
+        ("invalid type: string ", "got the text "),
+        ("invalid type: boolean `", "got `"),
+        ("invalid type: sequence", "got a list"),
+        ("invalid type: map", "got a table"),
+        ("invalid value: integer `", "got the whole number `"),
+        ("invalid value: floating point `", "got the number `"),
+        (
+            "expected struct RawVelocity",
+            "expected a table like `{ distribution = \"maxwell_boltzmann\", temperature = 1.0 }`",
+        ),
+        ("expected usize", "expected a whole number, 0 or more"),
+        ("expected u64", "expected a whole number, 0 or more"),
+        (
+            "expected u32",
+            "expected a whole number from 0 to 4294967295",
+        ),
+        ("expected u16", "expected a whole number from 0 to 65535"),
+        ("expected u8", "expected a whole number from 0 to 255"),
+        ("expected i64", "expected a whole number"),
+        ("expected i32", "expected a whole number"),
+        ("expected f64", "expected a number"),
+        ("expected f32", "expected a number"),
+        ("expected a sequence", "expected a list, e.g. `[1.0, 2.0]`"),
+        ("expected a boolean", "expected true or false"),
+        ("expected a map", "expected a table"),
+        ("expected any valid TOML value", "expected a value"),
+    ];
+    for (rust, words) in replacements {
+        m = m.replace(rust, words);
+    }
+    // Any other `struct Name` or `enum Name`: a table / one of the names listed.
+    for (rust, words) in [
+        ("expected struct ", "expected a table"),
+        (
+            "expected enum ",
+            "expected one of the names listed in docs/scenario.md",
+        ),
+    ] {
+        if let Some(i) = m.find(rust) {
+            let end = m[i + rust.len()..]
+                .find(|c: char| !c.is_alphanumeric() && c != '_')
+                .map_or(m.len(), |j| i + rust.len() + j);
+            m.replace_range(i..end, words);
+        }
+    }
+    m
 }

@@ -345,6 +345,16 @@ pub(super) fn output(sc: &Scenario) -> Result<(), ScenarioError> {
         o.histogram_sample_spacing,
         "the collisions per grain between histogram samples",
     )?;
+    if o.histogram_sample_spacing == 0.0 {
+        // Every output pooled: snapshots a fraction of a collision apart repeat the same
+        // speeds, and the Maxwell-Boltzmann test would count them as independent.
+        return Err(ScenarioError::new(
+            "output.histogram_sample_spacing",
+            "is 0; the pooled speeds must come from snapshots at least some collisions per grain \
+             apart to be independent samples (appendix C.2 of the hard-disk assignment); give a \
+             spacing above 0, e.g. 5 (the default)",
+        ));
+    }
     o.validate_observables(sc.dimension)?;
     super::observables::validate_structure_and_transport(sc)
 }

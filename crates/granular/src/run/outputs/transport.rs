@@ -103,7 +103,8 @@ fn interval_error(interval: f64, message: String) -> RunError {
     RunError::Output {
         key: "output.interval".into(),
         message: format!(
-            "is {interval}: for the mean-square displacement {message}; give a shorter output interval"
+            "is {}: for the mean-square displacement {message}; give a shorter output interval",
+            crate::output::format_number(interval)
         ),
     }
 }
@@ -140,7 +141,8 @@ impl Output for TransportOutput {
             return Err(interval_error(
                 interval,
                 format!(
-                    "a grain as fast as the kinetic energy allows could cross half a periodic edge in {allowed}, so its periodic images would be ambiguous (minimum-image unwrapping)"
+                    "a grain as fast as the kinetic energy allows could cross half a periodic edge in {}, so its periodic images would be ambiguous (minimum-image unwrapping)",
+                    crate::output::format_number(allowed)
                 ),
             ));
         }
