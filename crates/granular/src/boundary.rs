@@ -34,7 +34,7 @@ impl<const D: usize> SimulationBox<D> {
         }
     }
 
-    /// The seed's unit square (cube) with hard walls.
+    /// The hard-disk assignment's unit square (cube) with hard walls.
     pub fn unit_walled() -> Self {
         Self::uniform(Vector([1.0; D]), AxisKind::Wall)
     }

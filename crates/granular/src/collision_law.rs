@@ -1,6 +1,6 @@
 //! The collision law every engine calls: the pair impulse with normal restitution (HD-11),
 //! the wall law with normal and tangential restitution (HD-3, HD-4), and the TC rule
-//! against inelastic collapse (section 2.3 of the hard-disk seed) with its counter; for
+//! against inelastic collapse (section 2.3 of the hard-disk assignment) with its counter; for
 //! rough (spinning) grains the rule on the velocity of the contact point with normal and
 //! tangential restitution (RS-1, [`rough`]).
 //!
@@ -29,12 +29,12 @@ pub struct CollisionLaw {
     /// (HD-3, HD-4: `v_n' = -e_w v_n`).
     pub wall_restitution: f64,
     /// Factor applied to the wall-tangential components in a wall collision
-    /// (`v_t' = e_t v_t`). The seed's HD-3 and HD-4 multiply them by ξ too (so that with
+    /// (`v_t' = e_t v_t`). The hard-disk assignment's HD-3 and HD-4 multiply them by ξ too (so that with
     /// ξ = 0 a grain stops dead, test B.1); set it to 1 for smooth walls. For rough grains
     /// it multiplies the tangential velocity of the contact point instead (RS-1 at a wall
     /// with `β_w = -e_t`), which is the same thing for a grain that does not spin.
     pub wall_tangential_restitution: f64,
-    /// Contact duration `t_c` of the TC model (section 2.3 of the hard-disk seed, Luding and
+    /// Contact duration `t_c` of the TC model (section 2.3 of the hard-disk assignment, Luding and
     /// McNamara 1998): a collision of a grain less than `t_c` after its previous collision is
     /// elastic. Zero disables the model.
     pub contact_duration: f64,
@@ -69,7 +69,7 @@ impl Default for CollisionLaw {
 }
 
 impl CollisionLaw {
-    /// The same restitution for pairs and walls, as in the seed (ξ everywhere).
+    /// The same restitution for pairs and walls, as in the hard-disk assignment (ξ everywhere).
     pub fn uniform(restitution: f64) -> Self {
         Self {
             restitution,

@@ -4,9 +4,9 @@
 //! three engines that share one set of physics modules:
 //!
 //! * [`edmd`]: event-driven molecular dynamics of hard disks (2D) and spheres (3D),
-//!   after the hard-disk seed (`event-driven-hard-disk-gas.txt`, equations HD-n);
+//!   after the hard-disk assignment (`event-driven-hard-disk-gas.txt`, equations HD-n);
 //! * [`dsmc`]: Direct Simulation Monte Carlo of inelastic disks and spheres, after the
-//!   DSMC seed (`dsmc-granular-matter.txt`, DSMC-n);
+//!   Müller & Herrmann's DSMC paper (`dsmc-granular-matter.txt`, DSMC-n);
 //! * [`intruder`]: Gillespie engines of an intruder in a bath (1D, the needle, and a DSMC
 //!   twin), after the intruder paper (`gillespie-granular-intruder.txt`, G-n).
 //!

@@ -1,6 +1,6 @@
 //! Spatial observables shared by every many-particle engine: the static structure factor
-//! `S(k)` of the density field (Fig. 3 of the DSMC seed) and the coarse-grained density map
-//! (the clustering instability of the seed's section 3.2).
+//! `S(k)` of the density field (Fig. 3 of Müller & Herrmann's DSMC paper) and the coarse-grained density map
+//! (the clustering instability of the paper's section 3.2).
 //!
 //! They take positions and box lengths only, so the runner computes them alike for the
 //! event-driven and the DSMC engines (from [`Snapshot`]s, see [`structure_factor_of`] and

@@ -99,7 +99,7 @@ pub struct Rates {
     pub mean_free_time: f64,
     /// Pressure from the virial theorem, `P = (2 K + ΔW / Δt) / (D V)` with `K` the
     /// kinetic energy at the end of the window (the virial theorem of hard grains, not
-    /// a numbered equation of the seeds; NaN where the engine has no virial).
+    /// a numbered equation of the source documents; NaN where the engine has no virial).
     pub pressure: f64,
     /// Momentum transferred to the walls per unit area and time (NaN without walls).
     pub wall_pressure: f64,

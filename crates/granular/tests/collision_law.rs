@@ -1,6 +1,6 @@
 //! The one collision law of every engine: the same walled inelastic scenario applies the
 //! same wall law (normal and tangential restitution, HD-3/HD-4) and the same TC rule
-//! (section 2.3 of the hard-disk seed) with the same counter in the event-driven engine and
+//! (section 2.3 of the hard-disk assignment) with the same counter in the event-driven engine and
 //! in DSMC; DSMC's non-finite check, species name and validity warnings.
 
 use granular::collision_law::{CollisionLaw, WallRestitution};

@@ -1,4 +1,4 @@
-//! Event-driven engine: the test cases of appendix B of the hard-disk seed, exactness
+//! Event-driven engine: the test cases of appendix B of the hard-disk assignment, exactness
 //! under long runs and dense packings, and equilibrium physics against exact results.
 
 use granular::boundary::{AxisKind, SimulationBox};

@@ -14,7 +14,7 @@
 //! Shortened with overrides, because a full run takes a minute or more of CPU: the two
 //! dilute DSMC steady states, `dsmc-hcs-rescaled` and `dsmc-white-noise`, stop at 30
 //! instead of 300 collisions per grain (20 of them after the equilibration). The two
-//! scenarios of the DSMC seed's section 3.2 take minutes; they are not here.
+//! scenarios of section 3.2 of Müller & Herrmann's DSMC paper take minutes; they are not here.
 //!
 //! **Regenerating.** The golden files change only when an issue changes a trajectory or an
 //! output on purpose, and then `docs/output.md` says what changed and why (old and new

@@ -1,4 +1,4 @@
-//! Fast versions of the four problems of the hard-disk seed, run through the same
+//! Fast versions of the four problems of the hard-disk assignment, run through the same
 //! scenario files and runner as the CLI, asserting the physics; and sweeps.
 
 use granular::run::Summary;

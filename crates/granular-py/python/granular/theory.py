@@ -4,7 +4,7 @@ and src/intruder), applied element by element with NumPy broadcasting.
 Array arguments may be Python numbers, lists or NumPy arrays of any shape; they are broadcast
 together and the result has the broadcast shape (a 0-d input gives a Python float). Units:
 ``k_B = 1`` (a temperature is an energy), lengths and masses in the scenario's units.
-Equation labels: HD-n (event-driven hard-disk seed), DSMC-n (DSMC seed), G-n (Gillespie intruder
+Equation labels: HD-n (the hard-disk assignment), DSMC-n (Müller & Herrmann's DSMC paper), G-n (Gillespie intruder
 seed).
 """
 

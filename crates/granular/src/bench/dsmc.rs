@@ -203,7 +203,7 @@ pub struct RankResult {
     pub peak_resident_bytes: f64,
 }
 
-/// One measurement of a DSMC run split over ranks (the DSMC seed's Fig. 1 case by
+/// One measurement of a DSMC run split over ranks (the case of Fig. 1 of Müller & Herrmann's DSMC paper by
 /// default): the slowest rank of the fastest segment, and every rank's breakdown.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct DecomposedResult {

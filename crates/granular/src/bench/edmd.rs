@@ -33,7 +33,7 @@ pub struct FluidCase {
     pub walls: bool,
     /// Restitution ξ of pair and wall collisions (walls smooth). Below 1 the TC model
     /// is on, with a contact duration of 10^-3 mean free times of the melted fluid, so
-    /// that dense inelastic gases cannot collapse (section 2.3 of the hard-disk seed).
+    /// that dense inelastic gases cannot collapse (section 2.3 of the hard-disk assignment).
     pub restitution: f64,
     /// Radius of the second half of the grains over the first's (a 50:50 mixture of two
     /// sizes; 1: monodisperse).

@@ -19,7 +19,7 @@ pub enum VmaxMode {
     #[default]
     Cell,
     /// Global, per step: `v_max = 2 max_i |v_i - u|`, `u` the mean velocity of all
-    /// particles (the seed's "twice the maximum particle velocity", sampled every step).
+    /// particles (Müller & Herrmann's "twice the maximum particle velocity", sampled every step).
     Global,
 }
 
@@ -40,13 +40,13 @@ pub enum DensityScope {
 ///
 /// Units: lengths in the scenario's length unit, times in its time unit; `k_B = 1`.
 /// Equation numbers refer to Müller & Herrmann, "DSMC - a stochastic algorithm for
-/// granular matter" (the DSMC seed). See `docs/dsmc.md`.
+/// granular matter". See `docs/dsmc.md`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct DsmcConfig {
     /// Time step `tau` (time units) of the operator splitting: free flight, then
     /// collisions. `None`: one tenth of the initial Boltzmann (or Enskog) mean free time.
-    /// Should be well below the mean free time (validity condition iii of the seed).
+    /// Should be well below the mean free time (validity condition iii of Müller & Herrmann's DSMC paper).
     pub time_step: Option<f64>,
     /// Requested linear cell size `L` (length units), `V_c = L^D`. The number of cells
     /// along axis `k` is `max(1, floor(L_k / L))`, so the actual cell edge `L_k / n_k` is

@@ -34,12 +34,12 @@ pub enum DsmcError {
     Domain(#[from] super::domain::DomainError),
 }
 
-/// Direct Simulation Monte Carlo of `N` equal hard grains (disks for `D = 2`, spheres
-/// for `D = 3`), after Müller & Herrmann (the DSMC seed). See the module docs.
 /// The automatic time step as a fraction of the mean free time `1 / omega` (DSMC-3): 0.1,
 /// recomputed before every step from the current temperature.
 pub const STEP_FRACTION: f64 = 0.1;
 
+/// Direct Simulation Monte Carlo of `N` equal hard grains (disks for `D = 2`, spheres
+/// for `D = 3`), after Müller & Herrmann's DSMC paper. See the module docs.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct DsmcEngine<const D: usize> {
     config: DsmcConfig,
@@ -373,7 +373,7 @@ impl<const D: usize> DsmcEngine<D> {
     }
 
     /// Collisions (pair and wall) made elastic by the TC rule so far (section 2.3 of the
-    /// hard-disk seed; counted by [`CollisionLaw`]): those that would otherwise have lost
+    /// hard-disk assignment; counted by [`CollisionLaw`]): those that would otherwise have lost
     /// energy. Zero without the TC model.
     pub fn tc_elastic_collisions(&self) -> u64 {
         self.tally.tc_elastic
@@ -458,14 +458,14 @@ impl<const D: usize> DsmcEngine<D> {
         observables::density_map(&self.grains.positions(), &self.sim_box.lengths.0, dims)
     }
 
-    /// The validity conditions of the DSMC seed (Sec. 2) violated by the initial state,
+    /// The validity conditions of Müller & Herrmann's DSMC paper (Sec. 2) violated by the initial state,
     /// with numbers: computed once when the engine is built. See [`Self::check_validity`]
     /// for the current state.
     pub fn validity_warnings(&self) -> &[ValidityWarning] {
         &self.validity
     }
 
-    /// The validity conditions of the DSMC seed (Sec. 2) at the current state (the gas
+    /// The validity conditions of Müller & Herrmann's DSMC paper (Sec. 2) at the current state (the gas
     /// cools, so the mean free time grows): warnings, with numbers, for each one that is
     /// violated.
     pub fn check_validity(&self) -> Vec<ValidityWarning> {

@@ -1,5 +1,5 @@
 //! Validity guards: the conditions under which DSMC approximates the Boltzmann (Enskog)
-//! equation (Sec. 2 of the seed), checked with kinetic-theory estimates for a Maxwellian
+//! equation (Sec. 2 of Müller & Herrmann's DSMC paper), checked with kinetic-theory estimates for a Maxwellian
 //! gas (see `crate::theory::haff`).
 
 use crate::theory::haff;

@@ -1,5 +1,5 @@
 //! Direct Simulation Monte Carlo (DSMC) of granular gases, after M. Müller and
-//! H. J. Herrmann, "DSMC - a stochastic algorithm for granular matter" (the DSMC seed),
+//! H. J. Herrmann, "DSMC - a stochastic algorithm for granular matter",
 //! and G. A. Bird, *Molecular Gas Dynamics* (1976).
 //!
 //! Each time step `tau` splits into

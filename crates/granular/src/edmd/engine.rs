@@ -1,13 +1,13 @@
 //! The event-driven engine.
 //!
-//! Algorithm (section 3 of the hard-disk seed, in the one-event-per-particle form of
+//! Algorithm (section 3 of the hard-disk assignment, in the one-event-per-particle form of
 //! Lubachevsky 1991 and Smallenburg 2022):
 //! * every particle carries a local clock: its stored position and velocity are valid at
 //!   its own time `time[i]`, and it is advanced only when an event involves it;
 //! * every particle has exactly one scheduled event, its earliest: a pair collision, a
 //!   wall collision or a cell crossing; the `EventQueue` orders particles by it;
 //! * a pair event stores the partner's collision counter at prediction time; if the
-//!   partner has collided since, the event is stale (section 3.2 of the seed) and the
+//!   partner has collided since, the event is stale (section 3.2 of the assignment) and the
 //!   particle is simply re-predicted;
 //! * neighbours are found through a `CellGrid` whose cells are at least one contact
 //!   distance wide, so one prediction checks O(1) grains, never all N.

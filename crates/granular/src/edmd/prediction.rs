@@ -120,7 +120,7 @@ mod tests {
 
     #[test]
     fn nearly_touching_pair_has_no_cancellation() {
-        // Head-on at unit speed with a gap of 1e-10: the seed's form (-b - sqrt(d)) / a
+        // Head-on at unit speed with a gap of 1e-10: the hard-disk assignment's form (-b - sqrt(d)) / a
         // subtracts two numbers equal to 1 - 1e-20 and returns garbage; ours is exact to
         // the representation error of the gap itself.
         let x: f64 = 1.0 + 1e-10;

@@ -1,5 +1,5 @@
 //! Gillespie simulation of a granular intruder in a bath of thermalised point particles,
-//! after Gillespie-type event sampling for a granular intruder (seed document
+//! after Gillespie-type event sampling for a granular intruder (the Gillespie intruder paper,
 //! `gillespie-granular-intruder.txt`; equation numbers below refer to it).
 //!
 //! * [`bath`]: bath velocity distributions, side fluxes (G-5 to G-7, G-14 to G-16, G-19) and exact

@@ -5,7 +5,7 @@ use crate::random::{RngExt, Stream};
 use crate::vector::Vector;
 use rand_distr::{Distribution, StandardNormal};
 
-/// Velocities of magnitude `speed` in uniformly random directions (Problem 1 of the seed:
+/// Velocities of magnitude `speed` in uniformly random directions (Problem 1 of the hard-disk assignment:
 /// `v = v0 (cos θ, sin θ)` with θ uniform; in 3D uniform on the sphere).
 pub fn fixed_speed<const D: usize>(n: usize, speed: f64, rng: &mut Stream) -> Vec<Vector<D>> {
     (0..n)

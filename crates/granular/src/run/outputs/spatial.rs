@@ -10,7 +10,7 @@
 //!
 //! `[output]` keys: `impact_histograms`, `structure_factor`, `structure_factor_max_index`,
 //! `density_map`, `observable_times` (see `docs/scenario.md`). These are the observables of
-//! section 3.2 of the DSMC seed: the impact-parameter distribution at several times
+//! section 3.2 of Müller & Herrmann's DSMC paper: the impact-parameter distribution at several times
 //! (Fig. 2b), `S(k)` (Fig. 3) and the clusters themselves.
 
 use super::Output;
