@@ -39,7 +39,7 @@ pub struct Collapse {
 }
 
 /// What would stop an inelastic collapse. Collisions closer than the contact duration
-/// `t_c` of the TC model are elastic (section 2.3 of the hard-disk seed), so every remedy
+/// `t_c` of the TC model are elastic (section 2.3 of the hard-disk assignment), so every remedy
 /// but the first trades some dissipation for stability.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum CollapseRemedy {

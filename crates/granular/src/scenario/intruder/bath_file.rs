@@ -110,11 +110,19 @@ mod tests {
     fn errors_name_line_and_column() {
         let e = parse("# Title\n\nSome words here\nand more words\n", "README.md").unwrap_err();
         let shown = e.to_string();
-        assert!(shown.contains("README.md, line 4: column 1: `and` is not a number"), "{shown}");
-        let e = parse("v f\n0 1\n1 x\n", "bath.dat").unwrap_err().to_string();
+        assert!(
+            shown.contains("README.md, line 4: column 1: `and` is not a number"),
+            "{shown}"
+        );
+        let e = parse("v f\n0 1\n1 x\n", "bath.dat")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("line 3: column 3: `x`"), "{e}");
         let e = parse("0, 1, 2\n", "bath.dat").unwrap_err().to_string();
         assert!(e.contains("line 1: column 7: expected two columns"), "{e}");
-        assert_eq!(parse("v f\n0 1\n1 0 # end\n", "b").unwrap(), vec![(0.0, 1.0), (1.0, 0.0)]);
+        assert_eq!(
+            parse("v f\n0 1\n1 0 # end\n", "b").unwrap(),
+            vec![(0.0, 1.0), (1.0, 0.0)]
+        );
     }
 }
