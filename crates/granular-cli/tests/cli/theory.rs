@@ -7,7 +7,7 @@ use super::{granular, scenarios, tmp};
 use std::path::{Path, PathBuf};
 
 /// Each bundled scenario with the overrides that make it a few seconds long.
-const SHORT: [(&str, &[&str]); 13] = [
+const SHORT: [(&str, &[&str]); 15] = [
     (
         "maxwell-boltzmann",
         &["species.0.count=2000", "stop.collisions_per_particle=150"],
@@ -29,6 +29,8 @@ const SHORT: [(&str, &[&str]); 13] = [
     ("edmd-white-noise", &["stop.collisions_per_particle=40"]),
     ("intruder-1d", &[]),
     ("intruder-needle", &["stop.collisions=500000"]),
+    ("intruder-disk", &[]),
+    ("intruder-sphere", &[]),
     (
         "section32-edmd",
         &[
@@ -224,6 +226,18 @@ fn svg_files(dir: &Path, out: &mut Vec<PathBuf>) {
 #[test]
 fn bundled_scenarios_report_no_false_alarm_and_their_figures_read_right() {
     let base = tmp("theory-bundled");
+    // Every bundled scenario is in the list.
+    let mut bundled: Vec<String> = std::fs::read_dir(scenarios())
+        .unwrap()
+        .filter_map(|e| {
+            let name = e.ok()?.file_name().to_string_lossy().to_string();
+            Some(name.strip_suffix(".toml")?.to_string())
+        })
+        .collect();
+    bundled.sort();
+    let mut listed: Vec<String> = SHORT.iter().map(|(n, _)| n.to_string()).collect();
+    listed.sort();
+    assert_eq!(bundled, listed, "SHORT must list every bundled scenario");
     let mut failures = Vec::new();
     let mut compared = 0;
     for (name, set) in SHORT {
