@@ -224,7 +224,7 @@ where
 fn parse_seed(s: &str) -> Result<u64, String> {
     s.trim()
         .parse::<u64>()
-        .map_err(|_| format!("a seed is a whole number in 0..={} (got `{s}`)", u64::MAX))
+        .map_err(|_| format!("{} (got `{s}`)", granular::scenario::SEED_HELP))
 }
 
 /// `--format`: a trajectory format name.

@@ -141,7 +141,8 @@ impl<'de> Deserialize<'de> for VelocitySpec {
 pub(super) mod seed {
     use super::*;
 
-    const HELP: &str = "a seed is a whole number in 0..=18446744073709551615";
+    /// What a seed may be, in the words of the scenario and the command line (`--seed`).
+    pub const HELP: &str = "a seed is a whole number from 0 to 18446744073709551615 (2^64 - 1)";
 
     struct SeedVisitor;
 

@@ -21,6 +21,7 @@ mod sweep;
 mod tables;
 mod validate;
 
+pub use de::seed::HELP as SEED_HELP;
 pub use driving::{DrivingKind, DrivingSpec};
 pub use file::{MAX_FILE_BYTES, read_text_file};
 pub use intruder::{BathTable, DsmcTwinTable, IntruderSpec, NeedleTable, OneDTable, bath_file};
