@@ -413,8 +413,7 @@ fn load_with(
 /// resumes find it from any working directory), if there is one to make.
 fn bath_file_override(path: &Path, sc: &Scenario) -> Option<String> {
     use granular::scenario::BathTable;
-    let cfg = sc.intruder.as_ref()?.one_d()?;
-    let BathTable::Tabulated { file: Some(f), .. } = &cfg.bath else {
+    let BathTable::Tabulated { file: Some(f), .. } = sc.intruder.as_ref()?.bath()? else {
         return None;
     };
     if Path::new(f).is_absolute() {

@@ -511,6 +511,50 @@ fn a_tabulated_bath_file_out_of_range_is_named() {
     }
 }
 
+/// A text file that is not a table, given as a tabulated bath (issue 37), is refused by
+/// `check` and `run` naming `intruder.bath.file`, the file, its line and its column, for the
+/// 1D intruder (a velocity table) and the disk (a speed table).
+#[test]
+fn a_text_file_given_as_a_bath_names_file_line_and_column() {
+    let dir = tmp("bath-text");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("notes.md"),
+        "# Bath measured on 3 March\n\n0.0 1.0\nthe second run was noisy\n",
+    )
+    .unwrap();
+    for (model, top) in [("1d", ""), ("disk", "dimension = 2\n")] {
+        let scenario = dir.join(format!("{model}.toml"));
+        std::fs::write(
+            &scenario,
+            format!(
+                "engine = \"intruder\"\n{top}[intruder]\nmodel = \"{model}\"\nmass = 1.0\nrestitution = 0.5\n\
+                 bath = {{ kind = \"tabulated\", file = \"notes.md\" }}\n[stop]\ncollisions = 1000\n\
+                 [output]\ninterval = 100.0\n"
+            ),
+        )
+        .unwrap();
+        for args in [&["check"][..], &["run", "--quiet", "--out"][..]] {
+            let mut c = granular();
+            c.args(args);
+            if args[0] == "run" {
+                c.arg(dir.join(format!("run-{model}")));
+            }
+            let out = c.arg(&scenario).output().unwrap();
+            let err = stderr(&out);
+            assert!(
+                out.status.code() == Some(2)
+                    && err.contains("intruder.bath")
+                    && err.contains("notes.md")
+                    && err.contains("line 4")
+                    && err.contains("column 1")
+                    && err.contains("`the` is not a number"),
+                "{model} {args:?}: {err}"
+            );
+        }
+    }
+}
+
 /// `check` prints the pre-flight estimate; a run above a cost limit is refused naming
 /// the key and `--insist`, which lets `check` accept it.
 #[test]
