@@ -1,7 +1,7 @@
 //! What a user sees is right (issue 37): the reports of every bundled scenario (run short)
 //! have no red row, a run compared against a deliberately wrong theory does show red, and
-//! no figure of those runs and reports has two equal adjacent tick labels or an axis without
-//! its quantity and unit.
+//! no figure of those runs and reports, nor of `granular reproduce`, has two equal adjacent
+//! tick labels or an axis without its quantity and unit.
 
 use super::{granular, scenarios, tmp};
 use std::path::{Path, PathBuf};
@@ -267,8 +267,28 @@ fn bundled_scenarios_report_no_false_alarm_and_their_figures_read_right() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+    // The intruder paper's figures as `granular reproduce` draws them (ten times fewer
+    // collisions: the axes and ticks are those of the full runs).
+    let out = granular()
+        .args(["reproduce", "all", "--quick", "--out"])
+        .arg(base.join("reproduce"))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let mut files = Vec::new();
     svg_files(&base, &mut files);
+    assert!(
+        files
+            .iter()
+            .filter(|f| f.starts_with(base.join("reproduce")))
+            .count()
+            >= 7,
+        "reproduce drew too few figures"
+    );
     assert!(files.len() > 50, "{} figures and pages", files.len());
     for f in &files {
         let text = std::fs::read_to_string(f).unwrap();
