@@ -29,6 +29,35 @@ pub struct BenchResult {
     pub collisions_per_second: f64,
     /// Collisions suffered per particle per step, `2 C / (N steps)` (about 0.1 by construction).
     pub collisions_per_particle_step: f64,
+    /// Bytes the engine holds per grain (its records, the sort's scratch column and
+    /// destinations, the cells' offsets: [`DsmcEngine::held_bytes`] over `N`).
+    #[serde(default)]
+    pub bytes_per_grain: f64,
+    /// This machine's copy bandwidth measured right after, bytes read plus bytes written
+    /// per second ([`copy_bandwidth`] of two buffers the size of the grains' records).
+    #[serde(default)]
+    pub copy_bytes_per_second: f64,
+}
+
+/// The bandwidth of a plain copy between two buffers of `bytes` bytes each (STREAM's
+/// "copy"): bytes read plus bytes written per second, the best of `repeats` copies on this
+/// thread (a store to a line not in the cache also reads it, which the count leaves out,
+/// as STREAM does).
+pub fn copy_bandwidth(bytes: usize, repeats: usize) -> f64 {
+    let words = (bytes / 8).max(1);
+    let src: Vec<u64> = (0..words as u64).collect();
+    let mut dst = vec![0u64; words];
+    let mut best = f64::INFINITY;
+    for r in 0..repeats.max(1) {
+        let t = Instant::now();
+        dst.copy_from_slice(&src);
+        best = best.min(t.elapsed().as_secs_f64());
+        // Keeps the copy observable.
+        if dst[r % words] == u64::MAX {
+            best = f64::INFINITY;
+        }
+    }
+    16.0 * words as f64 / best
 }
 
 /// The benchmark set-up: periodic cube of `n` grains at packing fraction 0.01, `T = m = 1`,
@@ -105,6 +134,8 @@ fn run<const D: usize>(n: usize, threads: usize) -> Result<BenchResult, BenchErr
                 coll = (crate::engine::Engine::collisions(&e) - c0) as f64;
             }
         }
+        let held = e.held_bytes() as f64;
+        let copy = copy_bandwidth(16 * D * n, 7);
         Ok(BenchResult {
             dimension: D,
             n,
@@ -114,6 +145,8 @@ fn run<const D: usize>(n: usize, threads: usize) -> Result<BenchResult, BenchErr
             particle_steps_per_second: n as f64 * steps as f64 / seconds,
             collisions_per_second: coll / seconds,
             collisions_per_particle_step: 2.0 * coll / (n as f64 * steps as f64),
+            bytes_per_grain: held / n as f64,
+            copy_bytes_per_second: copy,
         })
     })
 }

@@ -3,11 +3,11 @@
 //! flight, the reductions of the observables, and gathering the whole system back (for
 //! checkpoints and snapshots).
 
+use super::cells::CellIndex;
 use super::collide::Tally;
 use super::domain::{Communicator, Domain, DomainError};
 use super::engine::DsmcEngine;
 use super::grains::Grains;
-use crate::vector::Vector;
 use std::sync::Arc;
 
 impl<const D: usize> DsmcEngine<D> {
@@ -22,13 +22,16 @@ impl<const D: usize> DsmcEngine<D> {
         }
         let domain = Domain::new(comm, &self.grid.dims, self.grains.len())?;
         // The owned cells are one contiguous storage range (sorted by cell).
-        let a = self.start[domain.cells.start] as usize;
-        let b = self.start[domain.cells.end] as usize;
-        self.grains = self.grains.range(a..b);
-        self.cell_of = self.cell_of[a..b].to_vec();
-        for s in self.start.iter_mut() {
-            *s = (*s as usize).clamp(a, b) as u32 - a as u32;
-        }
+        let cells = domain.cells.clone();
+        let a = self.start[cells.start];
+        self.grains = self
+            .grains
+            .range(a as usize..self.start[cells.end] as usize);
+        self.start = self.start[cells.start..=cells.end]
+            .iter()
+            .map(|&s| s - a)
+            .collect();
+        self.dest = Vec::new();
         self.domain = Some(domain);
         Ok(())
     }
@@ -50,51 +53,45 @@ impl<const D: usize> DsmcEngine<D> {
             .map_or(self.grains.len(), |d| d.n_global)
     }
 
-    /// Sends every particle whose cell (`cell_of`, from the free flight) belongs to another
-    /// rank to that rank, and takes in the arrivals: in the order of the source ranks, this
-    /// rank's own particles at its own place, so that the ranks' arrays put end to end stay
-    /// in the whole engine's order. `cell_of` must be recomputed afterwards (the sort does).
-    pub(super) fn migrate(&mut self) {
+    /// Moves the slab cuts when the balance asks (see `rebalance`), then sends every grain
+    /// whose new cell (`dest`, from the free flight) belongs to another rank to that rank
+    /// (packed records, in storage order), and returns the records that arrived (packed,
+    /// from the lower ranks in rank order, then from the higher ranks), their cells, and
+    /// how many came from lower ranks. The sort then puts every grain in the whole
+    /// engine's order. Not decomposed: nothing moves.
+    pub(super) fn exchange_leavers(&mut self) -> (Vec<f64>, Vec<u32>, usize) {
         self.rebalance();
         let Some(domain) = self.domain.as_ref() else {
-            return;
+            return (Vec::new(), Vec::new(), 0);
         };
         let (me, k) = (domain.rank(), domain.size());
-        let g = &mut self.grains;
+        let g = &self.grains;
         let mut out: Vec<Vec<f64>> = vec![Vec::new(); k];
-        let mut kept = 0;
-        for i in 0..g.len() {
-            let q = domain.owner(self.cell_of[i]);
-            if q == me {
-                g.copy(i, kept);
-                kept += 1;
-                continue;
+        for (i, &c) in self.dest.iter().enumerate() {
+            let q = domain.owner(c);
+            if q != me {
+                g.pack(i, &mut out[q]);
             }
-            g.pack(i, &mut out[q]);
         }
         let w = g.words();
-        let sent: usize = out.iter().map(|v| v.len() / w).sum();
-        let incoming = domain.exchange(out);
-        let arrivals: usize = incoming.iter().map(|v| v.len() / w).sum();
-        let total = kept + arrivals;
-        domain.hold(kept + sent + arrivals);
+        let mut incoming = domain.exchange(out);
+        let arriving: usize = incoming.iter().map(|v| v.len() / w).sum();
+        // The peak: every grain of the step (the leavers are still in the columns until the
+        // sort) and the arrivals.
+        domain.hold(g.len() + arriving);
         let before: usize = incoming[..me].iter().map(|v| v.len() / w).sum();
-        // Own particles move up behind the arrivals from lower ranks.
-        g.resize(total.max(g.len()));
-        g.copy_within(0..kept, before);
-        let mut slot = 0;
-        for (q, words) in incoming.iter().enumerate() {
-            if q == me {
-                slot += kept;
-                continue;
-            }
-            for r in words.chunks_exact(w) {
-                g.set_packed(slot, r);
-                slot += 1;
-            }
-        }
-        g.truncate(total);
-        self.cell_of.resize(total, 0);
+        let arrivals: Vec<f64> = incoming
+            .iter_mut()
+            .enumerate()
+            .filter(|&(q, _)| q != me)
+            .flat_map(|(_, v)| std::mem::take(v))
+            .collect();
+        let index = CellIndex::new(&self.grid, g.lattice());
+        let cells = arrivals
+            .chunks_exact(w)
+            .map(|r| index.of(&std::array::from_fn(|k| r[k].to_bits())))
+            .collect();
+        (arrivals, cells, before)
     }
 
     /// Every `balance.every` steps, moves the slab cuts to the grains (collective; see
@@ -115,7 +112,7 @@ impl<const D: usize> DsmcEngine<D> {
         }
         let planes = domain.own_planes();
         let mut counts = vec![0u64; planes.len()];
-        for &c in &self.cell_of {
+        for &c in &self.dest {
             let p = domain.plane(c);
             if planes.contains(&p) {
                 counts[p - planes.start] += 1;
@@ -152,41 +149,6 @@ impl<const D: usize> DsmcEngine<D> {
             tc_elastic: s[3],
             impact: s[4..].to_vec(),
         }
-    }
-
-    /// The mean velocity over all ranks, bit-identical to the whole engine's chunked sum.
-    pub(super) fn mean_velocity_decomposed(&self, domain: &Domain) -> Vector<D> {
-        let g = &self.grains;
-        let s = domain.ordered_fold::<D, D>(
-            g.len(),
-            |i| g.velocity(i).0,
-            |a, v| *a = (Vector(*a) + Vector(*v)).0,
-            |a, v| *a = (Vector(*a) + Vector(*v)).0,
-        );
-        Vector(s) * (1.0 / domain.n_global as f64)
-    }
-
-    /// `(sum c^2, sum c^4)` of the peculiar velocity over all ranks, as the whole engine.
-    pub(super) fn peculiar_sums_decomposed(&self, domain: &Domain, u: Vector<D>) -> (f64, f64) {
-        let g = &self.grains;
-        let [s2, s4] = domain.ordered_fold::<1, 2>(
-            g.len(),
-            |i| [(g.velocity(i) - u).norm_squared()],
-            |a, &[c2]| *a = [a[0] + c2, a[1] + c2 * c2],
-            |a, x| *a = [a[0] + x[0], a[1] + x[1]],
-        );
-        (s2, s4)
-    }
-
-    /// `sum |v|^2` over all ranks, as the whole engine.
-    pub(super) fn speed_squares_decomposed(&self, domain: &Domain) -> f64 {
-        let g = &self.grains;
-        domain.ordered_fold::<1, 1>(
-            g.len(),
-            |i| [g.velocity(i).norm_squared()],
-            |a, x| a[0] += x[0],
-            |a, x| a[0] += x[0],
-        )[0]
     }
 
     /// The smallest id of a particle with a non-finite velocity on any rank.
@@ -232,16 +194,16 @@ impl<const D: usize> DsmcEngine<D> {
         let mut whole = self.clone();
         whole.domain = None;
         let n = domain.n_global;
-        whole.grains = Grains::with_capacity(n, g.has_collision_times());
+        whole.grains = Grains::with_capacity(*g.lattice(), n, g.has_collision_times());
         for r in parts.iter().flat_map(|p| p.chunks_exact(w)) {
             whole.grains.push_packed(r);
         }
-        whole.cell_of = vec![0; n];
+        whole.dest = Vec::new();
         // The cells' storage ranges of the last sort: each rank's owned cells, shifted by
         // the particles of the ranks before it (positions may have left their cell since,
         // with consistent-Boltzmann advection, so they are not re-sorted).
         let bounds = domain.all_gather(
-            &self.start[domain.cells.clone()]
+            &self.start[..self.start.len() - 1]
                 .iter()
                 .map(|&s| s as f64)
                 .collect::<Vec<_>>(),

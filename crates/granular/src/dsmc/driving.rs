@@ -5,11 +5,9 @@
 //! bit-identical for any number of threads or ranks.
 
 use super::engine::DsmcEngine;
-use super::sums::SUM_CHUNK;
 use crate::driving::{Driving, DrivingState, KICKS, rescale_factor};
 use crate::random::{std_normal, stream};
 use crate::vector::Vector;
-use rayon::prelude::*;
 
 impl<const D: usize> DsmcEngine<D> {
     /// Attaches a steady-state driving from now on (replacing any earlier one); its energy
@@ -34,33 +32,30 @@ impl<const D: usize> DsmcEngine<D> {
             Driving::Rescale { temperature } => {
                 let u = self.mean_velocity();
                 let lambda = rescale_factor(temperature, self.temperature());
-                self.grains
-                    .vel
-                    .par_iter_mut()
-                    .for_each(|v| *v = u + (*v - u) * lambda);
+                self.grains.update_velocities(|_, v| u + (v - u) * lambda);
             }
             Driving::WhiteNoise { strength } => {
                 let width = (strength * dt).sqrt();
                 let (seed, k) = (self.seed, state.applications);
-                let kicks: Vec<Vector<D>> = self
-                    .grains
-                    .ids
-                    .par_iter()
-                    .map(|&id| {
-                        let mut rng = stream(seed, &[KICKS, k, u64::from(id)]);
-                        let mut v = Vector::<D>::zero();
-                        for c in 0..D {
-                            v[c] = width * std_normal(&mut rng);
-                        }
-                        v
-                    })
-                    .collect();
-                let mean = self.ordered_mean(&kicks);
-                self.grains
-                    .vel
-                    .par_iter_mut()
-                    .zip(kicks.par_iter())
-                    .for_each(|(v, kick)| *v += *kick - mean);
+                // Each grain's kick comes from its own stream, drawn twice (for the mean,
+                // then to apply it) rather than stored: no per-grain buffer.
+                let kick = |id: u32| {
+                    let mut rng = stream(seed, &[KICKS, k, u64::from(id)]);
+                    let mut v = Vector::<D>::zero();
+                    for c in 0..D {
+                        v[c] = width * std_normal(&mut rng);
+                    }
+                    v
+                };
+                let g = &self.grains;
+                let add = |a: &mut [f64; D], x: &[f64; D]| {
+                    for (a, x) in a.iter_mut().zip(x) {
+                        *a += x;
+                    }
+                };
+                let sum = self.ordered_fold::<D, D>(|i| kick(g.id(i)).0, add, add);
+                let mean = Vector(sum) * (1.0 / self.n_global() as f64);
+                self.grains.update_velocities(|id, v| v + kick(id) - mean);
             }
         }
         let after = self.kinetic_energy_now();
@@ -68,26 +63,5 @@ impl<const D: usize> DsmcEngine<D> {
             s.applications += 1;
             s.injected_energy += after - before;
         }
-    }
-
-    /// The mean of one vector per stored grain, summed as [`DsmcEngine::mean_velocity`]:
-    /// fixed chunks of [`SUM_CHUNK`] in storage order (over all ranks when decomposed).
-    fn ordered_mean(&self, x: &[Vector<D>]) -> Vector<D> {
-        if let Some(d) = &self.domain {
-            let s = d.ordered_fold::<D, D>(
-                x.len(),
-                |i| x[i].0,
-                |a, v| *a = (Vector(*a) + Vector(*v)).0,
-                |a, v| *a = (Vector(*a) + Vector(*v)).0,
-            );
-            return Vector(s) * (1.0 / d.n_global as f64);
-        }
-        let s = x
-            .par_chunks(SUM_CHUNK)
-            .map(|c| c.iter().fold(Vector::zero(), |a, v| a + *v))
-            .collect::<Vec<_>>()
-            .into_iter()
-            .fold(Vector::zero(), |a, v| a + v);
-        s * (1.0 / x.len() as f64)
     }
 }

@@ -1,11 +1,11 @@
 //! The DSMC engine: operator splitting of free flight and stochastic collisions.
 
-use super::cells::{CellGrid, Permutation, cell_starts, counting_sort, gather, scatter1, scatter3};
-use super::collide::{StepParams, Tally, collide_group};
-use super::config::{DensityScope, DsmcConfig};
-use super::flight::Flight;
+use super::cells::CellGrid;
+use super::collide::Tally;
+use super::config::DsmcConfig;
 use super::grains::Grains;
 use super::guards::{self, ValidityWarning};
+use super::lattice::Lattice;
 use super::observables::{self, DensityMap, StructureFactor};
 use super::sums::SUM_CHUNK;
 use crate::boundary::SimulationBox;
@@ -16,11 +16,11 @@ use crate::stats::Histogram;
 use crate::theory::haff;
 use crate::vector::Vector;
 use rand_distr::{Distribution, StandardNormal};
-use rayon::prelude::*;
 
 mod as_engine;
 mod moments;
 mod slab;
+mod step;
 pub use slab::UniformGas;
 
 /// Why a DSMC engine could not be built.
@@ -53,20 +53,14 @@ pub struct DsmcEngine<const D: usize> {
     chi_global: f64,
     /// The grains' records, sorted by cell (see `cells`).
     pub(super) grains: Grains<D>,
-    pub(super) cell_of: Vec<u32>,
+    /// The first storage slot of each owned cell (the cells of this rank's slab when
+    /// decomposed, relative to its first cell; every cell otherwise), then the number of
+    /// grains: cell `c` holds `start[c] .. start[c + 1]`.
     pub(super) start: Vec<u32>,
-    // Scratch buffers of the sort, kept between steps (no page faults per step); not part
-    // of the state, so not written to checkpoints.
+    /// Each grain's new cell after the free flight, then its slot in the sort (scratch of
+    /// the step, kept between steps; not part of the state).
     #[serde(skip)]
-    perm: Permutation,
-    #[serde(skip)]
-    scratch_vec: Vec<Vector<D>>,
-    #[serde(skip)]
-    scratch_vel: Vec<Vector<D>>,
-    #[serde(skip)]
-    scratch_ids: Vec<u32>,
-    #[serde(skip)]
-    scratch_last: Vec<f64>,
+    pub(super) dest: Vec<u32>,
     time: f64,
     steps: u64,
     pub(super) tally: Tally,
@@ -245,7 +239,8 @@ impl<const D: usize> DsmcEngine<D> {
     ) -> Self {
         let n = pos.len();
         let n_global = domain.as_ref().map_or(n, |d| d.n_global);
-        let grains = Grains::from_parts(pos, vel, ids, config.law.has_tc());
+        let grains = Grains::from_parts(derived.lattice, &pos, &vel, &ids, config.law.has_tc());
+        drop((pos, vel, ids));
         let mut engine = Self {
             tally: Tally {
                 impact: vec![0; config.impact_bins],
@@ -261,13 +256,8 @@ impl<const D: usize> DsmcEngine<D> {
             gravity: derived.gravity,
             chi_global: derived.chi_global,
             grains,
-            cell_of: vec![0; n],
             start: Vec::new(),
-            perm: Permutation::default(),
-            scratch_vec: vec![Vector::zero(); n],
-            scratch_vel: Vec::new(),
-            scratch_ids: vec![0; n],
-            scratch_last: Vec::new(),
+            dest: Vec::new(),
             time: 0.0,
             steps: 0,
             species: super::setup::SpeciesTable::one(&default_species_name(), n_global),
@@ -275,7 +265,7 @@ impl<const D: usize> DsmcEngine<D> {
             domain,
             driving: None,
         };
-        engine.sort_by_cell(None);
+        engine.sort_in_place();
         engine.validity = engine.check_validity();
         engine
     }
@@ -304,14 +294,9 @@ impl<const D: usize> DsmcEngine<D> {
             tau: self.tau,
             gravity: self.gravity,
             chi_global: self.chi_global,
-            grains: Grains::new(self.grains.has_collision_times()),
-            cell_of: Vec::new(),
+            grains: Grains::new(*self.grains.lattice(), self.grains.has_collision_times()),
             start: Vec::new(),
-            perm: Default::default(),
-            scratch_vec: Vec::new(),
-            scratch_vel: Vec::new(),
-            scratch_ids: Vec::new(),
-            scratch_last: Vec::new(),
+            dest: Vec::new(),
             time: self.time,
             steps: self.steps,
             tally: self.tally.clone(),
@@ -398,6 +383,14 @@ impl<const D: usize> DsmcEngine<D> {
     /// How often a candidate's relative speed exceeded the current `v_max`.
     pub fn vmax_exceeded(&self) -> u64 {
         self.tally.vmax_exceeded
+    }
+
+    /// Bytes this engine (this rank's share, when decomposed) holds for its grains and
+    /// cells, from the capacities of its buffers: the grains' records and the sort's
+    /// scratch column ([`Grains::bytes`]), each grain's destination of the step (4 bytes)
+    /// and the owned cells' offsets (4 bytes a cell).
+    pub fn held_bytes(&self) -> usize {
+        self.grains.bytes() + 4 * self.dest.capacity() + 4 * self.start.capacity()
     }
 
     /// Positions in storage (cell) order (a copy).
@@ -511,204 +504,6 @@ impl<const D: usize> DsmcEngine<D> {
             self.tau = tau;
         }
     }
-
-    /// One time step of length `dt`: free flight with gravity and walls, counting sort by
-    /// cell, collisions cell by cell.
-    pub fn step(&mut self, dt: f64) {
-        let threads = rayon::current_num_threads().max(1);
-        let n = self.grains.pos.len();
-        let chunk = n.div_ceil(threads).max(1);
-        let cells = self.grid.len();
-        // 1. Free flight (analytic under constant acceleration), walls, cell index.
-        let flight = Flight {
-            bx: &self.sim_box,
-            grid: &self.grid,
-            law: &self.config.law,
-            gravity: self.gravity,
-            dt,
-            t_end: self.time + dt,
-        };
-        let moved: Vec<(Vec<u32>, u64)> = if self.grains.last.is_empty() {
-            self.grains
-                .pos
-                .par_chunks_mut(chunk)
-                .zip(self.grains.vel.par_chunks_mut(chunk))
-                .zip(self.cell_of.par_chunks_mut(chunk))
-                .map(|((p, v), c)| flight.fly(p, v, c, &mut []))
-                .collect()
-        } else {
-            self.grains
-                .pos
-                .par_chunks_mut(chunk)
-                .zip(self.grains.vel.par_chunks_mut(chunk))
-                .zip(self.cell_of.par_chunks_mut(chunk))
-                .zip(self.grains.last.par_chunks_mut(chunk))
-                .map(|(((p, v), c), l)| flight.fly(p, v, c, l))
-                .collect()
-        };
-        let mut counts = Vec::with_capacity(moved.len());
-        let mut step_tally = Tally::default();
-        for (cnt, tc) in moved {
-            counts.push(cnt);
-            step_tally.tc_elastic += tc;
-        }
-        self.time += dt;
-        if self.domain.is_some() {
-            // Decomposed: particles change rank, then the cells are recounted.
-            self.migrate();
-            self.sort_by_cell(None);
-        } else {
-            self.sort_by_cell(Some((chunk, counts)));
-        }
-        // 2. Collisions.
-        let global_vmax = match self.config.vmax_mode {
-            super::config::VmaxMode::Global => {
-                let u = self.mean_velocity();
-                let m2 = self
-                    .grains
-                    .vel
-                    .par_chunks(SUM_CHUNK)
-                    .map(|c| {
-                        c.iter()
-                            .map(|v| (*v - u).norm_squared())
-                            .fold(0.0, f64::max)
-                    })
-                    .reduce(|| 0.0, f64::max);
-                2.0 * self.max_over_ranks(m2).sqrt()
-            }
-            super::config::VmaxMode::Cell => 0.0,
-        };
-        let params = StepParams {
-            seed: self.seed,
-            step: self.steps,
-            time: self.time,
-            dt,
-            sigma: haff::cross_section(D, self.radius),
-            radius: self.radius,
-            cell_volume: self.grid.volume,
-            law: self.config.law.clone(),
-            vmax_mode: self.config.vmax_mode,
-            global_vmax,
-            enskog_global: (self.config.enskog
-                && self.config.density_scope == DensityScope::Global)
-                .then_some(self.chi_global),
-            enskog_local: self.config.enskog && self.config.density_scope == DensityScope::Cell,
-            free_volume: self.config.free_volume,
-            grain_volume: haff::grain_volume(D, self.radius),
-            nu_rcp: haff::random_close_packing(D),
-            consistent_boltzmann: self.config.consistent_boltzmann,
-            impact_bins: self.config.impact_bins,
-            lengths: self.sim_box.lengths.0.to_vec(),
-            periodic: (0..D).map(|k| self.sim_box.is_periodic(k)).collect(),
-        };
-        // Groups of consecutive cells with about `target` particles each; the grouping
-        // does not change the result (every cell has its own random stream).
-        let target = (n / (8 * threads)).clamp(256, 1 << 16);
-        let mut groups: Vec<(usize, usize)> = Vec::new(); // (first cell, end cell)
-        let mut c0 = 0;
-        while c0 < cells {
-            let mut c1 = c0 + 1;
-            while c1 < cells && (self.start[c1] - self.start[c0]) < target as u32 {
-                c1 += 1;
-            }
-            groups.push((c0, c1));
-            c0 = c1;
-        }
-        let mut jobs = Vec::with_capacity(groups.len());
-        let mut rest_p = &mut self.grains.pos[..];
-        let mut rest_v = &mut self.grains.vel[..];
-        let mut rest_l = &mut self.grains.last[..];
-        let tc = !rest_l.is_empty();
-        for &(a, b) in &groups {
-            let len = (self.start[b] - self.start[a]) as usize;
-            let (p, rp) = rest_p.split_at_mut(len);
-            let (v, rv) = rest_v.split_at_mut(len);
-            rest_p = rp;
-            rest_v = rv;
-            let l = if tc {
-                let (l, rl) = rest_l.split_at_mut(len);
-                rest_l = rl;
-                l
-            } else {
-                &mut [][..]
-            };
-            jobs.push((a, &self.start[a..=b], p, v, l));
-        }
-        let tallies: Vec<Tally> = jobs
-            .into_par_iter()
-            .map(|(a, bounds, p, v, l)| collide_group(&params, a, bounds, p, v, l))
-            .collect();
-        for t in &tallies {
-            step_tally.add(t);
-        }
-        self.tally.add(&self.reduce_tally(step_tally));
-        self.steps += 1;
-    }
-
-    /// Re-sorts the arrays by cell. `counts`: per-chunk occupations from the move stage;
-    /// `None` recomputes the cell indices sequentially (construction).
-    fn sort_by_cell(&mut self, counts: Option<(usize, Vec<Vec<u32>>)>) {
-        let cells = self.grid.len();
-        let n = self.grains.pos.len();
-        let (chunk, counts) = match counts {
-            Some(c) => c,
-            None => {
-                let mut cnt = vec![0u32; cells];
-                for (x, c) in self.grains.pos.iter().zip(self.cell_of.iter_mut()) {
-                    *c = self.grid.index(&x.0);
-                    cnt[*c as usize] += 1;
-                }
-                (n, vec![cnt])
-            }
-        };
-        // Scratch buffers are empty after a checkpoint restore.
-        self.scratch_vec.resize(n, Vector::zero());
-        self.scratch_ids.resize(n, 0);
-        if counts.len() == 1 {
-            // One chunk (one thread, construction, a rank's re-sort): scatter directly.
-            let start = cell_starts(&counts[0]);
-            self.scratch_vel.resize(n, Vector::zero());
-            scatter3(
-                &self.cell_of,
-                &start,
-                (&self.grains.pos, &self.grains.vel, &self.grains.ids),
-                (
-                    &mut self.scratch_vec,
-                    &mut self.scratch_vel,
-                    &mut self.scratch_ids,
-                ),
-            );
-            std::mem::swap(&mut self.grains.pos, &mut self.scratch_vec);
-            std::mem::swap(&mut self.grains.vel, &mut self.scratch_vel);
-            std::mem::swap(&mut self.grains.ids, &mut self.scratch_ids);
-            if !self.grains.last.is_empty() {
-                self.scratch_last.resize(n, 0.0);
-                scatter1(
-                    &self.cell_of,
-                    &start,
-                    &self.grains.last,
-                    &mut self.scratch_last,
-                );
-                std::mem::swap(&mut self.grains.last, &mut self.scratch_last);
-            }
-            self.start = start;
-            return;
-        }
-        let start = counting_sort(&self.cell_of, chunk, counts, cells, &mut self.perm);
-        let perm = &self.perm.0;
-        gather(&self.grains.pos, perm, &mut self.scratch_vec);
-        std::mem::swap(&mut self.grains.pos, &mut self.scratch_vec);
-        gather(&self.grains.vel, perm, &mut self.scratch_vec);
-        std::mem::swap(&mut self.grains.vel, &mut self.scratch_vec);
-        gather(&self.grains.ids, perm, &mut self.scratch_ids);
-        std::mem::swap(&mut self.grains.ids, &mut self.scratch_ids);
-        if !self.grains.last.is_empty() {
-            self.scratch_last.resize(n, 0.0);
-            gather(&self.grains.last, perm, &mut self.scratch_last);
-            std::mem::swap(&mut self.grains.last, &mut self.scratch_last);
-        }
-        self.start = start;
-    }
 }
 
 /// Rejects restitutions outside `[0, 1]` and a negative or non-finite contact duration.
@@ -748,6 +543,8 @@ pub(super) struct Derived<const D: usize> {
     chi_global: f64,
     tau: f64,
     pub(super) grid: CellGrid<D>,
+    /// The lattice of the positions (box and number of grains).
+    pub(super) lattice: Lattice<D>,
 }
 
 impl<const D: usize> Derived<D> {
@@ -766,8 +563,11 @@ impl<const D: usize> Derived<D> {
         if D != 2 && D != 3 {
             return bad(format!("dimension {D} is not supported (2 or 3)"));
         }
-        if n == 0 || n >= u32::MAX as usize {
-            return bad(format!("{n} particles (between 1 and 2^32 - 2)"));
+        if n == 0 || n > u32::MAX as usize {
+            return bad(format!(
+                "{n} grains: the DSMC engine holds from 1 to 4 294 967 295 grains (2^32 - 1: \
+                 grain identities are 32 bits) per run"
+            ));
         }
         if !positive(radius) || !positive(mass) {
             return bad(format!("radius {radius} and mass {mass} must be > 0"));
@@ -822,6 +622,7 @@ impl<const D: usize> Derived<D> {
             chi_global,
             tau,
             grid,
+            lattice: Lattice::new(sim_box, n),
         })
     }
 

@@ -1,16 +1,31 @@
 //! The free-flight stage of a DSMC step: every grain moves exactly under a constant
 //! acceleration, and hard walls apply the shared wall law (HD-3, HD-4 with the TC rule of
 //! [`crate::collision_law`]); periodic axes wrap.
+//!
+//! Positions are lattice words ([`Lattice`]): the displacement `v dt + g dt^2 / 2` of a
+//! step is converted to lattice units (truncated towards zero, at most one unit of
+//! `L / 2^(64 - b)`, see `lattice`) and added as an integer, so a periodic axis wraps
+//! by the integer addition itself and the new cell comes from the words. Along a walled
+//! axis a word above `2^63` means the grain crossed a wall; only such grains (and a grain
+//! moving more than a quarter of the box in one step) take the `f64` path that applies the
+//! wall law and converts back.
 
-use super::cells::{CellGrid, CellLookup};
+use super::cells::CellIndex;
+use super::grains::Columns;
+use super::lattice::{Lattice, WALL_END, axis_cell};
 use crate::boundary::{AxisKind, SimulationBox};
 use crate::collision_law::CollisionLaw;
 use crate::vector::Vector;
 
+/// Largest displacement (in lattice units of the whole word) of the integer path: a
+/// quarter of a periodic box, half of a walled one.
+const LIMIT: f64 = (1u64 << 62) as f64;
+
 /// What the free flight of one step needs (the same for every grain).
 pub(crate) struct Flight<'a, const D: usize> {
     pub(crate) bx: &'a SimulationBox<D>,
-    pub(crate) grid: &'a CellGrid<D>,
+    pub(crate) lattice: &'a Lattice<D>,
+    pub(crate) cells: CellIndex<D>,
     pub(crate) law: &'a CollisionLaw,
     pub(crate) gravity: Vector<D>,
     /// Length of the step (time units).
@@ -20,91 +35,190 @@ pub(crate) struct Flight<'a, const D: usize> {
 }
 
 impl<const D: usize> Flight<'_, D> {
-    /// Moves one chunk of grains (positions `p`, velocities `v`, last collision times `l`,
-    /// empty without the TC model), records their cells in `c`: the chunk's cell
-    /// occupations and its count of wall collisions made elastic by the TC rule.
-    pub(crate) fn fly(
-        &self,
-        p: &mut [Vector<D>],
-        v: &mut [Vector<D>],
-        c: &mut [u32],
-        l: &mut [f64],
-    ) -> (Vec<u32>, u64) {
-        if self.bx.axes.iter().all(|&a| a == AxisKind::Periodic) {
-            return (self.fly_periodic(p, v, c), 0);
-        }
-        let (g, dt) = (self.gravity, self.dt);
-        let mut cnt = vec![0u32; self.grid.len()];
-        let mut tc_elastic = 0;
-        for (k, ((x, u), ci)) in p.iter_mut().zip(v.iter_mut()).zip(c.iter_mut()).enumerate() {
-            *x = x.add_scaled(dt, u).add_scaled(0.5 * dt * dt, &g);
-            *u = u.add_scaled(dt, &g);
-            let last = l.get_mut(k);
-            self.confine(x, u, last, &mut tc_elastic);
-            let cell = self.grid.index(&x.0);
-            *ci = cell;
-            cnt[cell as usize] += 1;
-        }
-        (cnt, tc_elastic)
-    }
-
-    /// [`Self::fly`] in a box periodic along every axis (no walls, so the collision
-    /// times of the TC rule are untouched): the same arithmetic as the general path,
-    /// without its per-axis dispatch. Without gravity the velocities are not written
-    /// back (`u + dt * 0` is `u`, up to the sign of an exact zero component, which no
-    /// result depends on), which saves a store stream.
-    fn fly_periodic(&self, p: &mut [Vector<D>], v: &mut [Vector<D>], c: &mut [u32]) -> Vec<u32> {
-        if self.gravity.0.iter().any(|&a| a != 0.0) {
-            self.fly_periodic_with::<true>(p, v, c)
-        } else {
-            self.fly_periodic_with::<false>(p, v, c)
+    /// Moves the grains of `cols` (the last collision times are used only by wall hits
+    /// with the TC model) and writes their new cells into `dest`: returns the number of
+    /// wall collisions made elastic by the TC rule.
+    pub(crate) fn fly(&self, cols: &mut Columns<'_, D>, dest: &mut [u32]) -> u64 {
+        let accelerated = self.gravity.0.iter().any(|&a| a != 0.0);
+        let walls = self.bx.axes.contains(&AxisKind::Wall);
+        match (accelerated, walls) {
+            (false, false) => self.fly_with::<false, false>(cols, dest),
+            (true, false) => self.fly_with::<true, false>(cols, dest),
+            (false, true) => self.fly_with::<false, true>(cols, dest),
+            (true, true) => self.fly_with::<true, true>(cols, dest),
         }
     }
 
-    /// [`Self::fly_periodic`] with the presence of gravity fixed at compile time.
+    /// [`Self::fly`] with the presence of gravity and of walls fixed at compile time.
+    ///
+    /// One axis at a time over the whole chunk (the per-axis constants stay in registers
+    /// and each loop streams through two columns): the integer step of every grain, its
+    /// cell coordinate added into `dest`, and the largest `|step|` of the axis. A chunk
+    /// with a step beyond [`LIMIT`] (a grain crossing a quarter of the box in one step, or
+    /// an infinite velocity) is undone and flown grain by grain; a grain that crossed a
+    /// wall is undone and flown in `f64` ([`Self::fly_exactly`]). Without gravity the
+    /// velocities are not written (a store stream saved).
     #[inline(always)]
-    fn fly_periodic_with<const ACCELERATED: bool>(
+    #[allow(clippy::needless_range_loop)] // grain by grain over several columns
+    fn fly_with<const ACCELERATED: bool, const WALLS: bool>(
         &self,
-        p: &mut [Vector<D>],
-        v: &mut [Vector<D>],
-        c: &mut [u32],
-    ) -> Vec<u32> {
-        let (g, dt) = (self.gravity, self.dt);
-        let lengths = self.bx.lengths.0;
-        // For `y >= 0` (not a negative zero) the bit patterns order like the values, and
-        // a negative number, a negative zero or NaN has a pattern above `L`'s: so
-        // `bits(y) >= bits(L)` holds whenever `y >= L || y < 0` does (the wrap's test),
-        // and for a few more values (-0.0, NaN) that the exact test below leaves alone.
-        let length_bits = lengths.map(f64::to_bits);
-        let cells = CellLookup::new(self.grid);
-        let mut cnt = vec![0u32; self.grid.len()];
-        for ((x, u), ci) in p.iter_mut().zip(v.iter_mut()).zip(c.iter_mut()) {
-            let mut y = x.add_scaled(dt, u).add_scaled(0.5 * dt * dt, &g);
-            if ACCELERATED {
-                *u = u.add_scaled(dt, &g);
-            }
-            let mut out = false;
-            for (&yk, &lb) in y.0.iter().zip(&length_bits) {
-                out |= yk.to_bits() >= lb;
-            }
-            if out {
-                for (yk, &l) in y.0.iter_mut().zip(&lengths) {
-                    if *yk >= l || *yk < 0.0 {
-                        *yk = yk.rem_euclid(l);
-                        if *yk >= l {
-                            *yk = 0.0;
-                        }
-                    }
+        cols: &mut Columns<'_, D>,
+        dest: &mut [u32],
+    ) -> u64 {
+        let n = dest.len();
+        let plan = self.plan();
+        let mut largest = 0.0f64;
+        let mut crossed: Vec<usize> = Vec::new();
+        for k in 0..D {
+            let vel = &cols.vel[k][..n];
+            let pos = &mut cols.pos[k][..n];
+            let (scale, drop, mask) = (plan.scale[k], plan.drop[k], plan.mask);
+            let (mult, last, stride) = (plan.mult[k], plan.last[k], plan.stride[k]);
+            let walled = WALLS && plan.walled[k];
+            let mut m = 0.0f64;
+            for (i, ((&v, w), c)) in vel
+                .iter()
+                .zip(pos.iter_mut())
+                .zip(dest.iter_mut())
+                .enumerate()
+            {
+                let mut d = v * scale;
+                if ACCELERATED {
+                    d += drop;
+                }
+                let a = d.abs();
+                m = if a > m { a } else { m };
+                // Exact truncation when |d| < 2^63 (else saturated, and the chunk is
+                // redone below); the identity bits of the step cleared.
+                let step = (d as i64 as u64) & mask;
+                let x = w.wrapping_add(step);
+                *w = x;
+                let cell = axis_cell(x & mask, mult, last) as u32 * stride;
+                *c = if k == 0 { cell } else { *c + cell };
+                if walled && x > WALL_END {
+                    crossed.push(i);
                 }
             }
-            *x = y;
-            let cell = cells.index(&y.0);
-            *ci = cell;
-            if let Some(k) = cnt.get_mut(cell as usize) {
-                *k += 1;
+            largest = largest.max(m);
+        }
+        let mut tc_elastic = 0;
+        if largest >= LIMIT {
+            // Undo every step, then fly grain by grain.
+            for i in 0..n {
+                self.undo(cols, i);
+            }
+            for i in 0..n {
+                let fast = (0..D).all(|k| (self.step_of(&plan, cols.vel[k][i], k).1) < LIMIT);
+                if fast && !self.crosses_a_wall(&plan, cols, i) {
+                    for k in 0..D {
+                        let (step, _) = self.step_of(&plan, cols.vel[k][i], k);
+                        cols.pos[k][i] = cols.pos[k][i].wrapping_add(step);
+                        if ACCELERATED {
+                            cols.vel[k][i] += self.gravity[k] * self.dt;
+                        }
+                    }
+                } else {
+                    self.fly_exactly(cols, i, &mut tc_elastic);
+                }
+                dest[i] = self.cells.of(&std::array::from_fn(|k| cols.pos[k][i]));
+            }
+            return tc_elastic;
+        }
+        crossed.sort_unstable();
+        crossed.dedup();
+        for &i in &crossed {
+            self.undo(cols, i);
+            self.fly_exactly(cols, i, &mut tc_elastic);
+            dest[i] = self.cells.of(&std::array::from_fn(|k| cols.pos[k][i]));
+        }
+        if ACCELERATED {
+            // The velocities of the grains flown exactly are already updated.
+            let mut from = 0;
+            for &i in crossed.iter().chain(std::iter::once(&n)) {
+                for k in 0..D {
+                    let g = self.gravity[k] * self.dt;
+                    for v in &mut cols.vel[k][from..i] {
+                        *v += g;
+                    }
+                }
+                from = i + 1;
             }
         }
-        cnt
+        tc_elastic
+    }
+
+    /// The per-axis constants of the integer flight.
+    fn plan(&self) -> Plan<D> {
+        let dt = self.dt;
+        let mut plan = Plan {
+            scale: [0.0; D],
+            drop: [0.0; D],
+            walled: [false; D],
+            mask: self.lattice.position_mask(),
+            mult: [0; D],
+            last: [0; D],
+            stride: [0; D],
+        };
+        let (mult, last, stride) = self.cells.axes();
+        for k in 0..D {
+            plan.scale[k] = self.lattice.units(k) / self.lattice.length(k) * dt;
+            plan.drop[k] = 0.5 * self.gravity[k] * dt * plan.scale[k];
+            plan.walled[k] = !self.lattice.periodic(k);
+            plan.mult[k] = mult[k];
+            plan.last[k] = last[k];
+            plan.stride[k] = stride[k] as u32;
+        }
+        plan
+    }
+
+    /// The integer step of velocity component `v` along axis `k` and `|d|` (lattice units).
+    #[inline]
+    fn step_of(&self, plan: &Plan<D>, v: f64, k: usize) -> (u64, f64) {
+        let mut d = v * plan.scale[k];
+        if self.gravity[k] != 0.0 {
+            d += plan.drop[k];
+        }
+        ((d as i64 as u64) & plan.mask, d.abs())
+    }
+
+    /// Takes back the integer steps of grain `i` on every axis (the velocity is not yet
+    /// changed, so the steps are recomputed exactly).
+    fn undo(&self, cols: &mut Columns<'_, D>, i: usize) {
+        let plan = self.plan();
+        for k in 0..D {
+            let (step, _) = self.step_of(&plan, cols.vel[k][i], k);
+            cols.pos[k][i] = cols.pos[k][i].wrapping_sub(step);
+        }
+    }
+
+    /// Whether grain `i`'s integer step takes it through a wall.
+    fn crosses_a_wall(&self, plan: &Plan<D>, cols: &Columns<'_, D>, i: usize) -> bool {
+        (0..D).any(|k| {
+            plan.walled[k]
+                && cols.pos[k][i].wrapping_add(self.step_of(plan, cols.vel[k][i], k).0) > WALL_END
+        })
+    }
+
+    /// The flight of grain `i` in `f64` box coordinates: a wall hit (the wall law), or a
+    /// displacement too large for the integer path (periodic axes wrap by `rem_euclid`).
+    /// The position goes back to the lattice (its identity bits kept).
+    #[cold]
+    fn fly_exactly(&self, cols: &mut Columns<'_, D>, i: usize, tc_elastic: &mut u64) {
+        let (g, dt) = (self.gravity, self.dt);
+        let old: [u64; D] = std::array::from_fn(|k| cols.pos[k][i]);
+        let mut x = self.lattice.position(&old);
+        let mut u = Vector(std::array::from_fn(|k| cols.vel[k][i]));
+        x = x.add_scaled(dt, &u).add_scaled(0.5 * dt * dt, &g);
+        u = u.add_scaled(dt, &g);
+        let last = cols.last.get_mut(i);
+        self.confine(&mut x, &mut u, last, tc_elastic);
+        let keep = !self.lattice.position_mask();
+        for k in 0..D {
+            if x[k].is_finite() {
+                cols.pos[k][i] = self.lattice.word(k, x[k]) | (old[k] & keep);
+            }
+            cols.vel[k][i] = u[k];
+        }
     }
 
     /// Hard walls: the shared wall law (HD-3, HD-4 with the TC rule, see
@@ -183,4 +297,19 @@ impl<const D: usize> Flight<'_, D> {
             }
         }
     }
+}
+
+/// The per-axis constants of one step's integer flight.
+struct Plan<const D: usize> {
+    /// Lattice units (of the whole word) per unit of velocity: `units / L * dt`.
+    scale: [f64; D],
+    /// The displacement of gravity in lattice units, `g dt^2 / 2 * units / L`.
+    drop: [f64; D],
+    walled: [bool; D],
+    /// The position bits of a word.
+    mask: u64,
+    /// The cell index's constants ([`CellIndex::axes`]).
+    mult: [u64; D],
+    last: [u64; D],
+    stride: [u32; D],
 }

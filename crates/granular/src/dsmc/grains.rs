@@ -1,81 +1,110 @@
 //! The grains of a DSMC engine (or of one rank's slab): one record per grain, in storage
 //! order (sorted by cell after every step, see `cells`).
 //!
-//! A record holds the grain's position, velocity and identity, and its last collision
-//! time when the TC model is on. Everything outside the kernel (flight, sort, collisions)
-//! goes through the accessors here, so that the storage layout can change without its
-//! users: positions and velocities come out as [`Vector`]s in box coordinates, and a
-//! record travels between ranks or into a checkpoint as a fixed number of 64-bit words
+//! # The record
+//!
+//! A grain is `D` lattice words (its position as integer lattice coordinates, whose low
+//! bits also hold its identity: see [`Lattice`]) and `D` velocity components (`f64`), and,
+//! with the TC model only, its last collision time (`f64`): `16 D` bytes, 32 in 2D and
+//! 48 in 3D. Each quantity is one column (a structure of arrays), so that the free flight
+//! streams through whole columns and an optional per-grain quantity (the TC model's
+//! collision times; rotational velocities) is one more column that costs nothing when
+//! absent. Sorting by cell moves one column at a time through one shared scratch column
+//! (`Grains::reorder`), so the sort needs `8 + 4` bytes per grain (the scratch and each
+//! grain's destination), not a second copy of the record.
+//!
+//! Everything outside the kernel (flight, sort, collisions) goes through the accessors
+//! here: positions and velocities come out as [`Vector`]s in box coordinates, and a record
+//! travels between ranks or into a checkpoint as [`Grains::words`] 64-bit words
 //! ([`Grains::pack`], [`Grains::push_packed`]) that restore it bit for bit.
 
+use super::lattice::Lattice;
 use crate::vector::Vector;
 use serde::{Deserialize, Serialize};
 use std::ops::Range;
 
 /// The grains' records in storage order.
-#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+#[derive(Debug, Serialize, Deserialize)]
 pub struct Grains<const D: usize> {
-    pub(super) pos: Vec<Vector<D>>,
-    pub(super) vel: Vec<Vector<D>>,
-    pub(super) ids: Vec<u32>,
+    /// The mapping between positions and lattice words (and the identity bits).
+    lattice: Lattice<D>,
+    /// Lattice words, one column per axis.
+    #[serde(with = "crate::vector::serde_array")]
+    pub(super) pos: [Vec<u64>; D],
+    /// Velocity components, one column per axis.
+    #[serde(with = "crate::vector::serde_array")]
+    pub(super) vel: [Vec<f64>; D],
     /// Time of each grain's last collision (the TC model only; empty otherwise).
     pub(super) last: Vec<f64>,
     /// Whether the records carry `last`.
     collision_times: bool,
+    /// The sort's scratch column (see [`Grains::reorder`]); not part of the state.
+    #[serde(skip)]
+    scratch: Vec<u64>,
+}
+
+impl<const D: usize> Clone for Grains<D> {
+    /// The records, without the scratch column.
+    fn clone(&self) -> Self {
+        Self {
+            lattice: self.lattice,
+            pos: self.pos.clone(),
+            vel: self.vel.clone(),
+            last: self.last.clone(),
+            collision_times: self.collision_times,
+            scratch: Vec::new(),
+        }
+    }
 }
 
 impl<const D: usize> Grains<D> {
-    /// No grains; `collision_times`: whether the records carry the TC model's last
-    /// collision time.
-    pub fn new(collision_times: bool) -> Self {
-        Self {
-            collision_times,
-            ..Self::default()
-        }
+    /// No grains on `lattice`; `collision_times`: whether the records carry the TC
+    /// model's last collision time.
+    pub fn new(lattice: Lattice<D>, collision_times: bool) -> Self {
+        Self::with_capacity(lattice, 0, collision_times)
     }
 
     /// Room for `n` grains without reallocation.
-    pub fn with_capacity(n: usize, collision_times: bool) -> Self {
+    pub fn with_capacity(lattice: Lattice<D>, n: usize, collision_times: bool) -> Self {
         Self {
-            pos: Vec::with_capacity(n),
-            vel: Vec::with_capacity(n),
-            ids: Vec::with_capacity(n),
+            lattice,
+            pos: std::array::from_fn(|_| Vec::with_capacity(n)),
+            vel: std::array::from_fn(|_| Vec::with_capacity(n)),
             last: Vec::with_capacity(if collision_times { n } else { 0 }),
             collision_times,
+            scratch: Vec::new(),
         }
     }
 
-    /// Grains `ids` at positions `pos` with velocities `vel` (equal lengths), no previous
-    /// collision.
+    /// Grains `ids` at positions `pos` (in the box) with velocities `vel` (equal
+    /// lengths), no previous collision.
     pub fn from_parts(
-        pos: Vec<Vector<D>>,
-        vel: Vec<Vector<D>>,
-        ids: Vec<u32>,
+        lattice: Lattice<D>,
+        pos: &[Vector<D>],
+        vel: &[Vector<D>],
+        ids: &[u32],
         collision_times: bool,
     ) -> Self {
-        let n = pos.len();
-        debug_assert!(vel.len() == n && ids.len() == n);
-        Self {
-            pos,
-            vel,
-            ids,
-            last: if collision_times {
-                vec![f64::NEG_INFINITY; n]
-            } else {
-                Vec::new()
-            },
-            collision_times,
+        let mut g = Self::with_capacity(lattice, pos.len(), collision_times);
+        for ((x, v), &id) in pos.iter().zip(vel).zip(ids) {
+            g.push(id, *x, *v);
         }
+        g
+    }
+
+    /// The lattice of the positions.
+    pub fn lattice(&self) -> &Lattice<D> {
+        &self.lattice
     }
 
     /// Number of grains.
     pub fn len(&self) -> usize {
-        self.ids.len()
+        self.vel[0].len()
     }
 
     /// Whether there is no grain.
     pub fn is_empty(&self) -> bool {
-        self.ids.is_empty()
+        self.len() == 0
     }
 
     /// Whether the records carry last collision times (the TC model).
@@ -94,28 +123,46 @@ impl<const D: usize> Grains<D> {
         self.collision_times = on;
     }
 
-    /// Position of grain `i` (box coordinates).
+    /// Bytes held per grain: the record's columns and the sort's scratch column, from
+    /// their capacities (the destination cells of a step are the engine's).
+    pub fn bytes(&self) -> usize {
+        let words: usize = self.pos.iter().map(Vec::capacity).sum::<usize>()
+            + self.vel.iter().map(Vec::capacity).sum::<usize>()
+            + self.last.capacity()
+            + self.scratch.capacity();
+        8 * words
+    }
+
+    /// The lattice words of grain `i`.
+    #[inline]
+    pub fn words_of(&self, i: usize) -> [u64; D] {
+        std::array::from_fn(|k| self.pos[k][i])
+    }
+
+    /// Position of grain `i` (box coordinates: the nearest `f64` to its lattice point).
     #[inline]
     pub fn position(&self, i: usize) -> Vector<D> {
-        self.pos[i]
+        self.lattice.position(&self.words_of(i))
     }
 
     /// Velocity of grain `i`.
     #[inline]
     pub fn velocity(&self, i: usize) -> Vector<D> {
-        self.vel[i]
+        Vector(std::array::from_fn(|k| self.vel[k][i]))
     }
 
     /// Sets the velocity of grain `i`.
     #[inline]
     pub fn set_velocity(&mut self, i: usize, v: Vector<D>) {
-        self.vel[i] = v;
+        for k in 0..D {
+            self.vel[k][i] = v[k];
+        }
     }
 
     /// Identity of grain `i` (its index at construction).
     #[inline]
     pub fn id(&self, i: usize) -> u32 {
-        self.ids[i]
+        self.lattice.id(&self.words_of(i))
     }
 
     /// Time of grain `i`'s last collision (TC model), `None` without collision times.
@@ -139,55 +186,103 @@ impl<const D: usize> Grains<D> {
         (0..self.len()).map(|i| self.id(i)).collect()
     }
 
-    /// Appends grain `id` at `x` with velocity `v` (no previous collision).
+    /// Replaces every velocity `v` (of the grain with identity `id`) by `f(id, v)`, in
+    /// parallel.
+    pub fn update_velocities(&mut self, f: impl Fn(u32, Vector<D>) -> Vector<D> + Sync) {
+        use rayon::prelude::*;
+        let lattice = self.lattice;
+        let n = self.len();
+        const CHUNK: usize = 4096;
+        let mut cols = self.columns();
+        let mut jobs = Vec::with_capacity(n.div_ceil(CHUNK));
+        while cols.len() > 0 {
+            let mid = CHUNK.min(cols.len());
+            let (a, b) = cols.split_at(mid);
+            jobs.push(a);
+            cols = b;
+        }
+        jobs.into_par_iter().for_each(|c| {
+            for i in 0..c.len() {
+                let w: [u64; D] = std::array::from_fn(|k| c.pos[k][i]);
+                let v = f(lattice.id(&w), Vector(std::array::from_fn(|k| c.vel[k][i])));
+                for k in 0..D {
+                    c.vel[k][i] = v[k];
+                }
+            }
+        });
+    }
+
+    /// Velocity components along axis `k` of every grain, in storage order.
+    pub fn velocity_column(&self, k: usize) -> &[f64] {
+        &self.vel[k]
+    }
+
+    /// Appends grain `id` at `x` (in the box) with velocity `v` (no previous collision).
     pub fn push(&mut self, id: u32, x: Vector<D>, v: Vector<D>) {
-        let tc = self.has_collision_times();
-        self.pos.push(x);
-        self.vel.push(v);
-        self.ids.push(id);
-        if tc {
+        let w = self.lattice.words(&x, id);
+        for k in 0..D {
+            self.pos[k].push(w[k]);
+            self.vel[k].push(v[k]);
+        }
+        if self.collision_times {
             self.last.push(f64::NEG_INFINITY);
         }
     }
 
     /// 64-bit words per packed record ([`Self::pack`]).
     pub fn words(&self) -> usize {
-        1 + 2 * D + usize::from(self.has_collision_times())
+        2 * D + usize::from(self.collision_times)
     }
 
-    /// Appends grain `i`'s record to `out` as [`Self::words`] words (bit patterns; a
-    /// record restored by [`Self::push_packed`] or [`Self::set_packed`] is the same bits).
+    /// Appends grain `i`'s record to `out` as [`Self::words`] words (bit patterns: the
+    /// lattice words, the velocity, the last collision time; a record restored by
+    /// [`Self::push_packed`] or [`Self::set_packed`] is the same bits).
     pub fn pack(&self, i: usize, out: &mut Vec<f64>) {
-        out.push(f64::from_bits(u64::from(self.ids[i])));
-        out.extend_from_slice(&self.pos[i].0);
-        out.extend_from_slice(&self.vel[i].0);
+        for k in 0..D {
+            out.push(f64::from_bits(self.pos[k][i]));
+        }
+        for k in 0..D {
+            out.push(self.vel[k][i]);
+        }
         if let Some(&t) = self.last.get(i) {
             out.push(t);
         }
     }
 
+    /// The identity of the record packed in `words`.
+    pub fn packed_id(&self, words: &[f64]) -> u32 {
+        self.lattice
+            .id(&std::array::from_fn(|k| words[k].to_bits()))
+    }
+
     /// Appends the record packed in `words` (exactly [`Self::words`] of them).
     pub fn push_packed(&mut self, words: &[f64]) {
-        let n = self.len();
-        self.resize(n + 1);
-        self.set_packed(n, words);
+        for k in 0..D {
+            self.pos[k].push(words[k].to_bits());
+            self.vel[k].push(words[D + k]);
+        }
+        if self.collision_times {
+            self.last.push(words[2 * D]);
+        }
     }
 
     /// Overwrites grain `i` with the record packed in `words`.
     pub fn set_packed(&mut self, i: usize, words: &[f64]) {
-        self.ids[i] = words[0].to_bits() as u32;
-        self.pos[i] = Vector::from_slice(&words[1..1 + D]).unwrap_or_default();
-        self.vel[i] = Vector::from_slice(&words[1 + D..1 + 2 * D]).unwrap_or_default();
+        for k in 0..D {
+            self.pos[k][i] = words[k].to_bits();
+            self.vel[k][i] = words[D + k];
+        }
         if let Some(t) = self.last.get_mut(i) {
-            *t = words[1 + 2 * D];
+            *t = words[2 * D];
         }
     }
 
     /// Copies the records `src` to `dest ..` (as `slice::copy_within`).
     pub fn copy_within(&mut self, src: Range<usize>, dest: usize) {
-        self.pos.copy_within(src.clone(), dest);
-        self.vel.copy_within(src.clone(), dest);
-        self.ids.copy_within(src.clone(), dest);
+        for k in 0..D {
+            self.pos[k].copy_within(src.clone(), dest);
+            self.vel[k].copy_within(src.clone(), dest);
+        }
         if self.collision_times {
             self.last.copy_within(src, dest);
         }
@@ -196,9 +291,10 @@ impl<const D: usize> Grains<D> {
     /// Copies record `from` over record `to`.
     #[inline]
     pub fn copy(&mut self, from: usize, to: usize) {
-        self.pos[to] = self.pos[from];
-        self.vel[to] = self.vel[from];
-        self.ids[to] = self.ids[from];
+        for k in 0..D {
+            self.pos[k][to] = self.pos[k][from];
+            self.vel[k][to] = self.vel[k][from];
+        }
         if self.collision_times {
             self.last[to] = self.last[from];
         }
@@ -207,56 +303,179 @@ impl<const D: usize> Grains<D> {
     /// Shortens or lengthens to `n` grains (new records: identity 0 at the origin, at
     /// rest; to be overwritten).
     pub fn resize(&mut self, n: usize) {
-        let tc = self.has_collision_times();
-        self.pos.resize(n, Vector::zero());
-        self.vel.resize(n, Vector::zero());
-        self.ids.resize(n, 0);
-        if tc {
+        for k in 0..D {
+            self.pos[k].resize(n, 0);
+            self.vel[k].resize(n, 0.0);
+        }
+        if self.collision_times {
             self.last.resize(n, f64::NEG_INFINITY);
         }
     }
 
     /// Keeps the first `n` grains.
     pub fn truncate(&mut self, n: usize) {
-        self.pos.truncate(n);
-        self.vel.truncate(n);
-        self.ids.truncate(n);
+        for k in 0..D {
+            self.pos[k].truncate(n);
+            self.vel[k].truncate(n);
+        }
         self.last.truncate(n);
     }
 
     /// A copy of the records `r`.
     pub fn range(&self, r: Range<usize>) -> Grains<D> {
-        let tc = self.has_collision_times();
-        Grains {
-            pos: self.pos[r.clone()].to_vec(),
-            vel: self.vel[r.clone()].to_vec(),
-            ids: self.ids[r.clone()].to_vec(),
-            last: if tc {
-                self.last[r].to_vec()
-            } else {
-                Vec::new()
-            },
-            collision_times: tc,
-        }
+        let mut g = Self::with_capacity(self.lattice, r.len(), self.collision_times);
+        g.extend_from(self, r);
+        g
     }
 
     /// Appends copies of `other`'s records `r` (both with or both without collision
-    /// times).
+    /// times, on the same lattice).
     pub fn extend_from(&mut self, other: &Grains<D>, r: Range<usize>) {
-        self.pos.extend_from_slice(&other.pos[r.clone()]);
-        self.vel.extend_from_slice(&other.vel[r.clone()]);
-        self.ids.extend_from_slice(&other.ids[r.clone()]);
-        if self.has_collision_times() {
+        for k in 0..D {
+            self.pos[k].extend_from_slice(&other.pos[k][r.clone()]);
+            self.vel[k].extend_from_slice(&other.vel[k][r.clone()]);
+        }
+        if self.collision_times {
             self.last.extend_from_slice(&other.last[r]);
         }
     }
 
-    /// Whether the arrays have one length (a store read from a file that fails this was
-    /// not written by this engine).
-    pub fn consistent(&self) -> bool {
-        let n = self.ids.len();
-        self.pos.len() == n
-            && self.vel.len() == n
+    /// Whether the columns have one length and the lattice is `lattice` (a store read from
+    /// a file that fails this was not written by this engine).
+    pub fn consistent(&self, lattice: &Lattice<D>) -> bool {
+        let n = self.len();
+        self.lattice == *lattice
+            && self.pos.iter().all(|c| c.len() == n)
+            && self.vel.iter().all(|c| c.len() == n)
             && self.last.len() == if self.collision_times { n } else { 0 }
+    }
+
+    /// The kernel's mutable view of every column.
+    pub(super) fn columns(&mut self) -> Columns<'_, D> {
+        Columns {
+            pos: self.pos.each_mut().map(|c| &mut c[..]),
+            vel: self.vel.each_mut().map(|c| &mut c[..]),
+            last: &mut self.last[..],
+        }
+    }
+
+    /// Reorders the records: record `i` goes to slot `dest[i]` of `n` slots (`dest[i] ==
+    /// n`: it leaves), and the packed records `arrivals` (each [`Self::words`] words) go
+    /// to the slots `arrival_slots`; every slot `0 .. n` must be taken exactly once. One
+    /// column at a time is scattered into the scratch column, which then takes the
+    /// column's place (the column's old storage becomes the scratch).
+    pub(super) fn reorder(
+        &mut self,
+        dest: &[u32],
+        n: usize,
+        arrivals: &[f64],
+        arrival_slots: &[u32],
+    ) {
+        let w = self.words();
+        let mut scratch = std::mem::take(&mut self.scratch);
+        let mut scatter = |col: &mut Vec<u64>, at: usize| {
+            fit(&mut scratch, n + 1);
+            let out = &mut scratch[..n + 1];
+            // Four at a time (fewer loop instructions per grain).
+            let (d4, dr) = dest.as_chunks::<4>();
+            let (x4, xr) = col[..dest.len()].as_chunks::<4>();
+            for (s, x) in d4.iter().zip(x4) {
+                out[s[0] as usize] = x[0];
+                out[s[1] as usize] = x[1];
+                out[s[2] as usize] = x[2];
+                out[s[3] as usize] = x[3];
+            }
+            for (&s, &x) in dr.iter().zip(xr) {
+                out[s as usize] = x;
+            }
+            for (r, &s) in arrivals.chunks_exact(w).zip(arrival_slots) {
+                out[s as usize] = r[at].to_bits();
+            }
+            scratch.truncate(n);
+            std::mem::swap(col, &mut scratch);
+        };
+        for k in 0..D {
+            scatter(&mut self.pos[k], k);
+        }
+        for k in 0..D {
+            with_bits(&mut self.vel[k], |c| scatter(c, D + k));
+        }
+        if self.collision_times {
+            with_bits(&mut self.last, |c| scatter(c, 2 * D));
+        }
+        self.scratch = scratch;
+    }
+}
+
+/// Makes `v` `len` long without writing its old contents anew (they are overwritten by
+/// the caller) and without growing its allocation by doubling: a column that needs more
+/// room gets a fresh allocation with a little headroom (`len / 256 + 16`), so a rank whose
+/// grain count drifts up reallocates rarely and no buffer ever holds twice its grains.
+fn fit(v: &mut Vec<u64>, len: usize) {
+    if v.capacity() < len {
+        *v = Vec::new();
+        *v = Vec::with_capacity(len + len / 256 + 16);
+    }
+    if v.len() < len {
+        v.resize(len, 0);
+    } else {
+        v.truncate(len);
+    }
+}
+
+/// Runs `f` on the bits of an `f64` column (the same allocation, no copy).
+fn with_bits(col: &mut Vec<f64>, f: impl FnOnce(&mut Vec<u64>)) {
+    let mut bits: Vec<u64> = bytemuck::allocation::cast_vec(std::mem::take(col));
+    f(&mut bits);
+    *col = bytemuck::allocation::cast_vec(bits);
+}
+
+/// Mutable slices of every column of a range of grains (the kernel's view).
+pub(super) struct Columns<'a, const D: usize> {
+    pub(super) pos: [&'a mut [u64]; D],
+    pub(super) vel: [&'a mut [f64]; D],
+    /// Empty without the TC model.
+    pub(super) last: &'a mut [f64],
+}
+
+impl<'a, const D: usize> Columns<'a, D> {
+    /// The first `mid` grains and the rest.
+    pub(super) fn split_at(self, mid: usize) -> (Columns<'a, D>, Columns<'a, D>) {
+        let mut lo_pos: [&'a mut [u64]; D] = std::array::from_fn(|_| Default::default());
+        let mut hi_pos: [&'a mut [u64]; D] = std::array::from_fn(|_| Default::default());
+        for (k, c) in self.pos.into_iter().enumerate() {
+            let (a, b) = c.split_at_mut(mid);
+            lo_pos[k] = a;
+            hi_pos[k] = b;
+        }
+        let mut lo_vel: [&'a mut [f64]; D] = std::array::from_fn(|_| Default::default());
+        let mut hi_vel: [&'a mut [f64]; D] = std::array::from_fn(|_| Default::default());
+        for (k, c) in self.vel.into_iter().enumerate() {
+            let (a, b) = c.split_at_mut(mid);
+            lo_vel[k] = a;
+            hi_vel[k] = b;
+        }
+        let (la, lb) = if self.last.is_empty() {
+            (&mut [][..], &mut [][..])
+        } else {
+            self.last.split_at_mut(mid)
+        };
+        (
+            Columns {
+                pos: lo_pos,
+                vel: lo_vel,
+                last: la,
+            },
+            Columns {
+                pos: hi_pos,
+                vel: hi_vel,
+                last: lb,
+            },
+        )
+    }
+
+    /// Number of grains.
+    pub(super) fn len(&self) -> usize {
+        self.vel[0].len()
     }
 }

@@ -31,6 +31,7 @@ pub mod engine;
 mod flight;
 pub mod grains;
 pub mod guards;
+pub mod lattice;
 pub mod observables;
 pub mod parts;
 pub mod setup;

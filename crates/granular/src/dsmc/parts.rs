@@ -13,6 +13,7 @@
 use super::domain::{Communicator, Domain};
 use super::engine::DsmcEngine;
 use super::grains::Grains;
+use super::lattice::Lattice;
 use crate::vector::Vector;
 use serde::{Deserialize, Serialize};
 use std::ops::Range;
@@ -47,12 +48,12 @@ impl<const D: usize> EnginePart<D> {
 
     /// Whether the part is consistent (offsets rising from 0 to its length, arrays of one
     /// length): a part that reads but fails this was not written by this engine.
-    fn consistent(&self) -> bool {
+    fn consistent(&self, lattice: &Lattice<D>) -> bool {
         let n = self.grains.len();
         self.start.first() == Some(&0)
             && self.start.last().map(|&s| s as usize) == Some(n)
             && self.start.windows(2).all(|w| w[0] <= w[1])
-            && self.grains.consistent()
+            && self.grains.consistent(lattice)
     }
 }
 
@@ -80,14 +81,9 @@ impl<const D: usize> DsmcEngine<D> {
     /// This rank's particles as a checkpoint part (the whole engine's when it is not
     /// decomposed). Local: no communication.
     pub fn part(&self) -> EnginePart<D> {
-        let cells = self.owned_cells();
-        let a = self.start[cells.start];
         EnginePart {
-            first_cell: cells.start,
-            start: self.start[cells.start..=cells.end]
-                .iter()
-                .map(|&s| s - a)
-                .collect(),
+            first_cell: self.owned_cells().start,
+            start: self.start.clone(),
             grains: self.grains.clone(),
         }
     }
@@ -124,8 +120,9 @@ impl<const D: usize> DsmcEngine<D> {
         };
         let mine = domain.as_ref().map_or(0..cells, |d| d.cells.clone());
         let tc = self.config().law.has_tc();
-        let mut start = vec![0u32; cells + 1];
-        let mut grains = Grains::new(tc);
+        let lattice = *self.grains.lattice();
+        let mut start = vec![0u32; mine.len() + 1];
+        let mut grains = Grains::new(lattice, tc);
         for info in parts {
             let lo = info.first_cell.max(mine.start);
             let hi = info.end_cell.min(mine.end);
@@ -133,7 +130,7 @@ impl<const D: usize> DsmcEngine<D> {
                 continue;
             }
             let part = read(info)?;
-            if !part.consistent()
+            if !part.consistent(&lattice)
                 || part.cells() != (info.first_cell..info.end_cell)
                 || part.len() != info.particles
                 || part.grains.has_collision_times() != tc
@@ -145,16 +142,13 @@ impl<const D: usize> DsmcEngine<D> {
             }
             let at = |c: usize| part.start[c - info.first_cell] as usize;
             let (a, b) = (at(lo), at(hi));
-            for (c, s) in start.iter_mut().enumerate().take(hi).skip(lo) {
-                *s = (grains.len() + at(c) - a) as u32;
+            for c in lo..hi {
+                start[c - mine.start] = (grains.len() + at(c) - a) as u32;
             }
             grains.extend_from(&part.grains, a..b);
         }
-        let n = grains.len();
-        for s in &mut start[mine.end..] {
-            *s = n as u32;
-        }
-        self.cell_of = vec![0; n];
+        start[mine.len()] = grains.len() as u32;
+        self.dest = Vec::new();
         self.grains = grains;
         self.start = start;
         if let Some(d) = &domain {

@@ -39,6 +39,7 @@
 //! order of the ids; the engine's stable counting sort by cell then gives every cell its
 //! grains in id order, as on one rank.
 
+use super::cells::CellIndex;
 use super::domain::{Communicator, Domain};
 use super::engine::{Derived, DsmcEngine, DsmcError};
 use crate::boundary::SimulationBox;
@@ -397,6 +398,9 @@ impl<const D: usize> DsmcEngine<D> {
                 (pos, vel, ids, None)
             }
             Some(layout) => {
+                // The engine's cell of a position: exact, from its lattice words.
+                let index = CellIndex::new(&derived.grid, &derived.lattice);
+                let cell_of = |x: &Vector<D>| index.of(&derived.lattice.words(x, 0));
                 layout.hold(pos.len());
                 let mut domain = layout.with_grid(&derived.grid.dims)?;
                 domain.balance = balance;
@@ -405,13 +409,13 @@ impl<const D: usize> DsmcEngine<D> {
                     // otherwise load the ranks of its slabs only).
                     let mut local = vec![0u64; domain.planes()];
                     for x in &pos {
-                        local[domain.plane(derived.grid.index(&x.0))] += 1;
+                        local[domain.plane(cell_of(x))] += 1;
                     }
                     let totals = domain.plane_totals(&local);
                     let loads: Vec<f64> = totals.iter().map(|&c| c as f64).collect();
                     domain.set_cuts(&super::domain::balanced_cuts(&loads, domain.size()));
                 }
-                let (p, v, i) = domain.scatter_to_slabs(pos, vel, ids, &derived.grid, check)?;
+                let (p, v, i) = domain.scatter_to_slabs(pos, vel, ids, cell_of, check)?;
                 (p, v, i, Some(domain))
             }
         };
@@ -530,14 +534,11 @@ impl Domain {
         pos: Vec<Vector<D>>,
         vel: Vec<Vector<D>>,
         ids: Vec<u32>,
-        grid: &super::cells::CellGrid<D>,
+        cell_of: impl Fn(&Vector<D>) -> u32,
         check: Option<OwnGrainsCheck<'_>>,
     ) -> Result<OwnGrains<D>, DsmcError> {
         let (me, k) = (self.rank(), self.size());
-        let dest: Vec<u32> = pos
-            .iter()
-            .map(|x| self.owner(grid.index(&x.0)) as u32)
-            .collect();
+        let dest: Vec<u32> = pos.iter().map(|x| self.owner(cell_of(x)) as u32).collect();
         let mut sending = vec![0u64; k];
         for &q in &dest {
             sending[q as usize] += 1;

@@ -37,9 +37,10 @@ use std::time::Instant;
 /// large grains out of its lists; 7: the run's outputs as typed states, the time series'
 /// rate window out of the event-driven engine; 8: a header with the payload's length and
 /// CRC-32 before the MessagePack payload, [`checkpoint`]; 9: the blocking accumulators of
-/// the summary's `averages`; 11: the DSMC engine's species table instead of one species
-/// name).
-pub const CHECKPOINT_FORMAT: u32 = 11;
+/// the summary's `averages`; 10: the engines' driving state; 11: the DSMC engine's species
+/// table instead of one species name; 12: the DSMC record's positions as lattice words
+/// carrying the identities).
+pub const CHECKPOINT_FORMAT: u32 = 12;
 
 /// Why a run failed.
 #[derive(Debug, thiserror::Error)]

@@ -119,9 +119,9 @@ impl<const D: usize> Engine for DsmcEngine<D> {
         }
         let g = &self.grains;
         if velocities {
-            crate::particles::scatter_by_id::<D>(&g.ids, out, |s| g.velocity(s).0);
+            crate::particles::scatter_by_id::<D>(&g.ids(), out, |s| g.velocity(s).0);
         } else {
-            crate::particles::scatter_by_id::<D>(&g.ids, out, |s| g.position(s).0);
+            crate::particles::scatter_by_id::<D>(&g.ids(), out, |s| g.position(s).0);
         }
         true
     }

@@ -1,28 +1,42 @@
 //! The velocity moments of the DSMC gas: mean velocity, momentum, temperature, `a2`,
 //! kinetic energy and the check for non-finite velocities. Every sum runs over fixed
-//! chunks of [`SUM_CHUNK`] particles of the storage order, then over the chunks in order,
-//! so its bits do not depend on the number of threads; a decomposed engine reduces them
-//! over the ranks in the same order (`Domain::ordered_fold`).
+//! chunks of `SUM_CHUNK` particles of the storage order, then over the chunks in order
+//! (`dsmc::sums`), so its bits do not depend on the number of threads; a decomposed
+//! engine reduces them over the ranks in the same order (`Domain::ordered_fold`).
 
 use super::DsmcEngine;
-use crate::dsmc::sums::SUM_CHUNK;
+use crate::dsmc::sums;
 use crate::vector::Vector;
 use rayon::prelude::*;
 
+/// `a += x`, componentwise.
+fn add<const A: usize>(a: &mut [f64; A], x: &[f64; A]) {
+    for (a, x) in a.iter_mut().zip(x) {
+        *a += x;
+    }
+}
+
 impl<const D: usize> DsmcEngine<D> {
+    /// The chunked fold of `elem(i)` over every grain (over all ranks when decomposed),
+    /// in the order of the whole engine's storage (see `dsmc::sums`).
+    pub(crate) fn ordered_fold<const E: usize, const A: usize>(
+        &self,
+        elem: impl Fn(usize) -> [f64; E] + Sync,
+        fold: impl Fn(&mut [f64; A], &[f64; E]) + Sync,
+        combine: impl Fn(&mut [f64; A], &[f64; A]),
+    ) -> [f64; A] {
+        let n = self.grains.len();
+        match &self.domain {
+            Some(d) => d.ordered_fold(n, elem, fold, combine),
+            None => sums::ordered_fold(n, elem, fold, combine),
+        }
+    }
+
     /// Mean velocity (deterministic chunked sum).
     pub fn mean_velocity(&self) -> Vector<D> {
-        if let Some(d) = &self.domain {
-            return self.mean_velocity_decomposed(d);
-        }
-        let parts: Vec<Vector<D>> = self
-            .grains
-            .vel
-            .par_chunks(SUM_CHUNK)
-            .map(|c| c.iter().fold(Vector::zero(), |a, v| a + *v))
-            .collect();
-        let s = parts.into_iter().fold(Vector::zero(), |a, v| a + v);
-        s * (1.0 / self.grains.vel.len() as f64)
+        let g = &self.grains;
+        let s = self.ordered_fold::<D, D>(|i| g.velocity(i).0, add, add);
+        Vector(s) * (1.0 / self.n_global() as f64)
     }
 
     /// Total momentum `m sum_i v_i`.
@@ -33,26 +47,13 @@ impl<const D: usize> DsmcEngine<D> {
     /// Moments `(<c^2>, <c^4>)` of the peculiar velocity `c = v - u`.
     pub(super) fn peculiar_moments(&self) -> (f64, f64) {
         let u = self.mean_velocity();
-        if let Some(d) = &self.domain {
-            let (s2, s4) = self.peculiar_sums_decomposed(d, u);
-            let n = d.n_global as f64;
-            return (s2 / n, s4 / n);
-        }
-        let parts: Vec<(f64, f64)> = self
-            .grains
-            .vel
-            .par_chunks(SUM_CHUNK)
-            .map(|c| {
-                c.iter().fold((0.0, 0.0), |(a, b), v| {
-                    let c2 = (*v - u).norm_squared();
-                    (a + c2, b + c2 * c2)
-                })
-            })
-            .collect();
-        let (s2, s4) = parts
-            .into_iter()
-            .fold((0.0, 0.0), |(a, b), (x, y)| (a + x, b + y));
-        let n = self.grains.vel.len() as f64;
+        let g = &self.grains;
+        let [s2, s4] = self.ordered_fold::<1, 2>(
+            |i| [(g.velocity(i) - u).norm_squared()],
+            |a, &[c2]| *a = [a[0] + c2, a[1] + c2 * c2],
+            add,
+        );
+        let n = self.n_global() as f64;
         (s2 / n, s4 / n)
     }
 
@@ -69,39 +70,22 @@ impl<const D: usize> DsmcEngine<D> {
 
     /// Total kinetic energy `m/2 sum_i |v_i|^2` (deterministic chunked sum).
     pub fn kinetic_energy_now(&self) -> f64 {
-        if let Some(d) = &self.domain {
-            return 0.5 * self.mass * self.speed_squares_decomposed(d);
-        }
-        let parts: Vec<f64> = self
-            .grains
-            .vel
-            .par_chunks(SUM_CHUNK)
-            .map(|c| c.iter().map(|v| v.norm_squared()).sum::<f64>())
-            .collect();
-        0.5 * self.mass * parts.into_iter().sum::<f64>()
+        let g = &self.grains;
+        let [s] = self.ordered_fold::<1, 1>(|i| [g.velocity(i).norm_squared()], add, add);
+        0.5 * self.mass * s
     }
 
     /// The identity of a particle whose velocity has a non-finite component (the smallest
     /// such identity), or `None` when every velocity is finite. Checks every particle
-    /// (in parallel chunks).
+    /// (in parallel).
     pub fn first_non_finite(&self) -> Option<u32> {
-        let finite = |v: &Vector<D>| v.0.iter().all(|c| c.is_finite());
-        let local = if self
-            .grains
-            .vel
-            .par_chunks(SUM_CHUNK)
-            .all(|c| c.iter().all(finite))
-        {
-            None
-        } else {
-            self.grains
-                .vel
-                .iter()
-                .zip(&self.grains.ids)
-                .filter(|(v, _)| !finite(v))
-                .map(|(_, &id)| id)
-                .min()
-        };
+        let g = &self.grains;
+        let bad = |i: usize| !(0..D).all(|k| g.velocity_column(k)[i].is_finite());
+        let local = (0..g.len())
+            .into_par_iter()
+            .filter(|&i| bad(i))
+            .map(|i| g.id(i))
+            .min();
         match &self.domain {
             Some(d) => self.first_non_finite_decomposed(d, local),
             None => local,

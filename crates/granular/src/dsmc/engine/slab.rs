@@ -15,6 +15,7 @@
 
 use super::{Derived, DsmcEngine, DsmcError};
 use crate::boundary::SimulationBox;
+use crate::dsmc::cells::CellIndex;
 use crate::dsmc::config::DsmcConfig;
 use crate::dsmc::domain::{Communicator, Domain};
 use crate::random::{INITIAL_STATE, RngExt, Stream, stream};
@@ -149,6 +150,7 @@ fn slab_positions<const D: usize>(
     mut rng: Stream,
 ) -> Result<(Vec<Vector<D>>, Vec<u32>), DsmcError> {
     let cells = domain.cells.clone();
+    let index = CellIndex::new(&derived.grid, &derived.lattice);
     // The slab's expected share, with room for the fluctuations (no doubling on the way).
     let share = n as f64 * cells.len() as f64 / derived.grid.len() as f64;
     let capacity = ((share + 6.0 * share.sqrt() + 64.0) as usize).min(n);
@@ -160,7 +162,7 @@ fn slab_positions<const D: usize>(
             x[k] = rng.random::<f64>() * sim_box.lengths[k];
         }
         derived.place(sim_box, &mut x)?;
-        if cells.contains(&(derived.grid.index(&x.0) as usize)) {
+        if cells.contains(&(index.of(&derived.lattice.words(&x, id)) as usize)) {
             pos.push(x);
             ids.push(id);
         }
