@@ -147,7 +147,8 @@ impl<const D: usize> DsmcEngine<D> {
             }
             grains.extend_from(&part.grains, a..b);
         }
-        start[mine.len()] = grains.len() as u32;
+        let n = grains.len();
+        start[mine.len()] = n as u32;
         self.dest = Vec::new();
         self.grains = grains;
         self.start = start;
