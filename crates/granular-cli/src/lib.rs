@@ -17,7 +17,7 @@ mod sweep;
 use clap::{Parser, Subcommand};
 use error::CliError;
 use granular::output::format_number;
-use granular::run::{DirectoryState, ProgressReport, Run, RunDir, RunError};
+use granular::run::{DirectoryState, MemoryBudget, ProgressReport, Run, RunDir, RunError};
 use granular::scenario::Scenario;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
@@ -457,13 +457,12 @@ fn dispatch(cli: Cli) -> Result<(), CliError> {
                     dir.display()
                 )));
             }
-            launch(&dir, quiet, |mine, _, comm| {
-                match comm {
-                    // Each rank creates only its own grains.
-                    Some(comm) => Run::create_on(mine, sc, comm, &dir, None),
-                    None => Run::create(mine, sc),
-                }
-                .map_err(|e| e.to_string())
+            launch(&dir, quiet, |mine, _, comm, ranks_on_node| {
+                // Each rank creates only its own grains; a DSMC run whose most loaded rank
+                // would not fit in its share of this node's memory is refused (not with
+                // --insist).
+                let memory = (!insist).then(|| MemoryBudget::this_node(ranks_on_node));
+                Run::create_on(mine, sc, comm, &dir, memory).map_err(|e| e.to_string())
             })
         }
         Command::Export { run, format } => {
@@ -516,7 +515,7 @@ fn dispatch(cli: Cli) -> Result<(), CliError> {
             }
             Ok(())
         }
-        Command::Resume { dir, quiet } => launch(&dir, quiet, |mine, rank, comm| {
+        Command::Resume { dir, quiet } => launch(&dir, quiet, |mine, rank, comm, _| {
             if rank != 0 {
                 ranks_copy(&dir, mine)?;
             }
@@ -639,16 +638,17 @@ fn parse_shard(text: &str) -> Result<granular::run::sweep::Shard, String> {
     text.parse()
 }
 
-/// Opens the run with `open(directory of this rank, rank)` and runs it to the end: as it
+/// Opens the run with `open(directory of this rank, rank, communicator, ranks of the run
+/// on this node)` and runs it to the end: as it
 /// is without the `mpi` feature; with it, on every rank of `mpirun` (one rank without),
 /// the DSMC engine split over the ranks (see `ranks`).
 #[cfg(not(feature = "mpi"))]
 fn launch(
     dir: &Path,
     quiet: bool,
-    open: impl FnOnce(&Path, usize, Ranks) -> Result<Run, String>,
+    open: impl FnOnce(&Path, usize, Ranks, usize) -> Result<Run, String>,
 ) -> Result<(), CliError> {
-    let run = open(dir, 0, None)?;
+    let run = open(dir, 0, None, 1)?;
     finish_after(run, dir, quiet, None)
 }
 
@@ -692,14 +692,14 @@ fn ranks_copy(dir: &Path, mine: &Path) -> Result<(), String> {
 fn launch(
     dir: &Path,
     quiet: bool,
-    open: impl FnOnce(&Path, usize, Ranks) -> Result<Run, String>,
+    open: impl FnOnce(&Path, usize, Ranks, usize) -> Result<Run, String>,
 ) -> Result<(), CliError> {
     let ranks = ranks::Ranks::start();
     let mine = ranks.directory(dir);
     let rank = ranks.rank();
     let result = (|| {
         let comm = (ranks.size() > 1).then(|| ranks.communicator());
-        let mut run = ranks.agree(open(&mine, rank, comm))?;
+        let mut run = ranks.agree(open(&mine, rank, comm, ranks.on_node()))?;
         if ranks.size() > 1 {
             // One rank (also without mpirun) runs the threaded engine as it is.
             ranks.agree(

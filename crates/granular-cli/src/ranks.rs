@@ -143,23 +143,32 @@ pub fn copy_run_files(from: &Path, to: &Path) -> Result<(), String> {
 pub struct Ranks {
     _universe: Option<Universe>,
     world: Arc<World>,
+    /// Ranks sharing this rank's node (its memory).
+    on_node: usize,
 }
 
 impl Ranks {
     /// Initialises MPI (one rank when started without `mpirun`).
     pub fn start() -> Ranks {
         let universe = mpi::initialize();
-        let (rank, size) = match &universe {
+        let (rank, size, on_node) = match &universe {
             Some(u) => {
                 let w = u.world();
-                (w.rank() as usize, w.size() as usize)
+                let node = w.split_shared(w.rank());
+                (w.rank() as usize, w.size() as usize, node.size() as usize)
             }
-            None => (0, 1),
+            None => (0, 1, 1),
         };
         Ranks {
             _universe: universe,
             world: Arc::new(World { rank, size }),
+            on_node,
         }
+    }
+
+    /// The ranks sharing this rank's node (MPI's shared-memory split of the world).
+    pub fn on_node(&self) -> usize {
+        self.on_node
     }
 
     /// This rank.

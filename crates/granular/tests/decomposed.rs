@@ -911,7 +911,7 @@ fn run_on_ranks(
     let peaks = on_ranks(k, |comm, _| {
         let rank = comm.rank();
         let dir = rank_dir(rank, shared, &own, false);
-        let mut run = Run::create_on(&dir, scenario.clone(), comm, shared, None).unwrap();
+        let mut run = Run::create_on(&dir, scenario.clone(), Some(comm), shared, None).unwrap();
         let peak = Arc::new(Mutex::new((0, 0)));
         run.attach(Box::new(Peak(peak.clone())));
         run.run_to_end(&mut |_| {}, None).unwrap();

@@ -790,3 +790,39 @@ fn every_bad_command_line_fails_with_its_expected_text() {
     assert!(n >= 20, "{n} cases");
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+/// A DSMC run whose grains would not fit in this machine's memory is refused before any
+/// grain is created (9 x 10^8 grains need about 150 GB; fewer than 10^9 so that its two
+/// snapshots stay below the 100 GB limit on bytes written, which is checked first), naming
+/// the key, the estimate, the memory of this node, the ranks and nodes that would fit, and
+/// `--insist`.
+#[test]
+fn dsmc_run_above_the_memory_is_refused_naming_the_ranks_that_fit() {
+    let dir = tmp("dsmc-memory");
+    let out = granular()
+        .args(["run", "--quiet", "--out"])
+        .arg(dir.join("run"))
+        .arg(scenarios().join("dsmc-cooling.toml"))
+        .args(["--set", "species[0].count=900000000"])
+        .args(["--set", "stop.time=1e-9"])
+        .output()
+        .unwrap();
+    // The message as one line (the terminal report may wrap it).
+    let err = stderr(&out)
+        .split_whitespace()
+        .collect::<Vec<_>>()
+        .join(" ");
+    for fragment in [
+        "species[0].count",
+        "the run holds all 9e8 grains",
+        "bytes per grain",
+        "GiB are available to each of the 1 ranks on this node",
+        "run on at least",
+        "nodes), or lower species[0].count",
+        "--insist",
+    ] {
+        assert!(err.contains(fragment), "no {fragment:?} in: {err}");
+    }
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(!dir.join("run/summary.json").exists());
+}

@@ -179,47 +179,146 @@ pub enum BuildError {
     },
 }
 
-/// Builds the engine named by the scenario.
+/// Builds the engine named by the scenario (a DSMC engine checked against this
+/// machine's available memory, [`MemoryBudget::this_node`]).
 pub fn build(scenario: &Scenario) -> Result<AnyEngine, BuildError> {
+    build_on(scenario, None, Some(MemoryBudget::this_node(1)))
+}
+
+/// The memory a DSMC run may use on each node, checked from the most loaded rank's own
+/// grains before the ranks sort their grains into their slabs (the event-driven engine's
+/// whole-system check is part of the scenario's validation).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MemoryBudget {
+    /// Bytes available on the node (`MemAvailable` of `/proc/meminfo`).
+    pub available: f64,
+    /// Ranks of the run on the node, which share it.
+    pub ranks_on_node: usize,
+}
+
+impl MemoryBudget {
+    /// This node's available memory ([`crate::scenario::available_memory`]) shared by
+    /// `ranks_on_node` ranks.
+    pub fn this_node(ranks_on_node: usize) -> MemoryBudget {
+        MemoryBudget {
+            available: crate::scenario::available_memory(),
+            ranks_on_node: ranks_on_node.max(1),
+        }
+    }
+
+    /// Bytes each rank on the node may use.
+    pub fn per_rank(&self) -> f64 {
+        self.available / self.ranks_on_node.max(1) as f64
+    }
+
+    /// Whether the most loaded rank `load` of a `dimension`-dimensional DSMC run fits
+    /// ([`crate::dsmc::setup::RankLoad::bytes`]); the error names the scenario's key, the
+    /// estimate, what is available, and the number of ranks (at this many per node) that
+    /// would fit.
+    pub fn check(
+        &self,
+        scenario: &Scenario,
+        dimension: usize,
+        load: &crate::dsmc::setup::RankLoad,
+    ) -> Result<(), String> {
+        use crate::dsmc::setup::{BYTES_PER_CELL, bytes_per_own_grain};
+        let need = load.bytes(dimension);
+        let share = self.per_rank();
+        if need <= share {
+            return Ok(());
+        }
+        const GIB: f64 = 1024.0 * 1024.0 * 1024.0;
+        let per_grain = bytes_per_own_grain(dimension);
+        let cells = load.cells as f64 * BYTES_PER_CELL;
+        let key = scenario
+            .species
+            .iter()
+            .enumerate()
+            .max_by_key(|(_, sp)| sp.count)
+            .map_or("species[0].count".to_string(), |(s, _)| {
+                format!("species[{s}].count")
+            });
+        let count = |x: usize| crate::output::format_number(x as f64);
+        let holder = if load.ranks == 1 {
+            format!("the run holds all {} grains", count(load.grains))
+        } else {
+            format!(
+                "over {} ranks, rank {} would hold {} of the {} grains",
+                load.ranks,
+                load.rank,
+                count(load.own),
+                count(load.grains)
+            )
+        };
+        let node = format!(
+            "{:.1} GiB are available to each of the {} ranks on this node ({:.1} GiB available)",
+            share / GIB,
+            self.ranks_on_node,
+            self.available / GIB
+        );
+        let fix = if cells >= share {
+            "the cells of one rank's slab alone do not fit: give a larger dsmc.cell_size, or \
+             run on more nodes"
+                .to_string()
+        } else {
+            // The whole system (the grid as this rank's slab times the ranks) over the
+            // share of one rank; ranks on the same node share its memory, so more ranks
+            // help only on more nodes.
+            let whole = load.grains as f64 * per_grain + cells * load.ranks as f64;
+            let fit = ((whole / share).ceil() as usize).max(load.ranks + 1);
+            let per_node = self.ranks_on_node;
+            format!(
+                "run on at least {fit} ranks with {per_node} per node ({} nodes), or lower \
+                 {key}",
+                fit.div_ceil(per_node)
+            )
+        };
+        let cell_part = if load.cells > 0 {
+            format!(", plus {:.2} GiB for the {} cells", cells / GIB, load.cells)
+        } else {
+            String::new()
+        };
+        Err(format!(
+            "{key}: {holder}, about {:.1} GiB ({per_grain} bytes per grain{cell_part}), but \
+             {node}: {fix}; `granular run --insist` runs it anyway",
+            need / GIB,
+        ))
+    }
+}
+
+/// Builds the engine named by the scenario, split over the ranks of `comm` when it is
+/// given (collective): a DSMC engine creates only this rank's grains (see
+/// [`dsmc_setup`]), the same bits as the slab of the whole engine. With `memory`, the
+/// most loaded rank's estimated memory ([`MemoryBudget::check`]) must fit in its share of
+/// the node, else every rank stops with the same error before the grains go to their
+/// slabs (`None`: no check, as `--insist`). Other engines are refused on several ranks.
+pub fn build_on(
+    scenario: &Scenario,
+    comm: Option<std::sync::Arc<dyn crate::dsmc::Communicator>>,
+    memory: Option<MemoryBudget>,
+) -> Result<AnyEngine, BuildError> {
     scenario.validate()?;
+    let ranks = comm.as_ref().map_or(1, |c| c.size());
     Ok(match (scenario.engine, scenario.dimension) {
+        (EngineKind::Dsmc, 2) => AnyEngine::Dsmc2(build_dsmc::<2>(scenario, comm, memory)?),
+        (EngineKind::Dsmc, _) => AnyEngine::Dsmc3(build_dsmc::<3>(scenario, comm, memory)?),
+        (engine, _) if ranks > 1 => {
+            return Err(BuildError::Dsmc(
+                crate::dsmc::DomainError::NotDecomposable {
+                    engine: match engine {
+                        EngineKind::Edmd => "edmd",
+                        _ => "intruder",
+                    },
+                    ranks,
+                }
+                .to_string(),
+            ));
+        }
         (EngineKind::Intruder, _) => {
             AnyEngine::Intruder(self::intruder::build(scenario).map_err(BuildError::Intruder)?)
         }
         (EngineKind::Edmd, 2) => AnyEngine::Edmd2(build_edmd::<2>(scenario)?),
         (EngineKind::Edmd, _) => AnyEngine::Edmd3(build_edmd::<3>(scenario)?),
-        (EngineKind::Dsmc, 2) => AnyEngine::Dsmc2(build_dsmc::<2>(scenario, None, None)?),
-        (EngineKind::Dsmc, _) => AnyEngine::Dsmc3(build_dsmc::<3>(scenario, None, None)?),
-    })
-}
-
-/// Builds the engine named by the scenario split over the ranks of `comm` (collective):
-/// a DSMC engine creates only this rank's grains (see [`dsmc_setup`]), the same bits as
-/// the slab of [`build`]'s engine; `check` sees how many grains this rank will hold before
-/// they are created (a memory estimate), and its error stops every rank. Other engines
-/// are refused on several ranks.
-pub fn build_on(
-    scenario: &Scenario,
-    comm: std::sync::Arc<dyn crate::dsmc::Communicator>,
-    check: Option<crate::dsmc::setup::OwnGrainsCheck<'_>>,
-) -> Result<AnyEngine, BuildError> {
-    scenario.validate()?;
-    Ok(match (scenario.engine, scenario.dimension) {
-        (EngineKind::Dsmc, 2) => AnyEngine::Dsmc2(build_dsmc::<2>(scenario, Some(comm), check)?),
-        (EngineKind::Dsmc, _) => AnyEngine::Dsmc3(build_dsmc::<3>(scenario, Some(comm), check)?),
-        _ if comm.size() == 1 => build(scenario)?,
-        _ => {
-            return Err(BuildError::Dsmc(
-                crate::dsmc::DomainError::NotDecomposable {
-                    engine: match scenario.engine {
-                        EngineKind::Edmd => "edmd",
-                        _ => "intruder",
-                    },
-                    ranks: comm.size(),
-                }
-                .to_string(),
-            ));
-        }
     })
 }
 
@@ -496,21 +595,25 @@ fn dsmc_config(scenario: &Scenario) -> DsmcConfig {
 }
 
 /// The DSMC engine of a scenario: the whole engine, or with `comm` this rank's slab
-/// (collective; see [`dsmc_setup`]). `check` sees this rank's own grains before they are
-/// created.
+/// (collective; see [`dsmc_setup`]). With `memory`, the most loaded rank must fit in its
+/// share of the node ([`MemoryBudget::check`]).
 pub(crate) fn build_dsmc<const D: usize>(
     scenario: &Scenario,
     comm: Option<std::sync::Arc<dyn crate::dsmc::Communicator>>,
-    check: Option<crate::dsmc::setup::OwnGrainsCheck<'_>>,
+    memory: Option<MemoryBudget>,
 ) -> Result<DsmcEngine<D>, BuildError> {
     let (bx, setup) = dsmc_setup::<D>(scenario)?;
     let seed = crate::random::derive_key(scenario.seed, &[crate::random::DYNAMICS]);
+    let check = memory
+        .map(|budget| move |load: &crate::dsmc::setup::RankLoad| budget.check(scenario, D, load));
     let ranks = comm.map(|comm| crate::dsmc::setup::OnRanks {
         comm,
         balance: scenario.dsmc.balance(),
-        check,
     });
-    let mut engine = DsmcEngine::from_setup(dsmc_config(scenario), bx, &setup, seed, ranks)
+    let check = check
+        .as_ref()
+        .map(|c| c as crate::dsmc::setup::OwnGrainsCheck<'_>);
+    let mut engine = DsmcEngine::from_setup(dsmc_config(scenario), bx, &setup, seed, ranks, check)
         .map_err(|e| BuildError::Dsmc(e.to_string()))?;
     // `[driving]`: a steady state (rescale defaults to the initial temperature).
     let driving = scenario

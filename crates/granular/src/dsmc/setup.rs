@@ -290,25 +290,58 @@ pub fn id_block(n: usize, rank: usize, ranks: usize) -> Range<usize> {
 /// A rank's own grains: positions, velocities and ids, in id order.
 type OwnGrains<const D: usize> = (Vec<Vector<D>>, Vec<Vector<D>>, Vec<u32>);
 
-/// What a rank may hold, checked once it knows how many grains are its own (before it
-/// allocates them): an error refuses the run on every rank.
-pub type OwnGrainsCheck<'a> = &'a (dyn Fn(usize) -> Result<(), String> + Sync);
+/// The most loaded rank of a set-up, as the memory check sees it before any rank
+/// allocates its own grains ([`OwnGrainsCheck`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RankLoad {
+    /// Grains of the most loaded rank (every grain on one rank).
+    pub own: usize,
+    /// That rank.
+    pub rank: usize,
+    /// Ranks of the run.
+    pub ranks: usize,
+    /// Grains of the whole system.
+    pub grains: usize,
+    /// Cells of that rank's slab (a rank holds only its own cells).
+    pub cells: usize,
+}
+
+/// Bytes a rank holds per own grain at its peak, in `D` dimensions: the grains' records,
+/// the sort's scratch arrays and cell indices, the migration buffers, and a snapshot's or
+/// trajectory frame's block of ids with its exchange buffers. Measured peak resident
+/// memory over own grains of `granular run` on 2 ranks with snapshots every output
+/// (docs/cluster.md, "Memory"), rounded up.
+pub const fn bytes_per_own_grain(dimension: usize) -> f64 {
+    if dimension == 2 { 170.0 } else { 230.0 }
+}
+
+/// Bytes a rank holds per own cell of its slab.
+pub const BYTES_PER_CELL: f64 = 64.0;
+
+impl RankLoad {
+    /// Estimated bytes of the most loaded rank in `D` dimensions.
+    pub fn bytes(&self, dimension: usize) -> f64 {
+        self.own as f64 * bytes_per_own_grain(dimension) + self.cells as f64 * BYTES_PER_CELL
+    }
+}
+
+/// What a rank may hold, checked once the ranks know how many grains each will own
+/// (before any allocates them), with the most loaded rank: an error refuses the run on
+/// every rank.
+pub type OwnGrainsCheck<'a> = &'a (dyn Fn(&RankLoad) -> Result<(), String> + Sync);
 
 /// The ranks a DSMC engine is split over from its set-up.
 #[derive(Clone)]
-pub struct OnRanks<'a> {
+pub struct OnRanks {
     /// The ranks.
     pub comm: Arc<dyn Communicator>,
     /// How the slab cuts follow the grains; with a balance other than
     /// [`BalanceMode::Off`](super::domain::BalanceMode) the first cuts already share the
     /// grains evenly.
     pub balance: super::domain::Balance,
-    /// Sees this rank's own grains before they are created (a memory estimate); its error
-    /// stops every rank.
-    pub check: Option<OwnGrainsCheck<'a>>,
 }
 
-impl std::fmt::Debug for OnRanks<'_> {
+impl std::fmt::Debug for OnRanks {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("OnRanks")
             .field("ranks", &self.comm.size())
@@ -321,19 +354,21 @@ impl<const D: usize> DsmcEngine<D> {
     /// The engine of `setup` (see the module docs): the whole engine without `ranks` (or
     /// with one rank), else this rank's slab (collective over `ranks.comm`; the same bits
     /// as the slab of the whole engine). `dynamics_seed` keys the collisions' streams.
-    /// Errors (the same on every rank) as [`DsmcEngine::from_state`], when a given
-    /// position lies outside the box, when there are more ranks than cell planes, and
-    /// when `ranks.check` refuses a rank's own grains.
+    /// `check` sees the most loaded rank's grains (every grain on one rank) before the
+    /// grains go to their slabs (a memory estimate); its error stops every rank. Errors
+    /// (the same on every rank) as [`DsmcEngine::from_state`], when a given position lies
+    /// outside the box, when there are more ranks than cell planes, and when `check`
+    /// refuses.
     pub fn from_setup(
         config: DsmcConfig,
         sim_box: SimulationBox<D>,
         setup: &GrainSetup<D>,
         dynamics_seed: u64,
-        ranks: Option<OnRanks<'_>>,
+        ranks: Option<OnRanks>,
+        check: Option<OwnGrainsCheck<'_>>,
     ) -> Result<Self, DsmcError> {
         let ranks = ranks.filter(|r| r.comm.size() > 1);
         let comm = ranks.as_ref().map(|r| r.comm.clone());
-        let check = ranks.as_ref().and_then(|r| r.check);
         let balance = ranks.as_ref().map(|r| r.balance).unwrap_or_default();
         let n = setup.len();
         if n == 0 {
@@ -342,6 +377,22 @@ impl<const D: usize> DsmcEngine<D> {
         let ids_layout = comm.clone().map(|c| Domain::for_ids(c, n));
         let (rank, ranks) = ids_layout.as_ref().map_or((0, 1), |d| (d.rank(), d.size()));
         let block = id_block(n, rank, ranks);
+        if let Some(check) = check {
+            // Before any grain exists: the largest block of ids (every rank checks the
+            // same load, so all agree), which each rank creates before the grains go to
+            // their slabs; the cells are counted after the grid is known.
+            let first = RankLoad {
+                own: n.div_ceil(ranks),
+                rank: 0,
+                ranks,
+                grains: n,
+                cells: 0,
+            };
+            agree(
+                ids_layout.as_ref(),
+                check(&first).map_err(DsmcError::Invalid),
+            )?;
+        }
         let made = setup.grains(&sim_box, block.clone());
         let bad =
             |(id, message): (usize, String)| DsmcError::Invalid(format!("grain {id}: {message}"));
@@ -393,7 +444,14 @@ impl<const D: usize> DsmcEngine<D> {
         let (pos, vel, ids, domain) = match ids_layout {
             None => {
                 if let Some(check) = check {
-                    check(n).map_err(DsmcError::Invalid)?;
+                    check(&RankLoad {
+                        own: n,
+                        rank: 0,
+                        ranks: 1,
+                        grains: n,
+                        cells: derived.grid.len(),
+                    })
+                    .map_err(DsmcError::Invalid)?;
                 }
                 (pos, vel, ids, None)
             }
@@ -550,11 +608,27 @@ impl Domain {
             .map(|v| v.first().map_or(0, |w| w.to_bits() as usize))
             .collect();
         let own: usize = arriving.iter().sum();
-        let checked = match check {
-            Some(check) => check(own).map_err(DsmcError::Invalid),
-            None => Ok(()),
-        };
-        agree(Some(self), checked)?;
+        if let Some(check) = check {
+            // Every rank checks the most loaded one: the same verdict and message on all.
+            let owns = self.all_gather(&[own as f64]);
+            let (rank, most) = owns
+                .iter()
+                .map(|v| v.first().map_or(0, |&x| x as usize))
+                .enumerate()
+                .fold(
+                    (0, 0),
+                    |best, (r, c)| if c > best.1 { (r, c) } else { best },
+                );
+            let cuts = self.cuts();
+            check(&RankLoad {
+                own: most,
+                rank,
+                ranks: k,
+                grains: self.n_global,
+                cells: (cuts[rank + 1] - cuts[rank]) * self.stride,
+            })
+            .map_err(DsmcError::Invalid)?;
+        }
         let mut cursor: Vec<usize> = arriving
             .iter()
             .scan(0, |acc, &c| {

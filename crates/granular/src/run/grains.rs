@@ -19,7 +19,7 @@
 
 use crate::dsmc::Domain;
 use crate::engine::Snapshot;
-use crate::run::{AnyEngine, RunError};
+use crate::run::AnyEngine;
 use crate::simulation::Simulation;
 use crate::stats::Histogram;
 
@@ -157,34 +157,6 @@ impl Grains {
             h.overflow = total.next().unwrap_or(0);
         }
     }
-}
-
-/// The most grains of a run over several ranks for which the outputs that still gather
-/// the whole system on every rank (`output.pair_correlation`, `[crater]`) are accepted: `N (1 + 2 D)` words a rank, 56 MB in 3D. Above it
-/// they are refused before the run starts (see `docs/output.md`).
-pub const GATHER_LIMIT: usize = 1_000_000;
-
-/// Refuses the output of scenario key `key`, which gathers every grain on every rank, in
-/// a decomposed run of more than [`GATHER_LIMIT`] grains.
-pub(crate) fn refuse_whole_gather(simulation: &Simulation, key: &str) -> Result<(), RunError> {
-    let Some(domain) = simulation.engine().domain() else {
-        return Ok(());
-    };
-    let n = simulation.particle_count();
-    if n <= GATHER_LIMIT {
-        return Ok(());
-    }
-    Err(RunError::Output {
-        key: key.into(),
-        message: format!(
-            "is on in a run of {n} grains over {} ranks, but this output gathers every \
-             grain on every rank (it is not computed by blocks of grains yet), which is \
-             refused above {GATHER_LIMIT} grains: turn it off (the speed histograms, S(k), \
-             density maps, the MSD, trajectories and snapshots are written from the \
-             ranks), or run fewer grains",
-            domain.size()
-        ),
-    })
 }
 
 /// The rank whose block of `n` ids (over `k` ranks: `q n / k .. (q + 1) n / k`) holds `id`.

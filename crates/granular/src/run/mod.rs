@@ -14,7 +14,9 @@ pub mod sweep;
 
 /// The intruder engines behind one type (moved to [`crate::build::intruder`]).
 pub use crate::build::intruder;
-pub use crate::build::{AnyEngine, BuildError, build, build_on, dsmc_setup, initial_particles};
+pub use crate::build::{
+    AnyEngine, BuildError, MemoryBudget, build, build_on, dsmc_setup, initial_particles,
+};
 pub use crate::output::npz::write_snapshot;
 pub use dir::{DirectoryState, RunDir, RunFile, Table, read_snapshot};
 pub use outputs::{Output, StandardOutputs};
@@ -230,31 +232,38 @@ impl Run {
         Ok(run)
     }
 
-    /// [`Run::create`] split over the ranks of `comm` (collective): every rank creates
-    /// only its own grains ([`build_on`]); `dir` is this rank's directory, `shared` the run
-    /// directory every rank sees (rank 0's `dir`), where each rank writes its checkpoint
-    /// parts and its blocks of the snapshots. `check` sees this rank's own grains before
-    /// they are created (the memory estimate); its error stops every rank.
+    /// [`Run::create`], split over the ranks of `comm` when it is given (collective):
+    /// every rank creates only its own grains ([`build_on`]); `dir` is this rank's
+    /// directory, `shared` the run directory every rank sees (rank 0's `dir`), where each
+    /// rank writes its checkpoint parts and its blocks of the snapshots. With `memory`, a
+    /// DSMC run whose most loaded rank would not fit in its share of the node is refused
+    /// before the grains go to their slabs ([`crate::build::MemoryBudget::check`]; `None`:
+    /// no check, as `--insist`).
     pub fn create_on(
         dir: &Path,
         scenario: Scenario,
-        comm: std::sync::Arc<dyn crate::dsmc::Communicator>,
+        comm: Option<std::sync::Arc<dyn crate::dsmc::Communicator>>,
         shared: &Path,
-        check: Option<crate::dsmc::setup::OwnGrainsCheck<'_>>,
+        memory: Option<crate::build::MemoryBudget>,
     ) -> Result<Run, RunError> {
         let start = Instant::now();
         let (log, lock) = Recorder::prepare(dir, &scenario)?;
-        let engine = build_on(&scenario, comm.clone(), check)?;
+        let engine = build_on(&scenario, comm.clone(), memory)?;
         let simulation = Simulation::from_parts(scenario, engine);
         let mut run = Run::with_log(dir, simulation, log, lock);
-        run.decompose(comm, shared)
-            .map_err(|e| RunError::Build(BuildError::Dsmc(e.to_string())))?;
+        if let Some(comm) = comm {
+            run.decompose(comm, shared)
+                .map_err(|e| RunError::Build(BuildError::Dsmc(e.to_string())))?;
+        }
+        let over = match run.simulation.engine().domain() {
+            Some(d) => format!(" over {} ranks", d.size()),
+            None => String::new(),
+        };
         run.recorder.log(
             start.elapsed().as_secs_f64(),
             &format!(
-                "built {} engine over {} ranks: {} grains, dimension {}, seed {} ({:.3} s)",
+                "built {} engine{over}: {} grains, dimension {}, seed {} ({:.3} s)",
                 run.simulation.engine_name(),
-                run.simulation.engine().domain().map_or(1, |d| d.size()),
                 run.simulation.particle_count(),
                 run.simulation.scenario().dimension,
                 run.simulation.scenario().seed,

@@ -132,9 +132,9 @@ fn reachable(sc: &Scenario, g: &Gas) -> Result<(), ScenarioError> {
     ))
 }
 
-/// Bytes per grain of the many-grain engines: state, cells, event queue and output
-/// buffers. Measured peak resident memory at `count = 10^6`: EDMD 223 (2D) and 267 (3D),
-/// DSMC 211 (2D) and above 323 (3D) bytes per grain; rounded up.
+/// Bytes per grain of the event-driven engine: state, cells, event queue and output
+/// buffers. Measured peak resident memory at `count = 10^6`: 223 (2D) and 267 (3D) bytes
+/// per grain; rounded up.
 fn bytes_per_grain(sc: &Scenario) -> f64 {
     if sc.dimension == 2 { 300.0 } else { 400.0 }
 }
@@ -144,34 +144,20 @@ pub fn available_memory() -> f64 {
     crate::host::available_memory().unwrap_or(FALLBACK_MEMORY)
 }
 
-/// The grains (and DSMC cells) must fit in the available memory; the error blames what
-/// takes most of it: the grains' count, or DSMC's cell size.
+/// The event-driven engine's grains must fit in the available memory. A DSMC run is
+/// checked when it is built, rank by rank from the grains each will own (it may be split
+/// over ranks and nodes: `build::MemoryBudget`); here only its cell grid, which no number
+/// of ranks makes larger than the engine can index.
 fn memory(sc: &Scenario, n: f64) -> Result<(), ScenarioError> {
-    let grains = n * bytes_per_grain(sc);
-    let mut cells = 0.0;
-    if sc.engine == EngineKind::Dsmc
-        && let Some(l) = sc.dsmc.cell_size
-    {
-        cells = sc.lengths().iter().map(|x| (x / l).ceil()).product::<f64>();
+    if sc.engine == EngineKind::Dsmc {
+        return dsmc_cells(sc);
     }
-    let need = grains + cells * BYTES_PER_CELL;
+    let need = n * bytes_per_grain(sc);
     let have = available_memory();
     if need <= have {
         return Ok(());
     }
     let gib = |b: f64| format_number((b / GIB * 10.0).round() / 10.0);
-    if cells * BYTES_PER_CELL > grains {
-        return Err(ScenarioError::new(
-            "dsmc.cell_size",
-            format!(
-                "is {}: it cuts the box into {} cells, which need about {} GiB (about {BYTES_PER_CELL} bytes per cell), but {} GiB are available; give a larger cell, about the mean free path (leave it out for the automatic size)",
-                format_number(sc.dsmc.cell_size.unwrap_or(f64::NAN)),
-                format_number(cells),
-                gib(cells * BYTES_PER_CELL),
-                gib(have)
-            ),
-        ));
-    }
     let (s, _) = sc
         .species
         .iter()
@@ -190,8 +176,32 @@ fn memory(sc: &Scenario, n: f64) -> Result<(), ScenarioError> {
     ))
 }
 
-/// Bytes of one DSMC cell in the memory estimate.
-const BYTES_PER_CELL: f64 = 64.0;
+/// The DSMC cell grid must have fewer cells than the engine can index (`2^32 - 1`, its
+/// cell numbers are 32-bit), however many ranks share it: `n_k = max(1, floor(L_k /
+/// cell_size))` cells along axis `k`, as the engine cuts the box.
+fn dsmc_cells(sc: &Scenario) -> Result<(), ScenarioError> {
+    let Some(l) = sc.dsmc.cell_size.filter(|l| *l > 0.0) else {
+        return Ok(());
+    };
+    let cells: f64 = sc
+        .lengths()
+        .iter()
+        .map(|x| (x / l).floor().max(1.0))
+        .product();
+    let limit = u32::MAX as f64;
+    if cells < limit {
+        return Ok(());
+    }
+    Err(ScenarioError::new(
+        "dsmc.cell_size",
+        format!(
+            "is {}: it cuts the box into {} cells, more than the {} the DSMC engine can number (whatever the number of ranks); give a larger cell, about the mean free path (leave it out for the automatic size)",
+            format_number(l),
+            format_number(cells),
+            format_number(limit)
+        ),
+    ))
+}
 
 /// The DSMC time step must stay below the initial mean free time.
 fn dsmc_step(sc: &Scenario, g: &Gas) -> Result<(), ScenarioError> {

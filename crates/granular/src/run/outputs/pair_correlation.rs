@@ -71,12 +71,6 @@ impl PairCorrelationOutput {
 }
 
 impl Output for PairCorrelationOutput {
-    /// Refuses a run over ranks above `GATHER_LIMIT` (10^6) grains (every
-    /// rank gathers the whole system at each observation).
-    fn setup(&mut self, simulation: &Simulation) -> Result<(), RunError> {
-        crate::run::grains::refuse_whole_gather(simulation, "output.pair_correlation")
-    }
-
     fn observe(&mut self, simulation: &Simulation, _: &Observation) -> Result<(), RunError> {
         let first = simulation.outputs_done() == 0;
         let out = &simulation.scenario().output;
