@@ -173,7 +173,8 @@ enum Command {
 /// Arguments of `granular reproduce`.
 #[derive(clap::Args, Debug)]
 struct ReproduceArgs {
-    /// Figures to make: fig1 fig2 fig3 fig4 fig5 fig7 fig8, or all.
+    /// Figures to make: fig1 fig2 fig3 fig4 fig5 fig7 fig8 (the intruder paper), fig3d fig4d
+    /// (its Figs. 3 and 4 for disks and spheres), or all.
     #[arg(required = true, value_name = "FIGURE")]
     figures: Vec<String>,
     /// Output directory (created).

@@ -1,6 +1,9 @@
 //! `granular reproduce FIGURE...`: the figures of the Gillespie intruder paper
 //! (`docs/intruder.md`), each as `figN.png`, `figN.svg` and the data table `figN.csv`,
-//! with the theory overlaid where it exists.
+//! with the theory overlaid where it exists; and two figures beyond the paper, its Figs. 3
+//! and 4 for disks and spheres: `fig3d` (`T/T_B` against `alpha` in 1, 2 and 3 dimensions
+//! on the Martin-Piasecki curve, G-40) and `fig4d` (disk and sphere in the power-law bath
+//! G-43: Gillespie against the DSMC twin).
 //!
 //! Statistics: by default the paper's (5e5 collisions per point in 1D, 5e6 for the
 //! needle); `--quick` uses ten times fewer. Sweep points run in parallel (rayon) and every
@@ -10,17 +13,22 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use granular::intruder::ball::figures as balls;
 use granular::intruder::figures as paper;
 use granular::intruder::observables::Table;
 use granular::intruder::theory::{GAUSSIAN_KURTOSIS, martin_piasecki_ratio};
 use granular::random::derive_key;
+use granular::theory::intruder::maxwellian_kurtosis;
 
 use crate::ReportError;
 use crate::figures::{binned_cdf, chi_square_of_bins};
 use crate::plot::{HistogramPlot, LinePlot, PALETTE, Panels, PlotError, Series, fit_text};
 
-/// The figures that can be reproduced (Fig. 6 of the paper is a sketch of the needle).
-pub const FIGURES: [&str; 7] = ["fig1", "fig2", "fig3", "fig4", "fig5", "fig7", "fig8"];
+/// The figures that can be reproduced (Fig. 6 of the paper is a sketch of the needle;
+/// `fig3d` and `fig4d` carry Figs. 3 and 4 to disks and spheres).
+pub const FIGURES: [&str; 9] = [
+    "fig1", "fig2", "fig3", "fig4", "fig5", "fig7", "fig8", "fig3d", "fig4d",
+];
 
 /// What `granular reproduce` makes, besides the figures' names.
 #[derive(Clone, Debug)]
@@ -56,6 +64,10 @@ struct Statistics {
     needle: u64,
     /// Thinning candidates per `v1` (Fig. 1) and sampler draws per `v1` (Fig. 2).
     samples: u64,
+    /// Disk and sphere collisions per point (`fig3d`, `fig4d`; as the 1D intruder's).
+    ball: u64,
+    /// Stored bath velocities of the DSMC twin (`fig4d`).
+    twin_bath: usize,
 }
 
 impl Statistics {
@@ -65,6 +77,8 @@ impl Statistics {
             one_d: 500_000 / k,
             needle: 5_000_000 / k,
             samples: 500_000 / k,
+            ball: 500_000 / k,
+            twin_bath: 10_000,
         }
     }
 }
@@ -148,7 +162,11 @@ fn finite(x: &[f64], y: &[f64]) -> (Vec<f64>, Vec<f64>) {
 const HALF: (u32, u32) = (800, 700);
 
 fn figure(name: &str, out: &Path, st: Statistics, seed: u64) -> Result<Vec<PathBuf>, String> {
-    let number: u64 = name.trim_start_matches("fig").parse().unwrap_or(0);
+    let number: u64 = match name {
+        "fig3d" => 31,
+        "fig4d" => 41,
+        _ => name.trim_start_matches("fig").parse().unwrap_or(0),
+    };
     let fseed = derive_key(seed, &[number]);
     let stem = out.join(name);
     let table = match name {
@@ -158,6 +176,13 @@ fn figure(name: &str, out: &Path, st: Statistics, seed: u64) -> Result<Vec<PathB
         "fig4" => paper::fig4_power_law_ratio(&paper::alpha_grid(), st.one_d, fseed),
         "fig5" => paper::fig5_power_law_distributions(st.one_d, fseed),
         "fig7" => paper::fig7_correlation(&paper::alpha_grid(), st.needle, fseed),
+        "fig3d" => balls::temperature_ratio_by_dimension(&paper::alpha_grid(), st.ball, fseed),
+        "fig4d" => balls::power_law_by_dimension(
+            &paper::linspace(0.0, 1.0, 6),
+            st.ball,
+            st.twin_bath,
+            fseed,
+        ),
         _ => paper::fig8_angular_distribution(st.needle, fseed),
     };
     write_csv(&table, &stem.with_extension("csv"))?;
@@ -168,6 +193,8 @@ fn figure(name: &str, out: &Path, st: Statistics, seed: u64) -> Result<Vec<PathB
         "fig4" => plot_fig4(&table).save_png_and_svg(&stem),
         "fig5" => plot_fig5(&table).save_png_and_svg(&stem),
         "fig7" => plot_fig7(&table).save_png_and_svg(&stem),
+        "fig3d" => plot_fig3d(&table).save_png_and_svg(&stem),
+        "fig4d" => plot_fig4d(&table).save_png_and_svg(&stem),
         _ => plot_fig8(&table).save_png_and_svg(&stem),
     };
     let [png, svg] = r.map_err(|e| format!("{}: {e}", stem.display()))?;
@@ -261,6 +288,101 @@ fn plot_fig3(t: &Table) -> Panels<LinePlot, LinePlot> {
             vec![0.0, 1.0],
             vec![GAUSSIAN_KURTOSIS, GAUSSIAN_KURTOSIS],
         ));
+    Panels::new(left, right)
+}
+
+/// `fig3d`: `T/T_B` against `alpha` for `d = 1, 2, 3` on the Martin-Piasecki curve (left),
+/// the kurtosis against `(d + 2)/d` (right).
+fn plot_fig3d(t: &Table) -> Panels<LinePlot, LinePlot> {
+    let alpha = col(t, "alpha");
+    let names = ["1D intruder", "disk (2D)", "sphere (3D)"];
+    let mut left = LinePlot::new("T/T_B, M = m, Gaussian bath, d = 1, 2, 3")
+        .size(HALF.0, HALF.1)
+        .x_label("restitution α")
+        .y_label("temperature ratio T/T_B");
+    let mut right = LinePlot::new("Kurtosis ⟨|V|⁴⟩/⟨|V|²⟩²")
+        .size(HALF.0, HALF.1)
+        .x_label("restitution α")
+        .y_label("kurtosis ⟨|V|⁴⟩/⟨|V|²⟩²")
+        .y_range(1.4, 3.4);
+    for (j, name) in names.iter().enumerate() {
+        let d = j + 1;
+        left = left.series(
+            Series::markers(
+                format!("{name}, simulation"),
+                alpha.clone(),
+                col(t, &format!("T_over_TB_d{d}")),
+            )
+            .with_errors(col(t, &format!("T_over_TB_d{d}_error")))
+            .with_colour(PALETTE[j]),
+        );
+        right = right
+            .series(
+                Series::markers(
+                    format!("{name}, simulation"),
+                    alpha.clone(),
+                    col(t, &format!("kurtosis_d{d}")),
+                )
+                .with_errors(col(t, &format!("kurtosis_d{d}_error")))
+                .with_colour(PALETTE[j]),
+            )
+            .series(
+                Series::theory(
+                    format!("Maxwellian, (d + 2)/d = {:.3}", maxwellian_kurtosis(d)),
+                    vec![0.0, 1.0],
+                    vec![maxwellian_kurtosis(d); 2],
+                )
+                .with_colour(PALETTE[j]),
+            );
+    }
+    left = left.series(Series::theory_fn(
+        "Martin–Piasecki, G-18/G-40 (any d)",
+        (0.0, 1.0),
+        101,
+        false,
+        |a| martin_piasecki_ratio(a, 1.0, 1.0),
+    ));
+    Panels::new(left, right)
+}
+
+/// `fig4d`: `T/T_B` of the disk and the sphere in the power-law bath, Gillespie against
+/// the DSMC twin (one colour each), with the Gaussian bath's G-40 for reference (left); the
+/// truncated temperature ratio, whose errors hold in the heavy tail (right).
+fn plot_fig4d(t: &Table) -> Panels<LinePlot, LinePlot> {
+    let alpha = col(t, "alpha");
+    let mut left = LinePlot::new("T/T_B, power-law bath (G-43), M = m")
+        .size(HALF.0, HALF.1)
+        .x_label("restitution α")
+        .y_label("temperature ratio T/T_B");
+    let mut right = LinePlot::new("Truncated: M⟨min(|V|², h²)⟩/(d T_B), h = 6√(T_B/M)")
+        .size(HALF.0, HALF.1)
+        .x_label("restitution α")
+        .y_label("truncated temperature ratio");
+    for (j, (d, body)) in [(2, "disk"), (3, "sphere")].iter().enumerate() {
+        for (method, label) in [("gillespie", "Gillespie"), ("twin", "DSMC twin")] {
+            let series = |key: &str| {
+                Series::markers(
+                    format!("{body} ({d}D), {label}"),
+                    alpha.clone(),
+                    col(t, &format!("{method}_{key}_d{d}")),
+                )
+                .with_errors(col(t, &format!("{method}_{key}_d{d}_error")))
+                .with_colour(PALETTE[2 * j + usize::from(method == "twin")])
+            };
+            left = left.series(series("T_over_TB"));
+            right = right.series(series("truncated"));
+        }
+    }
+    left = left.series(
+        Series::theory_fn(
+            "Gaussian bath, G-40 (reference)",
+            (0.0, 1.0),
+            101,
+            false,
+            |a| martin_piasecki_ratio(a, 1.0, 1.0),
+        )
+        .dashed(true),
+    );
     Panels::new(left, right)
 }
 

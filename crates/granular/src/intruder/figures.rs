@@ -133,7 +133,9 @@ pub fn fig2_colliding_velocities(collisions: u64, seed: u64) -> Table {
     t
 }
 
-fn ratio_sweep(
+/// `T/T_B` of the 1D intruder at each `alpha` (the other fields from `base`); point `i` uses
+/// the stream `stream(seed, [MEMBER, offset + i])`.
+pub(crate) fn ratio_sweep(
     base: &Intruder1dConfig,
     alphas: &[f64],
     collisions: u64,

@@ -4,6 +4,7 @@
 //!
 //! * [`bath`]: the isotropic baths (Gaussian, power law G-43, tabulated speeds G-44);
 //! * [`engine`]: the Gillespie engine [`Ball`] (`Ball<2>` a disk, `Ball<3>` a sphere);
+//! * [`figures`]: the data of the two figures of `granular reproduce` for disks and spheres;
 //! * [`twin`]: its DSMC twin [`BallDsmcTwin`] (section 4 of the paper in `d` dimensions);
 //! * [`stats`]: the time-grid observables both share.
 //!
@@ -16,6 +17,7 @@
 
 pub mod bath;
 pub mod engine;
+pub mod figures;
 pub mod stats;
 pub mod twin;
 

@@ -515,4 +515,34 @@ mod tests {
         assert_eq!(toml::from_str::<BallTable>(&text).unwrap(), c);
         assert!(toml::from_str::<BallTable>("raduis = 1.0").is_err());
     }
+
+    #[test]
+    fn a_speed_table_file_is_checked_as_a_speed_distribution() {
+        let dir = tempfile::tempdir().unwrap();
+        let good = dir.path().join("speeds.dat");
+        std::fs::write(&good, "c P\n0 0\n1 1\n3 0\n").unwrap();
+        let table = |f: &std::path::Path| BathTable::Tabulated {
+            file: Some(f.display().to_string()),
+            points: None,
+        };
+        assert_eq!(
+            table(&good).isotropic_config(3).unwrap(),
+            IsotropicBathConfig::Tabulated {
+                points: vec![(0.0, 0.0), (1.0, 1.0), (3.0, 0.0)]
+            }
+        );
+        let bad = dir.path().join("velocities.dat");
+        std::fs::write(&bad, "-1 0\n0 1\n1 0\n").unwrap();
+        let e = table(&bad).isotropic_config(2).unwrap_err();
+        assert_eq!(e.key, "bath.file");
+        assert!(
+            e.message.contains("velocities.dat") && e.message.contains("speeds >= 0"),
+            "{e}"
+        );
+        let e = table(&dir.path().join("missing.dat"))
+            .isotropic_config(2)
+            .unwrap_err();
+        assert_eq!(e.key, "bath.file");
+        assert!(e.message.contains("missing.dat"), "{e}");
+    }
 }
