@@ -84,8 +84,7 @@ impl PyScenario {
 /// makes it absolute, as the command line does.
 fn bath_file_override(path: &Path, sc: &Scenario) -> Option<String> {
     use granular::scenario::BathTable;
-    let cfg = sc.intruder.as_ref()?.one_d()?;
-    let BathTable::Tabulated { file: Some(f), .. } = &cfg.bath else {
+    let BathTable::Tabulated { file: Some(f), .. } = sc.intruder.as_ref()?.bath()? else {
         return None;
     };
     if Path::new(f).is_absolute() {
@@ -271,7 +270,8 @@ impl PyScenario {
         .into()
     }
 
-    /// Spatial dimension D (2: disks, 3: spheres; 1 for the 1D intruder scenarios' bath).
+    /// Spatial dimension D (2: disks, 3: spheres; for the intruder engine 2 with the disk, 3
+    /// with the sphere, unused by the other models).
     #[getter]
     fn dimension(&self) -> usize {
         self.resolved.dimension

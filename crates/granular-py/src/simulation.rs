@@ -430,7 +430,8 @@ impl PySimulation {
         Ok(self.sim()?.particle_count())
     }
 
-    /// Spatial dimension D of the state (1 or 2 for the intruder models).
+    /// Spatial dimension D of the state (intruder models: 1 for 1d and dsmc-twin, 2 for the
+    /// needle and the disk, 3 for the sphere).
     #[getter]
     fn dimension(&self) -> PyResult<usize> {
         Ok(self.sim()?.dimension())

@@ -193,6 +193,60 @@ fn martin_piasecki_ratio<'py>(py: Python<'py>, e: A<'py>, m: A<'py>, mb: A<'py>)
     })
 }
 
+fn dimension_1_to_3(dimension: usize) -> PyResult<()> {
+    if (1..=3).contains(&dimension) {
+        Ok(())
+    } else {
+        Err(value_error(format!(
+            "dimension is {dimension}; use 1 (a point intruder on a line), 2 (a disk) or 3 (a sphere)"
+        )))
+    }
+}
+
+/// Collision rate of a disk or sphere (or a 1D intruder) at speed `v` in a Gaussian bath,
+/// G-32 with G-33.
+#[pyfunction]
+fn intruder_collision_rate<'py>(
+    py: Python<'py>,
+    dimension: usize,
+    v: A<'py>,
+    r: A<'py>,
+    rho: A<'py>,
+    t_b: A<'py>,
+    mb: A<'py>,
+) -> Out<'py> {
+    dimension_1_to_3(dimension)?;
+    map(py, [v, r, rho, t_b, mb], |[v, r, rho, t_b, mb]| {
+        granular::theory::intruder::gaussian_collision_rate(dimension, v, r, rho, t_b, mb)
+    })
+}
+
+/// Mean collision rate of a Maxwellian intruder in a Gaussian bath, G-42.
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+fn intruder_mean_collision_rate<'py>(
+    py: Python<'py>,
+    dimension: usize,
+    r: A<'py>,
+    rho: A<'py>,
+    t_b: A<'py>,
+    mb: A<'py>,
+    t: A<'py>,
+    m: A<'py>,
+) -> Out<'py> {
+    dimension_1_to_3(dimension)?;
+    map(py, [r, rho, t_b, mb, t, m], |[r, rho, t_b, mb, t, m]| {
+        granular::theory::intruder::maxwellian_mean_collision_rate(dimension, r, rho, t_b, mb, t, m)
+    })
+}
+
+/// Kurtosis of a `d`-dimensional Maxwellian, G-41.
+#[pyfunction]
+fn maxwellian_kurtosis(dimension: usize) -> PyResult<f64> {
+    dimension_1_to_3(dimension)?;
+    Ok(granular::theory::intruder::maxwellian_kurtosis(dimension))
+}
+
 /// Which quantity of a bath distribution.
 fn bath_quantity(dist: &dyn BathDistribution, what: &str, v: f64) -> f64 {
     match what {
@@ -248,6 +302,9 @@ fn needle_flux<'py>(
 pub fn register(parent: &Bound<'_, PyModule>) -> PyResult<()> {
     let m = PyModule::new(parent.py(), "theory")?;
     m.add_function(wrap_pyfunction!(speed_density, &m)?)?;
+    m.add_function(wrap_pyfunction!(intruder_collision_rate, &m)?)?;
+    m.add_function(wrap_pyfunction!(intruder_mean_collision_rate, &m)?)?;
+    m.add_function(wrap_pyfunction!(maxwellian_kurtosis, &m)?)?;
     m.add_function(wrap_pyfunction!(speed_cdf, &m)?)?;
     m.add_function(wrap_pyfunction!(mean_speed, &m)?)?;
     m.add_function(wrap_pyfunction!(compressibility, &m)?)?;

@@ -196,6 +196,35 @@ def test_needle(root: Path) -> None:
     assert "rotational_temperature" in sim.columns()
 
 
+@pytest.mark.parametrize("model, dimension", [("disk", 2), ("sphere", 3)])
+def test_disk_and_sphere_against_martin_piasecki(root: Path, model: str, dimension: int) -> None:
+    sc = granular.Scenario.load(root / "scenarios" / f"intruder-{model}.toml")
+    sc.set("intruder.restitution", 0.2)
+    sc.set("intruder.mass", 2.0)
+    sc.set("stop.collisions", 200000)
+    sim = granular.Simulation(sc)
+    assert sim.run() == "collisions"
+    assert sim.dimension == dimension
+    cols = sim.columns()
+    assert ("velocity_z" in cols) == (dimension == 3)
+    theory = granular.theory.martin_piasecki_ratio(0.2, 2.0, 1.0)
+    assert cols["martin_piasecki_ratio"] == pytest.approx(theory, rel=1e-15)
+    ratio, err = cols["temperature_ratio"], cols["temperature_ratio_error"]
+    assert abs(ratio - theory) < 5 * err, (ratio, err, theory)
+    rate = granular.theory.intruder_mean_collision_rate(
+        theory * 0.5, radius=0.5, bath_temperature=0.5, mass=2.0, dimension=dimension
+    )
+    assert cols["theory_collision_rate"] == pytest.approx(rate, rel=1e-12)
+    assert abs(cols["collision_rate"] - rate) < 5 * cols["collision_rate_error"]
+    assert abs(cols["kurtosis"] - granular.theory.maxwellian_kurtosis(dimension)) < 5 * cols["kurtosis_error"]
+
+
+def test_sphere_in_two_dimensions_is_refused(root: Path) -> None:
+    text = (root / "scenarios" / "intruder-sphere.toml").read_text().replace("dimension = 3", "dimension = 2")
+    with pytest.raises(granular.ScenarioError, match="set dimension = 3"):
+        granular.Scenario.from_toml(text)
+
+
 def test_errors(edmd2d: granular.Scenario) -> None:
     sim = granular.Simulation(edmd2d)
     sim.advance(0.05)

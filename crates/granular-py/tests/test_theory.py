@@ -92,3 +92,38 @@ def test_martin_piasecki_and_intruder_fluxes() -> None:
     assert theory.needle_flux(0.0, 0.0, length=2.0, density=3.0, temperature=0.5) == pytest.approx(
         3.0 * 2.0 * theory.bath_flux(0.0, temperature=0.5), rel=1e-12
     )
+
+
+def test_disk_and_sphere_collision_rates() -> None:
+    # At rest (a = m / 2T_B = 1): rho sigma_d <|u|>, the bath's mean speed sqrt(pi)/2 (2D), 2/sqrt(pi) (3D).
+    assert theory.intruder_collision_rate(0.0, radius=0.5, dimension=2) == pytest.approx(
+        math.sqrt(math.pi) / 2, rel=1e-12
+    )
+    assert theory.intruder_collision_rate(0.0, radius=0.5, bath_density=2.0, dimension=3) == pytest.approx(
+        2.0 * math.pi * 0.25 * 2 / math.sqrt(math.pi), rel=1e-12
+    )
+    # Far away: rho sigma_d (|V| + (d - 1)/(4 a |V|)).
+    v = 200.0
+    for d, sigma in [(2, 1.0), (3, math.pi / 4)]:
+        assert theory.intruder_collision_rate(v, dimension=d) == pytest.approx(
+            sigma * (v + (d - 1) / (4 * v)), rel=1e-8
+        )
+    # 1D: G-7 (the radius does not enter).
+    v1 = np.linspace(-2, 2, 5)
+    np.testing.assert_allclose(
+        theory.intruder_collision_rate(np.abs(v1), radius=7.0, dimension=1), theory.bath_flux(v1, temperature=0.5)
+    )
+    # G-42 is the average of G-32 over the intruder's Maxwellian (mass 2, T = 0.3): quadrature in NumPy.
+    c = np.linspace(0.0, 12.0, 24001)
+    for d in (2, 3):
+        rates = theory.intruder_collision_rate(c, radius=0.7, bath_density=1.5, temperature=0.4, bath_mass=0.5, dimension=d)
+        weights = theory.speed_density(c, mass=2.0, temperature=0.3, dimension=d)
+        mean = np.trapezoid(rates * weights, c) if hasattr(np, "trapezoid") else np.trapz(rates * weights, c)
+        want = theory.intruder_mean_collision_rate(
+            0.3, radius=0.7, bath_density=1.5, bath_temperature=0.4, bath_mass=0.5, mass=2.0, dimension=d
+        )
+        assert mean == pytest.approx(want, rel=1e-5)
+    assert theory.maxwellian_kurtosis(2) == 2.0 and theory.maxwellian_kurtosis(3) == pytest.approx(5 / 3)
+    np.testing.assert_allclose(theory.martin_piasecki_ratio(0.5, [0.5, 1.0, 2.0]), [0.5, 0.6, 2 / 3])
+    with pytest.raises(ValueError, match="dimension is 4"):
+        theory.intruder_collision_rate(1.0, dimension=4)

@@ -35,6 +35,9 @@ __all__ = [
     "haff_energy",
     "haff_temperature",
     "martin_piasecki_ratio",
+    "intruder_collision_rate",
+    "intruder_mean_collision_rate",
+    "maxwellian_kurtosis",
     "bath_density",
     "bath_flux",
     "needle_flux",
@@ -175,9 +178,56 @@ def haff_temperature(t: ArrayLike, initial_temperature: ArrayLike, t0: ArrayLike
 
 
 def martin_piasecki_ratio(restitution: ArrayLike, mass: ArrayLike = 1.0, bath_mass: ArrayLike = 1.0) -> Result:
-    """Stationary ``T/T_B`` of a 1D intruder of mass ``mass`` in a Gaussian bath (G-18, for any bath mass):
-    ``(1 + alpha) / (2 + (1 - alpha) m / M)``."""
+    """Stationary ``T/T_B`` of an intruder of mass ``M = mass`` in a Gaussian bath of particles of mass
+    ``m = bath_mass``, in any dimension (G-18 in 1D, G-40 for a disk or sphere; Martin and Piasecki 1999):
+    ``(1 + alpha) M / (2M + (1 - alpha) m)``."""
     return _apply(_T.martin_piasecki_ratio, (), restitution, mass, bath_mass)
+
+
+def intruder_collision_rate(
+    speed: ArrayLike,
+    radius: ArrayLike = 0.5,
+    bath_density: ArrayLike = 1.0,
+    temperature: ArrayLike = 0.5,
+    bath_mass: ArrayLike = 1.0,
+    dimension: int = 2,
+) -> Result:
+    """Collision rate (collisions per unit time) of a disk (``dimension=2``) or sphere (``dimension=3``) of
+    radius ``R`` moving at ``speed = |V|`` through a Gaussian bath of number density ``rho``, temperature
+    ``T_B`` and particle mass ``m``: ``rho sigma_d <|u - V|>`` (G-32 with the closed forms G-33;
+    ``sigma_d = 2R``, ``pi R^2``). ``dimension=1`` is the 1D intruder's G-7 (``radius`` unused)."""
+    return _apply(
+        _T.intruder_collision_rate, (int(dimension),), speed, radius, bath_density, temperature, bath_mass
+    )
+
+
+def intruder_mean_collision_rate(
+    temperature: ArrayLike,
+    radius: ArrayLike = 0.5,
+    bath_density: ArrayLike = 1.0,
+    bath_temperature: ArrayLike = 0.5,
+    bath_mass: ArrayLike = 1.0,
+    mass: ArrayLike = 1.0,
+    dimension: int = 2,
+) -> Result:
+    """Mean collision rate of a Maxwellian intruder (mass ``M``, temperature ``T``) in a Gaussian bath (G-42):
+    ``rho sigma_d sqrt(2 (T_B/m + T/M)) Gamma((d+1)/2) / Gamma(d/2)``; the stationary rate with ``T`` from
+    :func:`martin_piasecki_ratio`."""
+    return _apply(
+        _T.intruder_mean_collision_rate,
+        (int(dimension),),
+        radius,
+        bath_density,
+        bath_temperature,
+        bath_mass,
+        temperature,
+        mass,
+    )
+
+
+def maxwellian_kurtosis(dimension: int = 2) -> float:
+    """Kurtosis ``<|V|^4> / <|V|^2>^2 = (d + 2)/d`` of a ``d``-dimensional Maxwellian (G-41): 3, 2, 5/3."""
+    return float(_T.maxwellian_kurtosis(int(dimension)))
 
 
 Bath = Literal["gaussian", "power_law"]
