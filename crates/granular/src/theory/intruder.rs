@@ -81,17 +81,18 @@ fn scaled_bessel_i0_i1(z: f64) -> (f64, f64) {
 /// `<|u - V|> = Gamma((d+1)/2) / (Gamma(d/2) sqrt(a)) 1F1(-1/2; d/2; -x^2)`, `x = sqrt(a) |V|`,
 ///
 /// * 2D: `sqrt(pi/(4a)) e^{-x^2/2} [(1 + x^2) I_0(x^2/2) + x^2 I_1(x^2/2)]` (Rice mean);
-/// * 3D: `[e^{-x^2}/sqrt(pi) + (x + 1/(2x)) erf(x)] / sqrt(a)`, `2/sqrt(pi a)` at `x = 0`.
+/// * 3D: `[e^{-x^2}/sqrt(pi) + (x + 1/(2x)) erf(x)] / sqrt(a)`, `2/sqrt(pi a)` at `x = 0`;
+/// * 1D: `[e^{-x^2}/sqrt(pi) + x erf(x)] / sqrt(a)`, the rate per unit density G-7 of the
+///   Gaussian bath (G-16, the sum of `intruder::Gaussian`'s `flux_plus` and `flux_minus`).
 ///
-/// The 1D form is G-16, `intruder::Gaussian::flux`. Units: velocity.
+/// Units: velocity.
 pub fn gaussian_mean_relative_speed(dimension: usize, a: f64, speed: f64) -> f64 {
-    assert!(
-        dimension == 2 || dimension == 3,
-        "the disk/sphere closed form needs dimension 2 or 3, got {dimension} (1D: G-16)"
-    );
+    check_dimension(dimension);
     let s = a.sqrt();
     let x = s * speed.abs();
-    let scaled = if dimension == 2 {
+    let scaled = if dimension == 1 {
+        (-x * x).exp() / PI.sqrt() + x * libm::erf(x)
+    } else if dimension == 2 {
         let z = 0.5 * x * x;
         let (i0, i1) = scaled_bessel_i0_i1(z);
         0.5 * PI.sqrt() * ((1.0 + x * x) * i0 + x * x * i1)
@@ -403,6 +404,29 @@ mod tests {
             gaussian_mean_relative_speed(3, 1.0, 1.01e-4),
         );
         assert!(rel(s, t) < 1e-8);
+    }
+
+    /// 1D: the Gaussian bath's rate per unit density G-7 (its `flux`, G-16), at rest
+    /// `1/sqrt(pi a)`, at any speed.
+    #[test]
+    fn gaussian_one_dimensional_form_is_the_bath_flux() {
+        use crate::intruder::bath::{BathDistribution, Gaussian};
+        for a in [0.5, 2.0] {
+            let bath = Gaussian::new(a).expect("a > 0");
+            assert!(
+                rel(
+                    gaussian_mean_relative_speed(1, a, 0.0),
+                    1.0 / (PI * a).sqrt()
+                ) < 1e-14
+            );
+            for v in [-3.0, -0.2, 0.0, 1e-3, 0.7, 4.0, 40.0] {
+                let (closed, flux) = (gaussian_mean_relative_speed(1, a, v), bath.flux(v));
+                assert!(
+                    rel(closed, flux) < 1e-13,
+                    "a = {a}, v = {v}: {closed} vs {flux}"
+                );
+            }
+        }
     }
 
     /// The kernels `K_d` against direct angular quadrature, including `c = v`.
