@@ -298,11 +298,11 @@ fn plot_fig3d(t: &Table) -> Panels<LinePlot, LinePlot> {
     let names = ["1D intruder", "disk (2D)", "sphere (3D)"];
     let mut left = LinePlot::new("T/T_B, M = m, Gaussian bath, d = 1, 2, 3")
         .size(HALF.0, HALF.1)
-        .x_label("restitution α")
+        .x_label("restitution α (dimensionless)")
         .y_label("temperature ratio T/T_B");
     let mut right = LinePlot::new("Kurtosis ⟨|V|⁴⟩/⟨|V|²⟩²")
         .size(HALF.0, HALF.1)
-        .x_label("restitution α")
+        .x_label("restitution α (dimensionless)")
         .y_label("kurtosis ⟨|V|⁴⟩/⟨|V|²⟩²")
         .y_range(1.4, 3.4);
     for (j, name) in names.iter().enumerate() {
@@ -352,12 +352,12 @@ fn plot_fig4d(t: &Table) -> Panels<LinePlot, LinePlot> {
     let alpha = col(t, "alpha");
     let mut left = LinePlot::new("T/T_B, power-law bath (G-43), M = m")
         .size(HALF.0, HALF.1)
-        .x_label("restitution α")
+        .x_label("restitution α (dimensionless)")
         .y_label("temperature ratio T/T_B");
-    let mut right = LinePlot::new("Truncated: M⟨min(|V|², h²)⟩/(d T_B), h = 6√(T_B/M)")
+    let mut right = LinePlot::new("Truncated: T_h = M⟨min(|V|², h²)⟩/d, h = 6√(T_B/M)")
         .size(HALF.0, HALF.1)
-        .x_label("restitution α")
-        .y_label("truncated temperature ratio");
+        .x_label("restitution α (dimensionless)")
+        .y_label("truncated temperature ratio T_h/T_B");
     for (j, (d, body)) in [(2, "disk"), (3, "sphere")].iter().enumerate() {
         for (method, label) in [("gillespie", "Gillespie"), ("twin", "DSMC twin")] {
             let series = |key: &str| {
