@@ -22,6 +22,16 @@ use serde::{Deserialize, Serialize};
 /// 2D (wider cells, more candidates per prediction).
 pub const MAX_CELLS_PER_GRAIN: f64 = 2.0;
 
+/// The fewest cells a periodic axis is coarsened to (where it is at least this many
+/// contact distances long). With four or more, two grains in neighbouring cells are less
+/// than half a box apart along the axis, so their minimum image cannot change while they
+/// stay neighbours, and a pair that is not yet neighbours is tested afresh, at its current
+/// image, by the cell crossing that makes it one: a contact predicted at one image is never
+/// missed at the other. (A periodic axis shorter than four contact distances, a box of a
+/// few grains, has one or three cells, and there two grains can meet through the image
+/// the last prediction did not look at: a limitation, docs/edmd.md.)
+pub const MIN_PERIODIC_CELLS: usize = 4;
+
 /// Sentinel for "no particle".
 pub const NONE: u32 = u32::MAX;
 
@@ -187,7 +197,9 @@ impl CountDivisor {
 impl<const D: usize> CellGrid<D> {
     /// A grid over `bx` with cells at least `min_width` wide (the largest contact
     /// distance), for `n` particles. Periodic axes with fewer than three cells collapse to
-    /// one cell, so that a neighbour is never visited twice.
+    /// one cell, so that a neighbour is never visited twice. The cap of
+    /// [`MAX_CELLS_PER_GRAIN`] never coarsens a periodic axis below
+    /// [`MIN_PERIODIC_CELLS`] cells.
     pub fn new(bx: &SimulationBox<D>, min_width: f64, n: usize) -> Self {
         let mut counts = [1usize; D];
         let mut widths = [0.0; D];
@@ -210,7 +222,14 @@ impl<const D: usize> CellGrid<D> {
         while total > max_cells {
             // Coarsen the axis with the narrowest cells by about 10 %, so that cells stay
             // close to square.
-            let Some(k) = (0..D).filter(|&k| counts[k] > 1).min_by(|&a, &b| {
+            let coarsens = |k: usize| {
+                if periodic[k] {
+                    counts[k] > MIN_PERIODIC_CELLS
+                } else {
+                    counts[k] > 1
+                }
+            };
+            let Some(k) = (0..D).filter(|&k| coarsens(k)).min_by(|&a, &b| {
                 let wa = bx.lengths[a] / counts[a] as f64;
                 let wb = bx.lengths[b] / counts[b] as f64;
                 wa.total_cmp(&wb)
@@ -219,7 +238,11 @@ impl<const D: usize> CellGrid<D> {
             };
             let c = counts[k];
             let new = ((c as f64 / 1.1) as usize).clamp(1, c - 1);
-            let new = if periodic[k] && new < 3 { 1 } else { new };
+            let new = if periodic[k] {
+                new.max(MIN_PERIODIC_CELLS)
+            } else {
+                new
+            };
             total = total / c as f64 * new as f64;
             counts[k] = new;
         }

@@ -36,7 +36,9 @@ impl<const D: usize> Edmd<D> {
                 let l = self.bx.lengths[k];
                 self.grains[i].pos[k] += if upward { -l } else { l };
             }
+            let released = self.release_if_approaching(i);
             let search = match hint {
+                _ if released => Search::Full,
                 HINT_NONE => Search::Full,
                 HINT_NO_PAIR => Search::Layer {
                     axis: k,

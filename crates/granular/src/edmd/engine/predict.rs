@@ -51,6 +51,7 @@ impl<const D: usize> Edmd<D> {
     /// Predicts slot `i`'s earliest event from its state at the current time (which must
     /// be stored, `time == now`) and puts it in the queue.
     pub(super) fn predict(&mut self, i: usize) {
+        self.release_if_approaching(i);
         let key = self.predict_with(i, Search::Full);
         self.queue.update(i, key);
     }
@@ -314,6 +315,43 @@ impl<const D: usize> Edmd<D> {
             p
         } else {
             NONE
+        }
+    }
+
+    /// Forgets that slot `i` and its last partner are separating when they no longer
+    /// are, and says whether it did (then a layer search is no longer exact: the two did
+    /// not test each other). Two last partners separate from their collision on (`dx .
+    /// dv` only grows while neither collides again), but they can approach once more if
+    /// their velocities are changed (a white-noise kick) or, in a periodic box, through
+    /// the other image once they are half a box apart; skipping each other then would let
+    /// them pass through each other. Released when `dx . dv` is below `-1e-9 |dx| |dv|`
+    /// (less the closing rate of growing radii): round-off after a collision at zero
+    /// restitution (`dx . dv` of order `1e-16 |dx| |dv|`) keeps the pair skipped.
+    pub(super) fn release_if_approaching(&mut self, i: usize) -> bool {
+        let p = self.separating_partner(i);
+        if p == NONE {
+            return false;
+        }
+        let p = p as usize;
+        let dx = self
+            .bx
+            .separation(&self.position_raw(i), &self.position_raw(p));
+        let dv = self.velocity_slot(p) - self.velocity_slot(i);
+        let (b, dx2, dv2) = (dx.dot(&dv), dx.norm_squared(), dv.norm_squared());
+        let approaching = if self.growth == 0.0 {
+            // `b < -1e-9 |dx| |dv|` without a square root (this runs at most crossings).
+            b < 0.0 && b * b > 1e-18 * dx2 * dv2
+        } else {
+            let closing = (self.base_radius(i) + self.base_radius(p)) * self.growth;
+            let dx_norm = dx2.sqrt();
+            b - closing * dx_norm < -1e-9 * dx_norm * dv2.sqrt()
+        };
+        if approaching {
+            self.last_partner[i] = NONE;
+            self.last_partner[p] = NONE;
+            true
+        } else {
+            false
         }
     }
 

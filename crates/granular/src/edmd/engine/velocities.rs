@@ -13,6 +13,10 @@ impl<const D: usize> Edmd<D> {
     /// Replaces every grain's velocity `v` by `f(id, v)` at the current time, then
     /// predicts every grain's next event again and rebuilds the calendar (no event is
     /// skipped: the positions do not move, only the future changes). Without gravity.
+    ///
+    /// New velocities can send two grains that were each other's last partners towards
+    /// each other again (a white-noise kick right after their collision); the prediction
+    /// releases such pairs ([`Edmd::release_if_approaching`]).
     pub(crate) fn change_velocities(&mut self, mut f: impl FnMut(u32, Vector<D>) -> Vector<D>) {
         for i in 0..self.len() {
             self.advance_particle(i);
