@@ -208,3 +208,31 @@ fn white_noise_edmd_run_reports_its_steady_state() {
     let zeta = st.cooling_rate.expect("cooling rate averaged");
     assert!(zeta.samples > 10 && zeta.mean > 0.0, "{zeta:?}");
 }
+
+/// A white-noise run that ends before its equilibration has no temperature sample: its
+/// `steady_state` block says so with `null`s (no cooling rate at a mean temperature that
+/// does not exist) and `summary.json` reads back (it used to hold a NaN written as `null`
+/// where a number was required, and `granular.load_run` failed on it).
+#[test]
+fn a_driven_run_shorter_than_its_equilibration_reads_back() {
+    let s = bundled(
+        "edmd-white-noise",
+        &["stop.collisions_per_particle=1", "output.interval=0.01"],
+    );
+    let dir = std::env::temp_dir().join(format!("granular-short-driven-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let summary = granular::run::Run::create(&dir, s)
+        .unwrap()
+        .run_to_end(&mut |_| {}, None)
+        .unwrap();
+    let st = summary.steady_state.clone().expect("steady_state block");
+    assert!(
+        st.temperature.is_none() && st.theory_cooling_rate.is_none(),
+        "{st:?}"
+    );
+    let text = std::fs::read_to_string(dir.join("summary.json")).unwrap();
+    let read: granular::run::Summary =
+        serde_json::from_str(&text).expect("summary.json reads back");
+    assert_eq!(read.steady_state, summary.steady_state);
+    let _ = std::fs::remove_dir_all(&dir);
+}

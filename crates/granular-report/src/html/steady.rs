@@ -47,7 +47,11 @@ pub(crate) fn rows(scenario: &Scenario, summary: &Summary) -> Vec<Comparison> {
             .accuracy(a2_accuracy)
             .source(format!("{estimate}{}", error_note(&s.a2))),
     );
-    let zeta = s.theory_cooling_rate;
+    // Without a temperature sample (a run shorter than its equilibration time) there is
+    // no mean temperature to evaluate the cooling rate and its accuracy at.
+    let Some(zeta) = s.theory_cooling_rate else {
+        return rows;
+    };
     let (relative, parts) = rate_accuracy(
         scenario,
         s.theory_a2,

@@ -251,8 +251,9 @@ pub struct SteadyStateSummary {
     /// Measured cooling rate `zeta = 2 (loss rate) / (D N T)` (1 / time).
     pub cooling_rate: Option<AverageValue>,
     /// `zeta = (1-e²)/D omega(T) (1 + 3 a2/16)` at the measured mean temperature and
-    /// `theory_a2` ([`crate::driving::GasTheory::cooling_rate`]).
-    pub theory_cooling_rate: f64,
+    /// `theory_a2` ([`crate::driving::GasTheory::cooling_rate`]); `null` when the run
+    /// has no temperature sample (it ended before the equilibration time).
+    pub theory_cooling_rate: Option<f64>,
     /// The contact value `chi` of the collision frequency the theory uses (1: dilute).
     pub chi: f64,
 }

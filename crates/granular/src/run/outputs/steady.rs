@@ -22,7 +22,9 @@ pub(super) fn summary(
     let get = |k: &str| averages.observables.get(k).cloned();
     let a2 = theory.a2(&driving);
     let temperature = get("temperature");
-    let mean_t = temperature.as_ref().map_or(f64::NAN, |t| t.mean);
+    let theory_cooling_rate = temperature
+        .as_ref()
+        .map(|t| theory.cooling_rate(t.mean, a2));
     let (kind, theory_temperature, first) = match driving {
         Driving::Rescale { temperature } => (
             "rescale",
@@ -46,7 +48,7 @@ pub(super) fn summary(
         temperature,
         theory_temperature,
         cooling_rate: get("cooling_rate"),
-        theory_cooling_rate: theory.cooling_rate(mean_t, a2),
+        theory_cooling_rate,
         chi: theory.chi,
     })
 }
