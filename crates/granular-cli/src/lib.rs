@@ -249,115 +249,57 @@ fn worker_threads(threads: Option<usize>) -> Result<usize, CliError> {
     }
 }
 
-/// The values the scenario leaves to the engine (intruder `sample_interval`, `transient`,
-/// `histogram_max`; DSMC `time_step`, `cell_size` of a gas of at most 10^6 grains, which
-/// is built to read them).
+/// The values the scenario leaves to the engine, as the scenario resolves them (intruder
+/// `sample_interval`, `transient`, `histogram_max`; DSMC `time_step` and `cell_size`; the
+/// steady state of `[driving]`), at the initial temperature its velocities describe
+/// (`Scenario::resolve`; no engine is built).
 fn automatic_values(sc: &Scenario) -> Vec<(String, f64)> {
-    use granular::run::AnyEngine;
+    use granular::driving::Driving;
     use granular::scenario::EngineKind;
-    match sc.engine {
-        EngineKind::Intruder => granular::run::intruder::automatic_values(sc),
-        EngineKind::Dsmc
-            if (sc.dsmc.time_step.is_none()
-                || sc.dsmc.cell_size.is_none()
-                || sc.driving.is_some())
-                && sc.particle_count() <= 1_000_000 =>
-        {
-            let Ok(sim) = granular::prelude::Simulation::new(sc.clone()) else {
-                return Vec::new();
-            };
-            let (step, cell) = match sim.engine() {
-                AnyEngine::Dsmc2(e) => (e.time_step(), e.grid().edges[0]),
-                AnyEngine::Dsmc3(e) => (e.time_step(), e.grid().edges[0]),
-                _ => return Vec::new(),
-            };
-            let mut out = Vec::new();
-            if sc.dsmc.time_step.is_none() {
-                out.push((
-                    "dsmc.time_step (initial; it follows the mean free time)".to_string(),
-                    step,
-                ));
-            }
-            if sc.dsmc.cell_size.is_none() {
-                out.push(("dsmc.cell_size (cell edge along x)".to_string(), cell));
-            }
-            out.extend(driving_values(sc, &sim));
-            out
-        }
-        EngineKind::Edmd if sc.driving.is_some() && sc.particle_count() <= 1_000_000 => {
-            let Ok(sim) = granular::prelude::Simulation::new(sc.clone()) else {
-                return Vec::new();
-            };
-            driving_values(sc, &sim)
-        }
-        _ => Vec::new(),
+    if sc.kind() == EngineKind::Intruder {
+        return granular::run::intruder::automatic_values(sc);
     }
-}
-
-/// `[driving]`: the rescaling temperature left to its default, and the steady state's
-/// Sonine `a2` and temperature (van Noije and Ernst 1998; `granular::driving`).
-fn driving_values(sc: &Scenario, sim: &granular::prelude::Simulation) -> Vec<(String, f64)> {
-    use granular::driving::{Driving, GasTheory};
-    use granular::run::AnyEngine;
-    let gas = |d: usize, e: f64, n: f64, r: f64, m: f64, chi: f64, p: usize| GasTheory {
-        dimension: d,
-        restitution: e,
-        number_density: n,
-        radius: r,
-        mass: m,
-        chi,
-        particles: p,
-    };
-    let (driving, theory) = match sim.engine() {
-        AnyEngine::Dsmc2(e) => (
-            e.driving().map(|s| s.driving.clone()),
-            gas(
-                2,
-                e.config().law.restitution,
-                e.number_density(),
-                e.radius(),
-                e.mass(),
-                e.enskog_factor(),
-                sc.particle_count(),
-            ),
-        ),
-        AnyEngine::Dsmc3(e) => (
-            e.driving().map(|s| s.driving.clone()),
-            gas(
-                3,
-                e.config().law.restitution,
-                e.number_density(),
-                e.radius(),
-                e.mass(),
-                e.enskog_factor(),
-                sc.particle_count(),
-            ),
-        ),
-        AnyEngine::Edmd2(e) => (e.driving().map(|s| s.driving.clone()), e.gas_theory()),
-        AnyEngine::Edmd3(e) => (e.driving().map(|s| s.driving.clone()), e.gas_theory()),
-        _ => return Vec::new(),
-    };
-    let Some(driving) = driving else {
+    let resolved = sc.resolve();
+    let Some(g) = resolved.grains else {
         return Vec::new();
     };
-    let a2 = theory.a2(&driving);
     let mut out = Vec::new();
-    match driving {
-        Driving::Rescale { temperature } => {
-            if sc.driving.as_ref().is_some_and(|d| d.temperature.is_none()) {
+    if let Some(d) = &g.dsmc {
+        if sc.dsmc().is_some_and(|s| s.time_step.is_none()) {
+            out.push((
+                "dsmc.time_step (initial; it follows the mean free time)".to_string(),
+                d.time_step,
+            ));
+        }
+        if sc.dsmc().is_some_and(|s| s.cell_size.is_none()) {
+            out.push((
+                "dsmc.cell_size (cell edge along x)".to_string(),
+                d.cell_edges.first().copied().unwrap_or(d.cell_size),
+            ));
+        }
+    }
+    if let Some(state) = &g.driving {
+        match state.driving {
+            Driving::Rescale { temperature } => {
+                if sc
+                    .driving()
+                    .as_ref()
+                    .is_some_and(|d| d.temperature.is_none())
+                {
+                    out.push((
+                        "driving.temperature (the initial temperature)".into(),
+                        temperature,
+                    ));
+                }
+                out.push(("steady a2 (Sonine, HCS second estimate)".into(), state.a2));
+            }
+            Driving::WhiteNoise { .. } => {
+                out.push(("steady a2 (Sonine, heated gas)".into(), state.a2));
                 out.push((
-                    "driving.temperature (the initial temperature)".into(),
-                    temperature,
+                    "steady temperature (energy balance, Sonine loss rate)".into(),
+                    state.temperature,
                 ));
             }
-            out.push(("steady a2 (Sonine, HCS second estimate)".into(), a2));
-        }
-        Driving::WhiteNoise { strength } => {
-            out.push(("steady a2 (Sonine, heated gas)".into(), a2));
-            out.push((
-                "steady temperature (energy balance, Sonine loss rate)".into(),
-                theory.white_noise_temperature(strength, a2),
-            ));
         }
     }
     out
@@ -414,7 +356,7 @@ fn load_with(
 /// resumes find it from any working directory), if there is one to make.
 fn bath_file_override(path: &Path, sc: &Scenario) -> Option<String> {
     use granular::scenario::BathTable;
-    let BathTable::Tabulated { file: Some(f), .. } = sc.intruder.as_ref()?.bath()? else {
+    let BathTable::Tabulated { file: Some(f), .. } = sc.intruder()?.bath()? else {
         return None;
     };
     if Path::new(f).is_absolute() {
@@ -486,7 +428,7 @@ fn dispatch(cli: Cli) -> Result<(), CliError> {
             print!("{}", sc.to_toml());
             let automatic = automatic_values(&sc);
             if !automatic.is_empty() {
-                println!("\n# Values left to the engine, as it resolves them for this scenario:");
+                println!("\n# Values left to the engine, as the scenario resolves them:");
                 for (key, value) in automatic {
                     println!("# {key} = {value}");
                 }
@@ -501,7 +443,7 @@ fn dispatch(cli: Cli) -> Result<(), CliError> {
             if let Err(e) = cost.check_limits() {
                 eprintln!("above the limits, accepted by --insist: {e}");
             }
-            match &sc.intruder {
+            match &sc.intruder() {
                 Some(i) => eprintln!(
                     "{}: valid (intruder engine, model {})",
                     scenario.display(),
@@ -511,7 +453,7 @@ fn dispatch(cli: Cli) -> Result<(), CliError> {
                     "{}: valid ({} grains, {} species)",
                     scenario.display(),
                     sc.particle_count(),
-                    sc.species.len()
+                    sc.species().len()
                 ),
             }
             Ok(())
@@ -753,7 +695,7 @@ fn finish_after(
 ) -> Result<(), CliError> {
     let interrupt = interrupt::Interrupt::install();
     run.interrupt_when(interrupt.check());
-    let elastic = run.scenario().collisions.law().is_elastic();
+    let elastic = run.scenario().collisions().law().is_elastic();
     for w in run.warnings() {
         eprintln!("warning: {w}");
     }

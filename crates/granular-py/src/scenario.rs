@@ -84,7 +84,7 @@ impl PyScenario {
 /// makes it absolute, as the command line does.
 fn bath_file_override(path: &Path, sc: &Scenario) -> Option<String> {
     use granular::scenario::BathTable;
-    let BathTable::Tabulated { file: Some(f), .. } = sc.intruder.as_ref()?.bath()? else {
+    let BathTable::Tabulated { file: Some(f), .. } = sc.intruder()?.bath()? else {
         return None;
     };
     if Path::new(f).is_absolute() {
@@ -206,12 +206,12 @@ impl PyScenario {
     fn check(&self, py: Python<'_>, insist: bool) -> PyResult<String> {
         self.within_limits(py, insist)?;
         let sc = &self.resolved;
-        Ok(match &sc.intruder {
+        Ok(match &sc.intruder() {
             Some(i) => format!("valid (intruder engine, model {})", i.model()),
             None => format!(
                 "valid ({} grains, {} species)",
                 sc.particle_count(),
-                sc.species.len()
+                sc.species().len()
             ),
         })
     }
@@ -240,7 +240,7 @@ impl PyScenario {
 
     fn __repr__(&self) -> String {
         let sc = &self.resolved;
-        let what = match &sc.intruder {
+        let what = match &sc.intruder() {
             Some(i) => format!("model={:?}", i.model().to_string()),
             None => format!(
                 "dimension={}, particles={}",
@@ -262,7 +262,7 @@ impl PyScenario {
     /// The engine: "edmd", "dsmc" or "intruder".
     #[getter]
     fn engine(&self) -> String {
-        match self.resolved.engine {
+        match self.resolved.kind() {
             granular::scenario::EngineKind::Edmd => "edmd",
             granular::scenario::EngineKind::Dsmc => "dsmc",
             granular::scenario::EngineKind::Intruder => "intruder",
@@ -299,7 +299,7 @@ impl PyScenario {
     #[getter]
     fn species_names(&self) -> Vec<String> {
         self.resolved
-            .species
+            .species()
             .iter()
             .map(|s| s.name.clone())
             .collect()

@@ -378,7 +378,7 @@ impl PySimulation {
     fn species_names(&self) -> Vec<String> {
         self.scenario
             .resolved
-            .species
+            .species()
             .iter()
             .map(|s| s.name.clone())
             .collect()

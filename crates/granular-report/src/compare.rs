@@ -54,25 +54,21 @@ fn first_departure(t: &[f64], ratio: &[f64], threshold: f64, t0: f64) -> serde_j
 /// and the longest edge of its box.
 fn critical_size(run: &RunFiles) -> (f64, f64) {
     let sc = &run.scenario;
-    let d = sc.dimension;
-    let lengths = sc.lengths();
-    let n = sc.particle_count() as f64 / lengths.iter().product::<f64>();
-    let radius = sc.radius(0);
-    let e = sc.collisions.restitution;
-    let chi = if sc.engine == granular::scenario::EngineKind::Dsmc && !sc.dsmc.enskog {
-        1.0
-    } else {
-        haff::contact_value(d, haff::packing_fraction(d, n, radius))
+    let longest = sc.lengths().iter().cloned().fold(0.0, f64::max);
+    // The library's resolved values: density, radius, restitution, the HCS a2 and the
+    // contact value of the run's collision rate.
+    let Some(g) = sc.resolve().grains else {
+        return (f64::NAN, longest);
     };
     let critical = granular::theory::stability::critical_length(
-        d,
-        n,
-        radius,
-        e,
-        granular::theory::sonine::cooling_a2_first(d, e),
-        chi,
+        sc.dimension,
+        g.number_density,
+        g.radius,
+        g.restitution,
+        g.hcs_a2[0],
+        g.chi,
     );
-    (critical, lengths.iter().cloned().fold(0.0, f64::max))
+    (critical, longest)
 }
 
 /// The numbers quoted in docs/dsmc.md: `t0`, the critical size of the homogeneous cooling

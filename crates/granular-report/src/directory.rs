@@ -14,7 +14,7 @@ pub(crate) fn plot(dir: &Path, animate: bool) -> Result<Vec<PathBuf>, String> {
         crate::sweep_plots::plot_sweep(dir)
     } else if run.has_time_series() {
         let scenario = run.scenario().map_err(|e| e.to_string())?;
-        if scenario.intruder.is_some() {
+        if scenario.intruder().is_some() {
             crate::intruder_plots::plot_run(dir)
         } else {
             crate::figures::plot_run(dir, &scenario, animate)

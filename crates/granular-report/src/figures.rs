@@ -66,7 +66,7 @@ fn energy(
     out: &Path,
     made: &mut Vec<PathBuf>,
 ) -> Result<(), String> {
-    let names: Vec<String> = scenario.species.iter().map(|s| s.name.clone()).collect();
+    let names: Vec<String> = scenario.species().iter().map(|s| s.name.clone()).collect();
     let ts = read_run_csv(dir, RunFile::TimeSeries)?;
     let time = column(&ts, "time").unwrap_or_default();
     let run = crate::run_files::load(dir).ok();
@@ -158,7 +158,7 @@ fn speed_histograms(
     };
     let d = scenario.dimension;
     let sp_col = h.0.iter().position(|c| c == "species").unwrap_or(0);
-    for (s, species) in scenario.species.iter().enumerate() {
+    for (s, species) in scenario.species().iter().enumerate() {
         let name = &species.name;
         let rows: Vec<&Vec<String>> = h.1.iter().filter(|r| r.get(sp_col) == Some(name)).collect();
         if rows.is_empty() {
@@ -191,7 +191,7 @@ fn speed_histograms(
             .iter()
             .map(|c| c.max(0.0).sqrt() / (total * width))
             .collect();
-        let mass = scenario.species[s].mass;
+        let mass = scenario.species()[s].mass;
         let fit = summary.and_then(|sm| sm.maxwell_boltzmann_fit.get(name));
         // The fit's temperature; without one, that of the pooled density.
         let temperature = fit.map_or_else(
@@ -356,7 +356,7 @@ fn snapshot_figures(
     made: &mut Vec<PathBuf>,
 ) -> Result<(), String> {
     let files = snapshot_files(dir);
-    let species = scenario.species.len();
+    let species = scenario.species().len();
     let l = scenario.lengths();
     for (label, file) in [("first", files.first()), ("last", files.last())] {
         let Some(f) = file else { continue };

@@ -115,15 +115,14 @@ pub(crate) fn read_sk(run: &RunFiles) -> Result<Option<SkData>, String> {
 /// fluid at it, from the library's equation of state
 /// (`theory::equilibrium::structure_factor_zero`).
 fn eos_structure_factor_zero(scenario: &granular::scenario::Scenario) -> (f64, f64) {
-    let d = scenario.dimension;
-    let volume: f64 = scenario.lengths().iter().product();
-    let phi: f64 = scenario
-        .species
-        .iter()
-        .enumerate()
-        .map(|(i, s)| s.count as f64 * haff::grain_volume(d, scenario.radius(i)) / volume)
-        .sum();
-    (phi, equilibrium::structure_factor_zero(d, phi))
+    let phi = scenario
+        .resolve()
+        .grains
+        .map_or(f64::NAN, |g| g.packing_fraction);
+    (
+        phi,
+        equilibrium::structure_factor_zero(scenario.dimension, phi),
+    )
 }
 
 pub(crate) fn structure_factor(

@@ -5,7 +5,6 @@ use crate::plot::LinePlot;
 use granular::output::npz::NpzArray;
 use granular::run::{RunDir, RunFile};
 use granular::scenario::{EngineKind, Scenario};
-use granular::theory::haff;
 use std::path::{Path, PathBuf};
 
 /// One finished run, as read back from its directory.
@@ -46,7 +45,7 @@ pub(crate) fn load(dir: &Path) -> Result<RunFiles, String> {
             )
         })
     };
-    let engine = match scenario.engine {
+    let engine = match scenario.kind() {
         EngineKind::Edmd => "EDMD",
         EngineKind::Dsmc => "DSMC",
         EngineKind::Intruder => {
@@ -70,38 +69,31 @@ pub(crate) fn load(dir: &Path) -> Result<RunFiles, String> {
     })
 }
 
-/// Haff's time of a run from kinetic theory: the contact value of the collision rate the
-/// run uses (Enskog's at the run's packing fraction for the event-driven engine and for
-/// DSMC with `dsmc.enskog = true`; 1, Boltzmann's, for DSMC without it), first Sonine
-/// correction, initial temperature from `timeseries.csv`.
-pub(crate) fn haff_time(run: &RunFiles) -> Option<f64> {
-    let sc = &run.scenario;
-    let d = sc.dimension;
-    let radius = sc.radius(0);
-    let volume: f64 = sc.lengths().iter().product();
-    let n = sc.particle_count() as f64 / volume;
-    let t0 = *run.temperature.first()?;
-    let e = sc.collisions.restitution;
-    let chi = if boltzmann(run) {
-        1.0
-    } else {
-        haff::contact_value(d, haff::packing_fraction(d, n, radius))
-    };
-    (e < 1.0 && t0 > 0.0)
-        .then(|| haff::haff_time(d, n, radius, t0, sc.species[0].mass, e, chi, true))
+/// Haff's time of a run from kinetic theory, with the contact value `χ` it uses, as the
+/// library resolves the run's scenario at the initial temperature of `timeseries.csv`
+/// (`Resolved::at_temperature`, KT-9): the contact value of the collision rate the run
+/// uses (Enskog's at the run's packing fraction for the event-driven engine and for DSMC
+/// with `dsmc.enskog = true`; 1, Boltzmann's, for DSMC without it), first Sonine
+/// correction. `None` for an elastic gas or one at rest.
+pub(crate) fn haff_theory(run: &RunFiles) -> Option<(f64, f64)> {
+    let t0 = *run.temperature.first().filter(|t| **t > 0.0)?;
+    let resolved = run.scenario.resolve().at_temperature(&run.scenario, t0);
+    let g = resolved.grains?;
+    Some((g.cooling?.haff_time, g.chi))
 }
 
-/// Whether the run's collision rate is Boltzmann's (DSMC without the Enskog factor).
-fn boltzmann(run: &RunFiles) -> bool {
-    run.scenario.engine == EngineKind::Dsmc && !run.scenario.dsmc.enskog
+/// Haff's time of a run from kinetic theory ([`haff_theory`]).
+pub(crate) fn haff_time(run: &RunFiles) -> Option<f64> {
+    haff_theory(run).map(|(t0, _)| t0)
 }
 
 /// How [`haff_time`] was computed, for legends: `Enskog + Sonine` or `Boltzmann + Sonine`.
 pub(crate) fn haff_model(run: &RunFiles) -> &'static str {
-    if boltzmann(run) {
-        "Boltzmann + Sonine"
-    } else {
+    let enskog = run.scenario.resolve().grains.is_none_or(|g| g.enskog);
+    if enskog {
         "Enskog + Sonine"
+    } else {
+        "Boltzmann + Sonine"
     }
 }
 

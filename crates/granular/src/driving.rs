@@ -92,7 +92,7 @@ pub fn rescale_factor(target: f64, temperature: f64) -> f64 {
 /// The kinetic theory of the driven gas: one species of radius `radius`, mass `mass`, at
 /// number density `number_density` in `dimension` dimensions, with restitution
 /// `restitution` and contact value `chi` (1: Boltzmann, dilute DSMC).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GasTheory {
     /// `D`.
     pub dimension: usize,
@@ -112,7 +112,8 @@ pub struct GasTheory {
 
 impl GasTheory {
     /// The Sonine `a2` of the state (van Noije and Ernst 1998): the HCS's second estimate
-    /// for `rescale` (the one DSMC follows), the heated gas's for `white_noise`.
+    /// for `rescale` (KT-11, the one DSMC follows), the heated gas's for `white_noise`
+    /// (KT-12).
     pub fn a2(&self, driving: &Driving) -> f64 {
         match driving {
             Driving::Rescale { .. } => sonine::cooling_a2_second(self.dimension, self.restitution),
@@ -120,8 +121,9 @@ impl GasTheory {
         }
     }
 
-    /// Cooling rate `zeta(T) = (1 - e²)/D omega(T) (1 + 3 a2/16)` (per unit time), with
-    /// `omega` the Enskog-Boltzmann collision frequency ([`haff::cooling_rate`]).
+    /// Cooling rate `zeta(T) = (1 - e²)/D omega(T) (1 + 3 a2/16)` (per unit time, KT-8:
+    /// [`haff::sonine_cooling_rate`]), with `omega` the Enskog-Boltzmann collision
+    /// frequency (KT-5).
     pub fn cooling_rate(&self, temperature: f64, a2: f64) -> f64 {
         let omega = haff::collision_frequency(
             self.dimension,
@@ -131,12 +133,10 @@ impl GasTheory {
             self.mass,
             self.chi,
         );
-        (1.0 - self.restitution * self.restitution) / self.dimension as f64
-            * omega
-            * (1.0 + 3.0 * a2 / 16.0)
+        haff::sonine_cooling_rate(self.dimension, self.restitution, omega, a2)
     }
 
-    /// The steady temperature of the white-noise driven gas, from the exact energy balance
+    /// The steady temperature of the white-noise driven gas, KT-13, from the exact energy balance
     /// `(D/2) m xi0² (N - 1) = (D/2) N zeta(T) T` with the Sonine loss rate
     /// [`Self::cooling_rate`] at `a2`: since `zeta ~ sqrt(T)`,
     /// `T = (m xi0² (1 - 1/N) / zeta(T = 1))^(2/3)`.

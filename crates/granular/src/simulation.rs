@@ -3,10 +3,10 @@
 //! command line, the Python package and the run directory (`run::Run`) all drive
 //! this one type; nothing here touches a file.
 
-use crate::build::{AnyEngine, BuildError, build};
+use crate::build::{AnyEngine, BuildError, build_resolved};
 use crate::engine::{Engine, EngineError, Progress, Snapshot};
 use crate::observation::Observation;
-use crate::scenario::{Scenario, StopSpec};
+use crate::scenario::{Resolved, Scenario, StopSpec};
 use crate::stats::Histogram;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
@@ -92,6 +92,9 @@ impl RunHooks for NoHooks {
 pub(crate) struct SimulationState {
     pub engine: AnyEngine,
     pub initial_kinetic_energy: f64,
+    /// The temperature of the initial state, at which the scenario was resolved (`None`
+    /// for the intruder engine).
+    pub initial_temperature: Option<f64>,
     pub outputs_done: u64,
     pub wall_seconds: f64,
 }
@@ -130,6 +133,8 @@ pub(crate) struct SimulationState {
 /// ```
 pub struct Simulation {
     scenario: Scenario,
+    /// Every derived quantity of the scenario, at the drawn initial state.
+    resolved: Resolved,
     engine: AnyEngine,
     initial_kinetic_energy: f64,
     outputs_done: u64,
@@ -148,15 +153,21 @@ pub type WallClock = Box<dyn Fn(bool) -> bool + Send + Sync>;
 impl Simulation {
     /// Builds the engine of `scenario` (validated first) with its initial state.
     pub fn new(scenario: Scenario) -> Result<Simulation, BuildError> {
-        let engine = build(&scenario)?;
-        Ok(Simulation::from_parts(scenario, engine))
+        let (engine, resolved) = build_resolved(&scenario)?;
+        Ok(Simulation::from_parts(scenario, engine, resolved))
     }
 
-    /// A simulation of `scenario` from an engine built from it.
-    pub(crate) fn from_parts(scenario: Scenario, engine: AnyEngine) -> Simulation {
+    /// A simulation of `scenario` from an engine built from it and the scenario resolved
+    /// at that engine's initial state (`build::build_resolved`, `build::build_on`).
+    pub(crate) fn from_parts(
+        scenario: Scenario,
+        engine: AnyEngine,
+        resolved: Resolved,
+    ) -> Simulation {
         let initial_kinetic_energy = engine.kinetic_energy();
         Simulation {
             scenario,
+            resolved,
             engine,
             initial_kinetic_energy,
             outputs_done: 0,
@@ -170,8 +181,14 @@ impl Simulation {
     /// A simulation restored from a checkpoint's state.
     pub(crate) fn restore(scenario: Scenario, state: SimulationState) -> Simulation {
         let events = state.engine.events();
+        let nominal = scenario.resolve();
+        let resolved = match state.initial_temperature {
+            Some(t) => nominal.at_temperature(&scenario, t),
+            None => nominal,
+        };
         Simulation {
             scenario,
+            resolved,
             engine: state.engine,
             initial_kinetic_energy: state.initial_kinetic_energy,
             outputs_done: state.outputs_done,
@@ -191,7 +208,9 @@ impl Simulation {
         comm: std::sync::Arc<dyn crate::dsmc::Communicator>,
     ) -> Result<(), crate::dsmc::DomainError> {
         self.engine.decompose(comm)?;
-        self.engine.set_balance(self.scenario.dsmc.balance());
+        if let Some(spec) = self.scenario.dsmc() {
+            self.engine.set_balance(spec.balance());
+        }
         Ok(())
     }
 
@@ -219,6 +238,7 @@ impl Simulation {
         SimulationState {
             engine: self.engine.whole(),
             initial_kinetic_energy: self.initial_kinetic_energy,
+            initial_temperature: self.initial_temperature(),
             outputs_done: self.outputs_done,
             wall_seconds: self.wall_seconds(),
         }
@@ -230,6 +250,7 @@ impl Simulation {
         SimulationState {
             engine: self.engine.shell(),
             initial_kinetic_energy: self.initial_kinetic_energy,
+            initial_temperature: self.initial_temperature(),
             outputs_done: self.outputs_done,
             wall_seconds: self.wall_seconds(),
         }
@@ -238,6 +259,18 @@ impl Simulation {
     /// The scenario (validated, with every default filled in).
     pub fn scenario(&self) -> &Scenario {
         &self.scenario
+    }
+
+    /// Every quantity derived from the scenario (radii, packing fraction, contact value,
+    /// collision frequency, mean free time and path, Haff's time, the DSMC step and cells,
+    /// the driving's state), resolved once at the temperature of the drawn initial state.
+    pub fn resolved(&self) -> &Resolved {
+        &self.resolved
+    }
+
+    /// The temperature of the initial state (the many-grain engines).
+    fn initial_temperature(&self) -> Option<f64> {
+        self.resolved.grains.as_ref().map(|g| g.temperature)
     }
 
     /// The engine.
@@ -252,10 +285,7 @@ impl Simulation {
 
     /// Spatial dimension of the state (the intruder models: 1 or 2).
     pub fn dimension(&self) -> usize {
-        self.scenario
-            .intruder
-            .as_ref()
-            .map_or(self.scenario.dimension, |i| i.dimension())
+        self.resolved.dimension
     }
 
     /// Current simulation time.

@@ -78,7 +78,7 @@ fn tc_elastic(e: &AnyEngine) -> u64 {
 /// within `t_c` of the first, is elastic in both (normal and tangential) and counted once.
 #[test]
 fn both_engines_apply_the_same_wall_law() {
-    let law = Scenario::from_toml(PROBE, &[]).unwrap().collisions.law();
+    let law = Scenario::from_toml(PROBE, &[]).unwrap().collisions().law();
     let first = WallRestitution {
         normal: law.wall_restitution,
         tangential: law.wall_tangential_restitution,

@@ -15,6 +15,7 @@ mod intruder_scenario;
 mod observables;
 mod preflight;
 mod problems;
+mod resolved;
 mod scenario_errors;
 mod simulation;
 mod spine;

@@ -290,7 +290,7 @@ fn bundled_scenarios_resolve_to_their_engine_tables() {
         let again = Scenario::from_toml(&resolved, &[])
             .unwrap_or_else(|e| panic!("{}: resolved: {e}\n{resolved}", path.display()));
         assert_eq!(s, again, "{}", path.display());
-        let other = match s.engine {
+        let other = match s.kind() {
             granular::scenario::EngineKind::Edmd => "[dsmc]",
             granular::scenario::EngineKind::Dsmc => "[edmd]",
             granular::scenario::EngineKind::Intruder => "[collisions]",

@@ -220,7 +220,10 @@ fn positions_and_velocities_equal_the_snapshot() {
 #[test]
 fn dsmc_impact_bins_come_from_its_table() {
     let mut scenario = gas("dsmc");
-    scenario.dsmc.impact_bins = Some(7);
+    let granular::scenario::EngineSpec::Dsmc { dsmc, .. } = &mut scenario.engine else {
+        panic!("a DSMC scenario")
+    };
+    dsmc.impact_bins = Some(7);
     let mut sim = Simulation::new(scenario).expect("build");
     sim.advance(0.1).expect("advance");
     assert_eq!(sim.impact_histogram().expect("histogram").counts.len(), 7);

@@ -13,7 +13,6 @@
 use super::numbers::Comparison;
 use super::page::{number, short};
 use crate::run_files::{RunFiles, floats, get};
-use granular::Summary;
 use granular::boundary::AxisKind;
 use granular::observables::structure_factor_of;
 use granular::output::npz::{read_npz, read_snapshot};
@@ -66,7 +65,7 @@ impl Homogeneity {
 /// The homogeneous `S(0)` of the run's gas: 1 for DSMC (point grains placed uniformly),
 /// the equation of state's for the event-driven engine.
 fn homogeneous_structure_factor(scenario: &Scenario, packing_fraction: f64) -> f64 {
-    if scenario.engine == EngineKind::Dsmc {
+    if scenario.kind() == EngineKind::Dsmc {
         1.0
     } else {
         equilibrium::structure_factor_zero(scenario.dimension, packing_fraction)
@@ -139,32 +138,6 @@ fn homogeneity(run: &RunFiles, packing_fraction: f64) -> Option<Homogeneity> {
     })
 }
 
-/// Haff's time from kinetic theory for the engine of the run (`haff_time` with the first
-/// Sonine correction) and the contact value used: the event-driven gas with the Enskog
-/// contact value at its packing fraction, DSMC with the contact value its Enskog factor
-/// used, or `chi = 1` (the Boltzmann gas DSMC simulates without `dsmc.enskog`).
-fn theory_haff_time(run: &RunFiles, summary: &Summary) -> Option<(f64, f64)> {
-    let sc = &run.scenario;
-    let d = sc.dimension;
-    let radius = sc.radius(0);
-    let volume: f64 = sc.lengths().iter().product();
-    let n = sc.particle_count() as f64 / volume;
-    let t0 = *run.temperature.first()?;
-    let (e, m) = (sc.collisions.restitution, sc.species[0].mass);
-    if !(t0 > 0.0 && e < 1.0) {
-        return None;
-    }
-    let chi = match sc.engine {
-        EngineKind::Dsmc => summary
-            .resolved
-            .as_ref()
-            .and_then(|r| r.contact_value)
-            .unwrap_or(1.0),
-        _ => haff::contact_value(d, haff::packing_fraction(d, n, radius)),
-    };
-    Some((haff::haff_time(d, n, radius, t0, m, e, chi, true), chi))
-}
-
 /// The relative accuracy of a kinetic-theory cooling rate `zeta` (and so of `t0 = 2/zeta`)
 /// and what it is made of: the Sonine truncation (`3/16` of the stated accuracy
 /// `a2_accuracy` of `a2`), DSMC's step bias (`theory::haff::step_cooling_bias` at
@@ -209,11 +182,11 @@ pub(crate) fn rate_accuracy(
 /// mean free time (`zeta / omega = (1-e²)/D (1 + 3a2/16)`); with a fixed `time_step`, at
 /// the cooling rate `zeta`. `None` for the event-driven engine.
 pub(crate) fn dsmc_cooling_per_step(sc: &Scenario, a2: f64, zeta: f64) -> Option<f64> {
-    if sc.engine != EngineKind::Dsmc {
+    if sc.kind() != EngineKind::Dsmc {
         return None;
     }
-    let e = sc.collisions.restitution;
-    Some(match sc.dsmc.time_step {
+    let e = sc.collisions().restitution;
+    Some(match sc.dsmc().and_then(|d| d.time_step) {
         Some(tau) => zeta * tau,
         None => {
             granular::dsmc::engine::STEP_FRACTION * (1.0 - e * e) / sc.dimension as f64
@@ -224,13 +197,13 @@ pub(crate) fn dsmc_cooling_per_step(sc: &Scenario, a2: f64, zeta: f64) -> Option
 
 /// Why Haff's law does not apply to the run's set-up at all (`None`: it may apply).
 fn set_up_excludes(sc: &Scenario) -> Option<String> {
-    if sc.species.len() != 1 {
+    if sc.species().len() != 1 {
         return Some("a mixture: Haff's law is the one-species cooling state".into());
     }
-    if sc.gravity.iter().any(|g| *g != 0.0) {
+    if sc.gravity().iter().any(|g| *g != 0.0) {
         return Some("gravity makes the gas inhomogeneous".into());
     }
-    if sc.driving.is_some() {
+    if sc.driving().is_some() {
         return Some("a driven gas does not cool freely (steady-state rows)".into());
     }
     if sc.axes().contains(&AxisKind::Wall) {
@@ -243,17 +216,17 @@ fn set_up_excludes(sc: &Scenario) -> Option<String> {
 
 /// The row of Haff's time `t0` for a freely cooling one-species run (`None` for an elastic
 /// or a driven run, which have rows of their own).
-pub(crate) fn haff_row(run: &RunFiles, summary: &Summary) -> Option<Comparison> {
+pub(crate) fn haff_row(run: &RunFiles) -> Option<Comparison> {
     let sc = &run.scenario;
-    let (d, e) = (sc.dimension, sc.collisions.restitution);
-    if e >= 1.0 || sc.driving.is_some() {
+    let (d, e) = (sc.dimension, sc.collisions().restitution);
+    if e >= 1.0 || sc.driving().is_some() {
         return None;
     }
     let quantity = "Haff's time t0 = 1/(s √T(0)), s the slope of T^(-1/2) against t";
     if let Some(why) = set_up_excludes(sc) {
         return Some(Comparison::unmeasured(quantity).not_applicable(why));
     }
-    let (theory, chi) = theory_haff_time(run, summary)?;
+    let (theory, chi) = crate::run_files::haff_theory(run)?;
     let volume: f64 = sc.lengths().iter().product();
     let n = sc.particle_count() as f64 / volume;
     let radius = sc.radius(0);

@@ -65,7 +65,7 @@ pub(crate) fn report_run(dir: &Path) -> Result<PathBuf, String> {
             &scenario.description
         },
         summary.engine,
-        if scenario.intruder.is_some() {
+        if scenario.intruder().is_some() {
             format!("dimension of the motion {}", summary.dimension)
         } else {
             format!("{} grains in {}D", summary.n, summary.dimension)
@@ -74,7 +74,7 @@ pub(crate) fn report_run(dir: &Path) -> Result<PathBuf, String> {
     );
     let mut page = Page::new(&format!("granular report: {name}"), &subtitle);
 
-    let rows = if scenario.intruder.is_some() {
+    let rows = if scenario.intruder().is_some() {
         numbers::intruder(&summary)
     } else {
         let run = crate::run_files::load(dir).ok();
@@ -83,7 +83,7 @@ pub(crate) fn report_run(dir: &Path) -> Result<PathBuf, String> {
     page.section("theory", "Summary against theory", &numbers::render(&rows));
 
     let mut script = String::new();
-    let player = if scenario.intruder.is_none() {
+    let player = if scenario.intruder().is_none() {
         player::player_data(dir, &scenario, player::Limits::default())?
     } else {
         None

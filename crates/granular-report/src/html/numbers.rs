@@ -96,9 +96,9 @@ impl Comparison {
 
 /// Why the Maxwell-Boltzmann distribution does not describe the run (`None`: it does).
 fn not_in_equilibrium(scenario: &Scenario) -> Option<String> {
-    let c = &scenario.collisions;
+    let c = scenario.collisions();
     let wall = c.wall_restitution.unwrap_or(c.restitution);
-    if scenario.driving.is_some() {
+    if scenario.driving().is_some() {
         Some(
             "a driven gas is not Maxwell-Boltzmann: its distribution departs from it by a2 \
              (the steady-state rows)"
@@ -176,7 +176,7 @@ pub(crate) fn grains(
                 "van Noije and Ernst's second estimate of the homogeneous cooling state's a2 \
                  (first {}), at restitution {}; {range}",
                 number(first),
-                number(scenario.collisions.restitution)
+                number(scenario.collisions().restitution)
             )),
             None => Comparison::new(
                 format!("a2 of the scaled speeds of {name}"),
@@ -192,7 +192,7 @@ pub(crate) fn grains(
         };
         rows.push(row);
     }
-    if let Some(row) = run.and_then(|r| super::cooling::haff_row(r, summary)) {
+    if let Some(row) = run.and_then(super::cooling::haff_row) {
         rows.push(row);
     }
     rows.extend(equation_of_state(scenario, summary));
@@ -205,7 +205,7 @@ pub(crate) fn grains(
 /// hard-disk or hard-sphere equation of state at the bulk density of the box, with the
 /// walls' shift of the measured pressures (`theory::hard_wall`, W-1 to W-4).
 fn equation_of_state(scenario: &Scenario, summary: &Summary) -> Vec<Comparison> {
-    let simple = scenario.species.len() == 1 && scenario.gravity.iter().all(|g| *g == 0.0);
+    let simple = scenario.species().len() == 1 && scenario.gravity().iter().all(|g| *g == 0.0);
     if !simple || not_in_equilibrium(scenario).is_some() {
         return Vec::new();
     }

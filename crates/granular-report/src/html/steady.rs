@@ -27,7 +27,7 @@ pub(crate) fn rows(scenario: &Scenario, summary: &Summary) -> Vec<Comparison> {
     let Some(s) = &summary.steady_state else {
         return Vec::new();
     };
-    let (d, e) = (scenario.dimension, scenario.collisions.restitution);
+    let (d, e) = (scenario.dimension, scenario.collisions().restitution);
     let white_noise = s.kind == "white_noise";
     let (a2_accuracy, estimate) = if white_noise {
         (

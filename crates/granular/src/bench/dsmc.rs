@@ -94,7 +94,7 @@ fn case_at<const D: usize>(n: usize, phi: f64) -> (DsmcConfig, SimulationBox<D>,
     let omega = haff::collision_frequency(D, density, radius, 1.0, 1.0, 1.0);
     let cell = (10.0 / density).powf(1.0 / D as f64);
     let config = DsmcConfig {
-        time_step: Some(0.1 / omega),
+        time_step: crate::dsmc::config::automatic_time_step(omega),
         cell_size: Some(side / (side / cell).round().max(1.0)),
         ..DsmcConfig::default()
     };

@@ -56,7 +56,7 @@ fn ball_error(e: BallError) -> String {
 /// `[INITIAL_STATE]` for the DSMC twin's bath sample).
 pub fn build(scenario: &Scenario) -> Result<IntruderEngine, String> {
     let seed = scenario.seed;
-    match &scenario.intruder {
+    match &scenario.intruder() {
         Some(IntruderSpec::OneD(c)) => c
             .config()
             .and_then(|c| Intruder1d::new(&c, seed))
@@ -190,7 +190,7 @@ pub fn automatic_values(scenario: &Scenario) -> Vec<(String, f64)> {
             out.push((format!("intruder.{key}"), value));
         }
     };
-    match &scenario.intruder {
+    match &scenario.intruder() {
         Some(IntruderSpec::Needle(c)) => {
             if let Ok(n) = Needle::new(&c.config(), scenario.seed) {
                 add(c.sample_interval, "sample_interval", n.sample_interval());

@@ -12,7 +12,7 @@ use crate::edmd::{Edmd, EdmdOptions};
 use crate::engine::{Engine, EngineError, Observation, Progress, Snapshot};
 use crate::particles::ParticleSet;
 use crate::random::{self, stream};
-use crate::scenario::{EngineKind, Placement, Scenario, ScenarioError, VelocitySpec};
+use crate::scenario::{EngineSpec, Placement, Resolved, Scenario, ScenarioError, VelocitySpec};
 use crate::setup::{self, InitError, Region};
 use crate::vector::Vector;
 use serde::{Deserialize, Serialize};
@@ -182,6 +182,14 @@ pub enum BuildError {
 /// Builds the engine named by the scenario (a DSMC engine checked against this
 /// machine's available memory, [`MemoryBudget::this_node`]).
 pub fn build(scenario: &Scenario) -> Result<AnyEngine, BuildError> {
+    build_resolved(scenario).map(|(engine, _)| engine)
+}
+
+/// Builds the engine named by the scenario (a DSMC engine checked against this machine's
+/// available memory) and resolves the scenario at the temperature of its drawn initial
+/// state ([`Resolved::at_temperature`]); the engine takes its derived values (the DSMC
+/// cell size, the driving's reference temperature) from it.
+pub fn build_resolved(scenario: &Scenario) -> Result<(AnyEngine, Resolved), BuildError> {
     build_on(scenario, None, Some(MemoryBudget::this_node(1)))
 }
 
@@ -231,7 +239,7 @@ impl MemoryBudget {
         let per_grain = bytes_per_own_grain(dimension);
         let cells = load.cells as f64 * BYTES_PER_CELL;
         let key = scenario
-            .species
+            .species()
             .iter()
             .enumerate()
             .max_by_key(|(_, sp)| sp.count)
@@ -292,21 +300,39 @@ impl MemoryBudget {
 /// most loaded rank's estimated memory ([`MemoryBudget::check`]) must fit in its share of
 /// the node, else every rank stops with the same error before the grains go to their
 /// slabs (`None`: no check, as `--insist`). Other engines are refused on several ranks.
+/// Returns the engine and the scenario resolved at the temperature of the drawn initial
+/// state.
 pub fn build_on(
     scenario: &Scenario,
     comm: Option<std::sync::Arc<dyn crate::dsmc::Communicator>>,
     memory: Option<MemoryBudget>,
-) -> Result<AnyEngine, BuildError> {
+) -> Result<(AnyEngine, Resolved), BuildError> {
     scenario.validate()?;
+    let nominal = scenario.resolve();
     let ranks = comm.as_ref().map_or(1, |c| c.size());
-    Ok(match (scenario.engine, scenario.dimension) {
-        (EngineKind::Dsmc, 2) => AnyEngine::Dsmc2(build_dsmc::<2>(scenario, comm, memory)?),
-        (EngineKind::Dsmc, _) => AnyEngine::Dsmc3(build_dsmc::<3>(scenario, comm, memory)?),
-        (engine, _) if ranks > 1 => {
+    let mut engine = match (&scenario.engine, scenario.dimension) {
+        (EngineSpec::Dsmc { grains, dsmc }, d) => {
+            let config = nominal
+                .grains
+                .as_ref()
+                .and_then(|g| g.dsmc.as_ref())
+                .map(|r| dsmc.config(grains, r))
+                .ok_or_else(|| BuildError::Dsmc("the scenario resolved no DSMC values".into()))?;
+            let on_ranks = comm.map(|comm| crate::dsmc::setup::OnRanks {
+                comm,
+                balance: dsmc.balance(),
+            });
+            if d == 2 {
+                AnyEngine::Dsmc2(build_dsmc::<2>(scenario, config, on_ranks, memory)?)
+            } else {
+                AnyEngine::Dsmc3(build_dsmc::<3>(scenario, config, on_ranks, memory)?)
+            }
+        }
+        _ if ranks > 1 => {
             return Err(BuildError::Dsmc(
                 crate::dsmc::DomainError::NotDecomposable {
-                    engine: match engine {
-                        EngineKind::Edmd => "edmd",
+                    engine: match scenario.kind() {
+                        crate::scenario::EngineKind::Edmd => "edmd",
                         _ => "intruder",
                     },
                     ranks,
@@ -314,12 +340,38 @@ pub fn build_on(
                 .to_string(),
             ));
         }
-        (EngineKind::Intruder, _) => {
+        (EngineSpec::Intruder(_), _) => {
             AnyEngine::Intruder(self::intruder::build(scenario).map_err(BuildError::Intruder)?)
         }
-        (EngineKind::Edmd, 2) => AnyEngine::Edmd2(build_edmd::<2>(scenario)?),
-        (EngineKind::Edmd, _) => AnyEngine::Edmd3(build_edmd::<3>(scenario)?),
-    })
+        (EngineSpec::Edmd { grains, edmd }, 2) => {
+            AnyEngine::Edmd2(build_edmd::<2>(scenario, edmd.options(grains))?)
+        }
+        (EngineSpec::Edmd { grains, edmd }, _) => {
+            AnyEngine::Edmd3(build_edmd::<3>(scenario, edmd.options(grains))?)
+        }
+    };
+    if nominal.grains.is_none() {
+        return Ok((engine, nominal));
+    }
+    // The temperature of the drawn state, as the time series' first row reports it (on
+    // several ranks a collective sum: every rank calls it).
+    let resolved = nominal.at_temperature(scenario, engine.observe().temperature);
+    // `[driving]`: a steady state (rescale defaults to the initial temperature), kicks from
+    // the dynamics seed.
+    let driving = resolved
+        .grains
+        .as_ref()
+        .and_then(|g| g.driving.as_ref())
+        .map(|d| d.driving.clone());
+    let seed = crate::random::derive_key(scenario.seed, &[crate::random::DYNAMICS]);
+    match &mut engine {
+        AnyEngine::Edmd2(e) if driving.is_some() => e.set_driving(driving, seed),
+        AnyEngine::Edmd3(e) if driving.is_some() => e.set_driving(driving, seed),
+        AnyEngine::Dsmc2(e) => e.set_driving(driving),
+        AnyEngine::Dsmc3(e) => e.set_driving(driving),
+        _ => {}
+    }
+    Ok((engine, resolved))
 }
 
 fn vector<const D: usize>(v: &[f64]) -> Vector<D> {
@@ -348,26 +400,26 @@ pub fn initial_particles<const D: usize>(
         radii: Vec::new(),
         masses: Vec::new(),
         species: Vec::new(),
-        species_names: scenario.species.iter().map(|s| s.name.clone()).collect(),
+        species_names: scenario.species().iter().map(|s| s.name.clone()).collect(),
     };
     // Grains with given positions first, so random placement avoids them.
     let mut fixed: Vec<(Vector<D>, f64)> = Vec::new();
-    for (s, sp) in scenario.species.iter().enumerate() {
+    for (s, sp) in scenario.species().iter().enumerate() {
         if !sp.positions.is_empty() {
             let r = scenario.radius(s);
             fixed.extend(sp.positions.iter().map(|p| (vector::<D>(p), r)));
         }
     }
-    let compress = scenario.initial.compress_from;
+    let compress = scenario.initial().compress_from;
     // With compression every grain is placed with its radius divided by one common factor,
     // so that all of them together fill `compress_from` of the box, and then grown back
     // (Lubachevsky-Stillinger). (A factor per species placed each species alone at
     // `compress_from`: two species at 0.3 made 0.6, beyond random placement.)
     let shrink = match compress {
         Some(start) => {
-            let grains: f64 = (0..scenario.species.len())
+            let grains: f64 = (0..scenario.species().len())
                 .map(|s| {
-                    scenario.species[s].count as f64 * setup::ball_volume::<D>(scenario.radius(s))
+                    scenario.species()[s].count as f64 * setup::ball_volume::<D>(scenario.radius(s))
                 })
                 .sum();
             let target = grains / bx.volume();
@@ -381,12 +433,12 @@ pub fn initial_particles<const D: usize>(
     // listed first). Each species draws its positions and then its velocities from the
     // stream, in placement order; a scenario listed largest first draws exactly as before.
     // The grains are stored in the order of the scenario (species as listed).
-    let mut order: Vec<usize> = (0..scenario.species.len()).collect();
+    let mut order: Vec<usize> = (0..scenario.species().len()).collect();
     order.sort_by(|&a, &b| scenario.radius(b).total_cmp(&scenario.radius(a)));
     let mut per_species: Vec<Option<(Vec<Vector<D>>, Vec<Vector<D>>)>> =
-        vec![None; scenario.species.len()];
+        vec![None; scenario.species().len()];
     for &s in &order {
-        let sp = &scenario.species[s];
+        let sp = &scenario.species()[s];
         let r = scenario.radius(s);
         let region = match &sp.region {
             Some(reg) => Region {
@@ -400,14 +452,14 @@ pub fn initial_particles<const D: usize>(
         } else {
             let place_r = r / shrink;
             let radii = vec![place_r; sp.count];
-            let placed = match scenario.initial.placement {
+            let placed = match scenario.initial().placement {
                 Placement::Random => setup::random_placement(
                     &bx,
                     &region,
                     &radii,
                     &fixed,
                     &mut rng,
-                    scenario.initial.max_attempts,
+                    scenario.initial().max_attempts,
                 ),
                 Placement::Lattice => setup::lattice_placement(&bx, &region, &radii),
             }
@@ -434,7 +486,7 @@ pub fn initial_particles<const D: usize>(
         };
         per_species[s] = Some((positions, velocities));
     }
-    for (s, sp) in scenario.species.iter().enumerate() {
+    for (s, sp) in scenario.species().iter().enumerate() {
         let r = scenario.radius(s);
         let (positions, velocities) = per_species[s].take().unwrap_or_default();
         set.positions.extend(positions);
@@ -443,7 +495,7 @@ pub fn initial_particles<const D: usize>(
         set.masses.extend(std::iter::repeat_n(sp.mass, sp.count));
         set.species.extend(std::iter::repeat_n(s as u32, sp.count));
     }
-    if scenario.initial.zero_momentum {
+    if scenario.initial().zero_momentum {
         setup::remove_drift(&mut set.velocities, &set.masses);
     }
     if compress.is_some() {
@@ -451,7 +503,7 @@ pub fn initial_particles<const D: usize>(
         small.radii.iter_mut().for_each(|r| *r /= shrink);
         set.positions = init::compress(&bx, small, &set.radii, &mut rng).map_err(|source| {
             BuildError::Init {
-                species: scenario.species[0].name.clone(),
+                species: scenario.species()[0].name.clone(),
                 source,
             }
         })?;
@@ -465,23 +517,12 @@ pub fn initial_particles<const D: usize>(
     Ok((bx, set))
 }
 
-fn build_edmd<const D: usize>(scenario: &Scenario) -> Result<Edmd<D>, BuildError> {
+fn build_edmd<const D: usize>(
+    scenario: &Scenario,
+    options: EdmdOptions,
+) -> Result<Edmd<D>, BuildError> {
     let (bx, set) = initial_particles::<D>(scenario)?;
-    let options = EdmdOptions {
-        gravity: scenario.gravity.clone(),
-        collapse_ratio: scenario.edmd.collapse_ratio,
-        impact_bins: scenario.edmd.impact_bins,
-        ..EdmdOptions::default()
-    };
-    let mut engine = Edmd::new(bx, set, scenario.collisions.law(), options);
-    // `[driving]`: a steady state (rescale defaults to the initial temperature), kicks from
-    // the dynamics seed as in DSMC.
-    if let Some(d) = &scenario.driving {
-        let t0 = 2.0 * engine.kinetic_energy_now() / (D as f64 * engine.len().max(1) as f64);
-        let seed = crate::random::derive_key(scenario.seed, &[crate::random::DYNAMICS]);
-        engine.set_driving(Some(d.driving(t0)), seed);
-    }
-    Ok(engine)
+    Ok(Edmd::new(bx, set, scenario.collisions().law(), options))
 }
 
 /// The DSMC engine's initial state, grain by grain (`crate::dsmc::setup`): every grain's
@@ -501,9 +542,9 @@ pub fn dsmc_setup<const D: usize>(
         axes: ax,
     };
     let radius = scenario.radius(0);
-    let mass = scenario.species.first().map_or(1.0, |s| s.mass);
-    let mut species = Vec::with_capacity(scenario.species.len());
-    for (s, sp) in scenario.species.iter().enumerate() {
+    let mass = scenario.species().first().map_or(1.0, |s| s.mass);
+    let mut species = Vec::with_capacity(scenario.species().len());
+    for (s, sp) in scenario.species().iter().enumerate() {
         let region = match &sp.region {
             Some(reg) => Region {
                 lo: vector::<D>(&reg.lo),
@@ -520,7 +561,7 @@ pub fn dsmc_setup<const D: usize>(
                 sp.positions.iter().map(|p| vector::<D>(p)).collect(),
             ))
         } else {
-            match scenario.initial.placement {
+            match scenario.initial().placement {
                 Placement::Random => {
                     for k in 0..D {
                         let (a, b) = region.centre_range(&bx, k, scenario.radius(s));
@@ -564,62 +605,31 @@ pub fn dsmc_setup<const D: usize>(
             species,
             radius,
             mass,
-            zero_momentum: scenario.initial.zero_momentum,
+            zero_momentum: scenario.initial().zero_momentum,
             seed: scenario.seed,
         },
     ))
 }
 
-/// The DSMC engine's configuration of a scenario.
-fn dsmc_config(scenario: &Scenario) -> DsmcConfig {
-    let spec = &scenario.dsmc;
-    DsmcConfig {
-        time_step: spec.time_step,
-        cell_size: spec.cell_size,
-        // The same collision law as the event-driven engine: pair, wall (normal and
-        // tangential) and TC rule.
-        law: scenario.collisions.law(),
-        gravity: scenario.gravity.clone(),
-        vmax_mode: spec.vmax_mode,
-        enskog: spec.enskog,
-        free_volume: spec.free_volume,
-        density_scope: spec.density_scope,
-        consistent_boltzmann: spec.consistent_boltzmann,
-        // `dsmc.impact_bins`; its default is the event-driven engine's (`[edmd]` does not
-        // apply to a DSMC scenario).
-        impact_bins: scenario
-            .dsmc
-            .impact_bins
-            .unwrap_or(scenario.edmd.impact_bins),
-    }
-}
-
-/// The DSMC engine of a scenario: the whole engine, or with `comm` this rank's slab
-/// (collective; see [`dsmc_setup`]). With `memory`, the most loaded rank must fit in its
-/// share of the node ([`MemoryBudget::check`]).
-pub(crate) fn build_dsmc<const D: usize>(
+/// The DSMC engine of a scenario with its configuration `config` ([`DsmcSpec::config`]):
+/// the whole engine, or with `ranks` this rank's slab (collective; see [`dsmc_setup`]).
+/// With `memory`, the most loaded rank must fit in its share of the node
+/// ([`MemoryBudget::check`]).
+///
+/// [`DsmcSpec::config`]: crate::scenario::DsmcSpec::config
+fn build_dsmc<const D: usize>(
     scenario: &Scenario,
-    comm: Option<std::sync::Arc<dyn crate::dsmc::Communicator>>,
+    config: DsmcConfig,
+    ranks: Option<crate::dsmc::setup::OnRanks>,
     memory: Option<MemoryBudget>,
 ) -> Result<DsmcEngine<D>, BuildError> {
     let (bx, setup) = dsmc_setup::<D>(scenario)?;
     let seed = crate::random::derive_key(scenario.seed, &[crate::random::DYNAMICS]);
     let check = memory
         .map(|budget| move |load: &crate::dsmc::setup::RankLoad| budget.check(scenario, D, load));
-    let ranks = comm.map(|comm| crate::dsmc::setup::OnRanks {
-        comm,
-        balance: scenario.dsmc.balance(),
-    });
     let check = check
         .as_ref()
         .map(|c| c as crate::dsmc::setup::OwnGrainsCheck<'_>);
-    let mut engine = DsmcEngine::from_setup(dsmc_config(scenario), bx, &setup, seed, ranks, check)
-        .map_err(|e| BuildError::Dsmc(e.to_string()))?;
-    // `[driving]`: a steady state (rescale defaults to the initial temperature).
-    let driving = scenario
-        .driving
-        .as_ref()
-        .map(|d| d.driving(engine.temperature()));
-    engine.set_driving(driving);
-    Ok(engine)
+    DsmcEngine::from_setup(config, bx, &setup, seed, ranks, check)
+        .map_err(|e| BuildError::Dsmc(e.to_string()))
 }

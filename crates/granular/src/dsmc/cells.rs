@@ -35,6 +35,13 @@ pub struct CellGrid<const D: usize> {
     pub volume: f64,
 }
 
+/// Cells along an axis of length `length` for the requested edge `cell_size`: as many as
+/// fit (at least one; a length within 1e-9 of a multiple of the edge counts as that
+/// multiple), so that the cells' edge `length / n` is at least `cell_size`.
+pub fn cells_along(length: f64, cell_size: f64) -> usize {
+    ((length / cell_size) * (1.0 + 1e-9)).floor().max(1.0) as usize
+}
+
 impl<const D: usize> CellGrid<D> {
     /// Cells of requested edge `cell_size`: `n_k = max(1, floor(L_k / cell_size))` (with a
     /// relative tolerance of 1e-9 so that exact multiples are not rounded down).
@@ -44,7 +51,7 @@ impl<const D: usize> CellGrid<D> {
         let mut inv_edges = [0.0; D];
         for k in 0..D {
             let l = sim_box.lengths[k];
-            let n = ((l / cell_size) * (1.0 + 1e-9)).floor().max(1.0) as usize;
+            let n = cells_along(l, cell_size);
             dims[k] = n;
             edges[k] = l / n as f64;
             inv_edges[k] = n as f64 / l;

@@ -1,4 +1,6 @@
-//! The `[dsmc]` table of a scenario: every numerical choice of the DSMC engine.
+//! The configuration of the DSMC engine (the scenario's `[dsmc]` table is read into it):
+//! every numerical choice, and the rules of the automatic time step and cell size, written
+//! once here for the engine and the scenario's resolved values.
 
 use crate::collision_law::CollisionLaw;
 use serde::{Deserialize, Serialize};
@@ -95,4 +97,27 @@ impl Default for DsmcConfig {
             impact_bins: 20,
         }
     }
+}
+
+/// The automatic time step as a fraction of the mean free time `1 / omega` (DSMC-3): 0.1,
+/// recomputed before every step from the current temperature.
+pub const STEP_FRACTION: f64 = 0.1;
+
+/// The time step of a gas that does not collide (at rest): one time unit, until it moves.
+pub const AT_REST_TIME_STEP: f64 = 1.0;
+
+/// The automatic time step, [`STEP_FRACTION`] of the mean free time `1 / omega` at the
+/// collision frequency `omega` (KT-5, 1/time); `None` when `omega` gives no finite step (a
+/// gas at rest). The engine applies it before every step
+/// (`DsmcEngine::follow_mean_free_time`); the scenario's resolved values report it.
+pub fn automatic_time_step(collision_frequency: f64) -> Option<f64> {
+    let tau = STEP_FRACTION / collision_frequency;
+    (collision_frequency > 0.0 && tau.is_finite()).then_some(tau)
+}
+
+/// The default cell edge: the smaller of the mean free path `mean_free_path` (KT-6) and
+/// the edge of a cell holding 10 grains on average at number density `number_density`,
+/// `(10 / n)^(1/D)` (length units).
+pub fn default_cell_size(dimension: usize, number_density: f64, mean_free_path: f64) -> f64 {
+    mean_free_path.min((10.0 / number_density).powf(1.0 / dimension as f64))
 }

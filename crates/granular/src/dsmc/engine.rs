@@ -34,9 +34,7 @@ pub enum DsmcError {
     Domain(#[from] super::domain::DomainError),
 }
 
-/// The automatic time step as a fraction of the mean free time `1 / omega` (DSMC-3): 0.1,
-/// recomputed before every step from the current temperature.
-pub const STEP_FRACTION: f64 = 0.1;
+pub use super::config::STEP_FRACTION;
 
 /// Direct Simulation Monte Carlo of `N` equal hard grains (disks for `D = 2`, spheres
 /// for `D = 3`), after Müller & Herrmann's DSMC paper. See the module docs.
@@ -499,8 +497,7 @@ impl<const D: usize> DsmcEngine<D> {
             self.mass,
             self.chi_global,
         );
-        let tau = STEP_FRACTION / omega;
-        if omega > 0.0 && tau.is_finite() {
+        if let Some(tau) = super::config::automatic_time_step(omega) {
             self.tau = tau;
         }
     }
@@ -599,19 +596,20 @@ impl<const D: usize> Derived<D> {
         let cell_size = match config.cell_size {
             Some(l) if l > 0.0 => l,
             Some(l) => return bad(format!("cell_size {l} must be > 0")),
-            None => lambda.min((10.0 / density).powf(1.0 / D as f64)),
+            None => super::config::default_cell_size(D, density, lambda),
         };
         let tau = match config.time_step {
             Some(t) if t > 0.0 => t,
             Some(t) => return bad(format!("time_step {t} must be > 0")),
-            None => {
-                let omega = haff::collision_frequency(D, density, radius, t0(), mass, chi_global);
-                if omega > 0.0 {
-                    STEP_FRACTION / omega
-                } else {
-                    1.0
-                }
-            }
+            None => super::config::automatic_time_step(haff::collision_frequency(
+                D,
+                density,
+                radius,
+                t0(),
+                mass,
+                chi_global,
+            ))
+            .unwrap_or(super::config::AT_REST_TIME_STEP),
         };
         let grid = CellGrid::new(sim_box, cell_size);
         if grid.len() >= u32::MAX as usize {

@@ -20,7 +20,7 @@ pub use crate::build::{
 pub use crate::output::npz::write_snapshot;
 pub use dir::{DirectoryState, RunDir, RunFile, Table, read_snapshot};
 pub use outputs::{Output, StandardOutputs};
-pub use summary::{AverageValue, AveragesSummary, Resolved, Summary};
+pub use summary::{AverageValue, AveragesSummary, ResolvedSummary, Summary};
 
 use crate::engine::EngineError;
 use crate::output::format_number;
@@ -41,8 +41,9 @@ use std::time::Instant;
 /// CRC-32 before the MessagePack payload, [`checkpoint`]; 9: the blocking accumulators of
 /// the summary's `averages`; 10: the engines' driving state; 11: the DSMC engine's species
 /// table instead of one species name; 12: the DSMC record's positions as lattice words
-/// carrying the identities).
-pub const CHECKPOINT_FORMAT: u32 = 12;
+/// carrying the identities; 13: the initial temperature the scenario's derived values are
+/// resolved at).
+pub const CHECKPOINT_FORMAT: u32 = 13;
 
 /// Why a run failed.
 #[derive(Debug, thiserror::Error)]
@@ -248,8 +249,8 @@ impl Run {
     ) -> Result<Run, RunError> {
         let start = Instant::now();
         let (log, lock) = Recorder::prepare(dir, &scenario)?;
-        let engine = build_on(&scenario, comm.clone(), memory)?;
-        let simulation = Simulation::from_parts(scenario, engine);
+        let (engine, resolved) = build_on(&scenario, comm.clone(), memory)?;
+        let simulation = Simulation::from_parts(scenario, engine, resolved);
         let mut run = Run::with_log(dir, simulation, log, lock);
         if let Some(comm) = comm {
             run.decompose(comm, shared)
@@ -630,37 +631,6 @@ impl Recorder {
         Ok(())
     }
 
-    /// The values the scenario resolved at build time.
-    fn resolved(simulation: &Simulation) -> Option<Resolved> {
-        let scenario = simulation.scenario();
-        if scenario.intruder.is_some() {
-            return None;
-        }
-        let d = scenario.dimension;
-        let volume: f64 = scenario.lengths().iter().take(d).product();
-        let mut radius = BTreeMap::new();
-        let mut grains = 0.0;
-        for (s, sp) in scenario.species.iter().enumerate() {
-            let r = scenario.radius(s);
-            radius.insert(sp.name.clone(), r);
-            grains += sp.count as f64
-                * match d {
-                    2 => crate::setup::ball_volume::<2>(r),
-                    _ => crate::setup::ball_volume::<3>(r),
-                };
-        }
-        let contact_value = match simulation.engine() {
-            AnyEngine::Dsmc2(e) if scenario.dsmc.enskog => Some(e.enskog_factor()),
-            AnyEngine::Dsmc3(e) if scenario.dsmc.enskog => Some(e.enskog_factor()),
-            _ => None,
-        };
-        Some(Resolved {
-            radius,
-            packing_fraction: grains / volume,
-            contact_value,
-        })
-    }
-
     fn finish(mut self, simulation: &Simulation, reason: StopReason) -> Result<Summary, RunError> {
         let wall = simulation.wall_seconds();
         let events = simulation.events();
@@ -686,7 +656,7 @@ impl Recorder {
             intruder: None,
             averages: None,
             steady_state: None,
-            resolved: Recorder::resolved(simulation),
+            resolved: ResolvedSummary::of(simulation.resolved()),
             warnings: self.warnings.clone(),
             outputs: simulation.outputs_done(),
             snapshots: 0,

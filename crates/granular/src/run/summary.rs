@@ -156,9 +156,10 @@ impl IntruderSummary {
     }
 }
 
-/// Values the scenario resolved at build time (a packing fraction turned into a radius).
+/// Values the scenario resolved at build time (a packing fraction turned into a radius):
+/// the `resolved` block, written from the simulation's [`crate::scenario::Resolved`].
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct Resolved {
+pub struct ResolvedSummary {
     /// Grain radius per species, by species name.
     pub radius: BTreeMap<String, f64>,
     /// Packing fraction of all grains in the box, `Σ N_s v_D(r_s) / V`.
@@ -168,6 +169,22 @@ pub struct Resolved {
     /// collision rate (DSMC-1), at the packing fraction the engine uses, when it is on.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub contact_value: Option<f64>,
+}
+
+impl ResolvedSummary {
+    /// The block of a simulation resolved as `resolved` (`None` for the intruder engine).
+    pub fn of(resolved: &crate::scenario::Resolved) -> Option<ResolvedSummary> {
+        let g = resolved.grains.as_ref()?;
+        Some(ResolvedSummary {
+            radius: g
+                .species
+                .iter()
+                .map(|s| (s.name.clone(), s.radius))
+                .collect(),
+            packing_fraction: g.packing_fraction,
+            contact_value: (g.dsmc.is_some() && g.enskog).then_some(g.chi),
+        })
+    }
 }
 
 /// Speeds of a gas that was not in a steady state, scaled by each snapshot's thermal speed
@@ -310,7 +327,7 @@ pub struct Summary {
     pub steady_state: Option<SteadyStateSummary>,
     /// Values resolved at build time (radius, packing fraction, contact value).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub resolved: Option<Resolved>,
+    pub resolved: Option<ResolvedSummary>,
     /// Warnings raised during the run (e.g. DSMC's validity conditions), also in `log.txt`.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<String>,

@@ -61,17 +61,17 @@ impl DrivingSpec {
 /// Checks `[driving]`: DSMC or one species in the event-driven engine, a periodic box without gravity, and the keys of
 /// its kind.
 pub(super) fn validate(sc: &Scenario) -> Result<(), ScenarioError> {
-    let Some(d) = &sc.driving else {
+    let Some(d) = &sc.driving() else {
         return Ok(());
     };
-    if sc.engine == EngineKind::Edmd && sc.species.len() > 1 {
+    if sc.kind() == EngineKind::Edmd && sc.species().len() > 1 {
         return Err(ScenarioError::new(
             "species",
             format!(
                 "has {} species, but the steady states of [driving] are those of one \
                  species (the Sonine theory of a monodisperse gas); keep one [[species]] \
                  or remove [driving]",
-                sc.species.len()
+                sc.species().len()
             ),
         ));
     }
@@ -83,7 +83,7 @@ pub(super) fn validate(sc: &Scenario) -> Result<(), ScenarioError> {
              remove [driving]",
         ));
     }
-    if sc.gravity.iter().any(|&g| g != 0.0) {
+    if sc.gravity().iter().any(|&g| g != 0.0) {
         return Err(ScenarioError::new(
             "driving",
             "cannot be combined with gravity (the steady states are homogeneous); remove \

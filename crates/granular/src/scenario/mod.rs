@@ -12,24 +12,29 @@ mod de;
 mod driving;
 mod file;
 mod intruder;
+mod layout;
 mod observables;
+mod output;
 mod overrides;
 mod preflight;
+mod resolve;
 mod spans;
 mod species;
 mod sweep;
-mod tables;
 mod validate;
 
+use crate::dsmc::config::DsmcConfig;
 pub use de::seed::HELP as SEED_HELP;
 pub use driving::{DrivingKind, DrivingSpec};
 pub use file::{MAX_FILE_BYTES, read_text_file};
 pub use intruder::{BathTable, DsmcTwinTable, IntruderSpec, NeedleTable, OneDTable, bath_file};
+pub use output::{OutputSpacing, OutputSpec};
 pub use overrides::apply_override;
 pub use preflight::{
     Cost, EDMD_EVENTS_PER_COLLISION, FALLBACK_MEMORY, MAX_BYTES, MAX_COLLISIONS, MAX_OUTPUTS,
     NOMINAL_COLLISIONS_PER_SECOND, WARN_OUTPUTS, available_memory,
 };
+pub use resolve::{Cooling, DrivingResolved, DsmcResolved, Grains, Resolved, SpeciesResolved};
 pub use spans::locate;
 pub use species::MAX_NAME_LEN;
 pub(crate) use sweep::sweep_member;
@@ -69,101 +74,169 @@ pub enum EngineKind {
     Intruder,
 }
 
-/// A whole scenario.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+/// A whole scenario: the part every engine reads (`dimension`, `seed`, `description`,
+/// `[stop]`, `[output]`, `[sweep]`) and exactly one engine's part ([`EngineSpec`]), so that
+/// a table that does not apply to the engine cannot exist once parsed. The file's flat
+/// layout (`engine = "..."` beside the tables) is read and written by `scenario/layout.rs`,
+/// the one place that knows which table belongs to which engine.
+#[derive(Clone, Debug, PartialEq)]
 pub struct Scenario {
-    /// Engine: `"edmd"`, `"dsmc"` or `"intruder"`.
-    pub engine: EngineKind,
     /// Spatial dimension: 2 (disks) or 3 (spheres).
-    #[serde(default = "two")]
     pub dimension: usize,
     /// Seed of all random streams; `granular run --seed` overrides it.
-    #[serde(
-        default = "one",
-        deserialize_with = "de::seed::deserialize",
-        serialize_with = "de::seed::serialize"
-    )]
     pub seed: u64,
     /// Optional one-line description.
-    #[serde(default, skip_serializing_if = "String::is_empty")]
     pub description: String,
-    /// The simulation box (not used by the intruder engine).
-    #[serde(rename = "box", default, skip_serializing_if = "BoxSpec::is_default")]
-    pub simulation_box: BoxSpec,
-    /// Grain species (at least one; none for the intruder engine).
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub species: Vec<SpeciesSpec>,
-    /// How the initial state is built.
-    #[serde(default)]
-    pub initial: InitialSpec,
-    /// Collision law.
-    #[serde(default)]
-    pub collisions: CollisionSpec,
-    /// Uniform acceleration (gravity), one component per axis, length/time².
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub gravity: Vec<f64>,
     /// When the run stops (the first rule met ends it).
-    #[serde(default)]
     pub stop: StopSpec,
     /// What is written and how often.
-    #[serde(default)]
     pub output: OutputSpec,
-    /// Options of the event-driven engine.
-    #[serde(default)]
-    pub edmd: EdmdSpec,
-    /// Options of the DSMC engine (its numerics; the collision law, gravity, box and
-    /// grains come from the shared tables).
-    #[serde(default)]
-    pub dsmc: DsmcSpec,
-    /// The Gillespie intruder (`engine = "intruder"`): model, bath and parameters.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub intruder: Option<IntruderSpec>,
-    /// Crater measure (Problem 4 of the hard-disk assignment).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub crater: Option<CraterSpec>,
     /// Parameter scan run by `granular sweep`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sweep: Option<SweepSpec>,
-    /// A steady state of the gas (`[driving]`: velocity rescaling or white noise).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    /// The engine (`engine = "edmd"`, `"dsmc"` or `"intruder"`) and the tables it reads.
+    pub engine: EngineSpec,
+}
+
+/// The engine of a scenario and the tables only it reads.
+#[derive(Clone, Debug, PartialEq)]
+pub enum EngineSpec {
+    /// Event-driven molecular dynamics: the grains and `[edmd]`.
+    Edmd {
+        /// The grains, their box and collision law.
+        grains: GrainsSpec,
+        /// `[edmd]`.
+        edmd: EdmdSpec,
+    },
+    /// Direct Simulation Monte Carlo: the grains and `[dsmc]`.
+    Dsmc {
+        /// The grains, their box and collision law.
+        grains: GrainsSpec,
+        /// `[dsmc]`.
+        dsmc: DsmcSpec,
+    },
+    /// The Gillespie intruder in a thermal bath: `[intruder]`.
+    Intruder(IntruderSpec),
+}
+
+impl EngineSpec {
+    /// Which engine.
+    pub fn kind(&self) -> EngineKind {
+        match self {
+            EngineSpec::Edmd { .. } => EngineKind::Edmd,
+            EngineSpec::Dsmc { .. } => EngineKind::Dsmc,
+            EngineSpec::Intruder(_) => EngineKind::Intruder,
+        }
+    }
+}
+
+/// The tables of the many-grain engines (`edmd`, `dsmc`).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct GrainsSpec {
+    /// `[box]`: the simulation box.
+    pub simulation_box: BoxSpec,
+    /// `[[species]]`: grain species (at least one).
+    pub species: Vec<SpeciesSpec>,
+    /// `[initial]`: how the initial state is built.
+    pub initial: InitialSpec,
+    /// `[collisions]`: the collision law.
+    pub collisions: CollisionSpec,
+    /// Uniform acceleration (gravity), one component per axis, length/time².
+    pub gravity: Vec<f64>,
+    /// `[crater]`: crater measure (Problem 4 of the hard-disk document).
+    pub crater: Option<CraterSpec>,
+    /// `[driving]`: a steady state of the gas (velocity rescaling or white noise).
     pub driving: Option<DrivingSpec>,
 }
 
-/// The resolved scenario as written by [`Scenario::to_toml`]: the fields of [`Scenario`]
-/// in its order, without the tables its engine does not read.
-#[derive(Serialize)]
-struct Resolved<'a> {
-    engine: EngineKind,
-    dimension: usize,
-    #[serde(serialize_with = "de::seed::serialize")]
-    seed: u64,
-    #[serde(skip_serializing_if = "str::is_empty")]
-    description: &'a str,
-    #[serde(rename = "box", skip_serializing_if = "Option::is_none")]
-    simulation_box: Option<&'a BoxSpec>,
-    #[serde(skip_serializing_if = "<[_]>::is_empty")]
-    species: &'a [SpeciesSpec],
-    #[serde(skip_serializing_if = "Option::is_none")]
-    initial: Option<&'a InitialSpec>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    collisions: Option<&'a CollisionSpec>,
-    #[serde(skip_serializing_if = "<[_]>::is_empty")]
-    gravity: &'a [f64],
-    stop: &'a StopSpec,
-    output: &'a OutputSpec,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    edmd: Option<&'a EdmdSpec>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    dsmc: Option<&'a DsmcSpec>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    intruder: Option<&'a IntruderSpec>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    crater: Option<&'a CraterSpec>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    sweep: Option<&'a SweepSpec>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    driving: Option<&'a DrivingSpec>,
+/// The grains' tables of an intruder scenario: none (every list empty, every table at its
+/// default), so that code asking for them needs no engine test.
+static NO_GRAINS: std::sync::LazyLock<GrainsSpec> = std::sync::LazyLock::new(GrainsSpec::default);
+
+impl Scenario {
+    /// Which engine runs the scenario.
+    pub fn kind(&self) -> EngineKind {
+        self.engine.kind()
+    }
+
+    /// The grains' tables (`None` for the intruder engine).
+    pub fn grains(&self) -> Option<&GrainsSpec> {
+        match &self.engine {
+            EngineSpec::Edmd { grains, .. } | EngineSpec::Dsmc { grains, .. } => Some(grains),
+            EngineSpec::Intruder(_) => None,
+        }
+    }
+
+    /// The grains' tables, to change (`None` for the intruder engine).
+    pub fn grains_mut(&mut self) -> Option<&mut GrainsSpec> {
+        match &mut self.engine {
+            EngineSpec::Edmd { grains, .. } | EngineSpec::Dsmc { grains, .. } => Some(grains),
+            EngineSpec::Intruder(_) => None,
+        }
+    }
+
+    /// The grains' tables, empty for the intruder engine.
+    fn grains_or_none(&self) -> &GrainsSpec {
+        self.grains().unwrap_or(&NO_GRAINS)
+    }
+
+    /// `[edmd]` of an event-driven scenario.
+    pub fn edmd(&self) -> Option<&EdmdSpec> {
+        match &self.engine {
+            EngineSpec::Edmd { edmd, .. } => Some(edmd),
+            _ => None,
+        }
+    }
+
+    /// `[dsmc]` of a DSMC scenario.
+    pub fn dsmc(&self) -> Option<&DsmcSpec> {
+        match &self.engine {
+            EngineSpec::Dsmc { dsmc, .. } => Some(dsmc),
+            _ => None,
+        }
+    }
+
+    /// `[intruder]` of an intruder scenario.
+    pub fn intruder(&self) -> Option<&IntruderSpec> {
+        match &self.engine {
+            EngineSpec::Intruder(spec) => Some(spec),
+            _ => None,
+        }
+    }
+
+    /// `[[species]]` (empty for the intruder engine).
+    pub fn species(&self) -> &[SpeciesSpec] {
+        &self.grains_or_none().species
+    }
+
+    /// `[box]` (the default box for the intruder engine).
+    pub fn simulation_box(&self) -> &BoxSpec {
+        &self.grains_or_none().simulation_box
+    }
+
+    /// `[initial]` (its defaults for the intruder engine).
+    pub fn initial(&self) -> &InitialSpec {
+        &self.grains_or_none().initial
+    }
+
+    /// `[collisions]` (its defaults for the intruder engine).
+    pub fn collisions(&self) -> &CollisionSpec {
+        &self.grains_or_none().collisions
+    }
+
+    /// `gravity` (empty for the intruder engine).
+    pub fn gravity(&self) -> &[f64] {
+        &self.grains_or_none().gravity
+    }
+
+    /// `[crater]`.
+    pub fn crater(&self) -> Option<&CraterSpec> {
+        self.grains_or_none().crater.as_ref()
+    }
+
+    /// `[driving]`.
+    pub fn driving(&self) -> Option<&DrivingSpec> {
+        self.grains_or_none().driving.as_ref()
+    }
 }
 
 /// `[dsmc]`: numerical choices of the DSMC engine (see `docs/dsmc.md`).
@@ -219,6 +292,35 @@ impl DsmcSpec {
                 .balance_every
                 .unwrap_or(crate::dsmc::Balance::default().every),
         }
+    }
+}
+
+impl DsmcSpec {
+    /// The DSMC engine's configuration: this table's choices, the collision law and
+    /// gravity of `grains`, and the step and cell size the scenario resolved
+    /// (`resolved`; a step left out stays `None`: it follows the mean free time). The one
+    /// conversion from the scenario to the engine.
+    pub fn config(&self, grains: &GrainsSpec, resolved: &DsmcResolved) -> DsmcConfig {
+        DsmcConfig {
+            time_step: self.time_step,
+            cell_size: Some(resolved.cell_size),
+            // The same collision law as the event-driven engine: pair, wall (normal and
+            // tangential) and TC rule.
+            law: grains.collisions.law(),
+            gravity: grains.gravity.clone(),
+            vmax_mode: self.vmax_mode,
+            enskog: self.enskog,
+            free_volume: self.free_volume,
+            density_scope: self.density_scope,
+            consistent_boltzmann: self.consistent_boltzmann,
+            impact_bins: resolved.impact_bins,
+        }
+    }
+
+    /// Bins of the impact-parameter histogram: `dsmc.impact_bins`, or the event-driven
+    /// engine's default.
+    pub fn impact_bins(&self) -> usize {
+        self.impact_bins.unwrap_or_else(impact_bins)
     }
 }
 
@@ -287,13 +389,6 @@ fn four() -> usize {
 }
 fn kinetic() -> String {
     "kinetic_energy".into()
-}
-
-fn two() -> usize {
-    2
-}
-fn one() -> u64 {
-    1
 }
 
 /// `[box]`: an axis-aligned box `[0, L_0] x ...`.
@@ -533,187 +628,6 @@ pub struct StopSpec {
     pub wall_seconds: Option<f64>,
 }
 
-/// `[output]`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct OutputSpec {
-    /// Time between outputs (rows of `timeseries.csv`), time units.
-    #[serde(default = "output_interval")]
-    pub interval: f64,
-    /// Write a snapshot every this many outputs (0: only the first and the last).
-    #[serde(default)]
-    pub snapshot_every: u64,
-    /// Speed histograms: bins.
-    #[serde(default = "bins")]
-    pub histogram_bins: usize,
-    /// Speed histograms: upper edge, in units of the initial root-mean-square speed.
-    #[serde(default = "hist_max")]
-    pub histogram_max_speed: f64,
-    /// Collisions per grain before speeds enter the equilibrium histogram.
-    #[serde(default = "equilibration")]
-    pub equilibration_collisions_per_particle: f64,
-    /// Time from which the time series enters the summary's `averages` (time units);
-    /// absent: the first output after `equilibration_collisions_per_particle` collisions
-    /// per grain (many-grain engines) or after the intruder's `transient`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub equilibration_time: Option<f64>,
-    /// Collisions per grain between two pooled samples of the equilibrium histogram
-    /// (appendix C.2 of the hard-disk assignment: many collisions apart so samples are independent).
-    #[serde(default = "sample_spacing")]
-    pub histogram_sample_spacing: f64,
-    /// Wall-clock seconds between checkpoints.
-    #[serde(default = "checkpoint")]
-    pub checkpoint_seconds: f64,
-    /// Record the impact-parameter histogram of the collisions between observation times
-    /// (`impact_histograms.npz`).
-    #[serde(default)]
-    pub impact_histograms: bool,
-    /// Record the structure factor `S(k)` at observation times (`structure_factor.npz`).
-    #[serde(default)]
-    pub structure_factor: bool,
-    /// Largest integer wave-vector component `|n_k|` of `S(k)` (`k = 2π n / L`).
-    #[serde(default = "sk_max_index")]
-    pub structure_factor_max_index: usize,
-    /// Bins per axis of the density maps (`density_maps.npz`); empty: none.
-    #[serde(default)]
-    pub density_map: Vec<usize>,
-    /// Observation times of the opt-in observables (the first output at or after each);
-    /// empty: every output.
-    #[serde(default)]
-    pub observable_times: Vec<f64>,
-    /// Trajectory formats written at every snapshot (`trajectory/`): any of `"xyz"`,
-    /// `"lammps"`, `"gsd"`, `"vtk"`; empty: none.
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub trajectory: Vec<crate::output::TrajectoryFormat>,
-    /// Spacing of the output times: `"linear"` (every `interval`) or `"log"` (the first
-    /// at `interval`, then `per_decade` per decade of time).
-    #[serde(default)]
-    pub spacing: OutputSpacing,
-    /// Outputs per decade of time with `spacing = "log"`.
-    #[serde(default = "per_decade")]
-    pub per_decade: u32,
-    /// Record the pair correlation `g(r)` at observation times (`pair_correlation.csv`,
-    /// the contact value in `summary.json`; event-driven engine).
-    #[serde(default)]
-    pub pair_correlation: bool,
-    /// Bins of `g(r)` over `[0, r_max)`.
-    #[serde(default = "pair_correlation_bins")]
-    pub pair_correlation_bins: usize,
-    /// `r_max` of `g(r)` in units of the largest contact distance `2 R_max`.
-    #[serde(default = "pair_correlation_range")]
-    pub pair_correlation_range: f64,
-    /// Record the mean-square displacement and velocity autocorrelation at every output
-    /// (`mean_square_displacement.csv`, `velocity_autocorrelation.csv`, the diffusion
-    /// coefficient in `summary.json`).
-    #[serde(default)]
-    pub msd: bool,
-    /// Lag window `[from, to]` (time units) of the diffusion coefficient's fit; empty:
-    /// from 10 % to 50 % of the observed time span.
-    #[serde(default)]
-    pub msd_fit: Vec<f64>,
-}
-
-/// `output.spacing`: how the output times are laid out.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum OutputSpacing {
-    /// `t_k = k * interval`.
-    #[default]
-    Linear,
-    /// `t_k = interval * 10^((k - 1) / per_decade)`, `k >= 1`: equal steps of `ln t`, which
-    /// for a gas cooling by Haff's law (HD-17) are equal steps of collisions per grain once
-    /// `t >> t0`.
-    Log,
-}
-
-impl OutputSpec {
-    /// Time of output `k` (`k = 1` is the first after the start; `k = 0` is `t = 0`).
-    pub fn time(&self, k: u64) -> f64 {
-        match self.spacing {
-            OutputSpacing::Linear => k as f64 * self.interval,
-            OutputSpacing::Log if k == 0 => 0.0,
-            OutputSpacing::Log => {
-                self.interval * 10f64.powf((k - 1) as f64 / f64::from(self.per_decade.max(1)))
-            }
-        }
-    }
-
-    /// Outputs written up to time `t` (the last one at `t`), at least 1.
-    pub fn count_until(&self, t: f64) -> f64 {
-        let n = match self.spacing {
-            OutputSpacing::Linear => (t / self.interval).ceil(),
-            OutputSpacing::Log if t <= self.interval => 1.0,
-            OutputSpacing::Log => {
-                1.0 + (f64::from(self.per_decade) * (t / self.interval).log10()).ceil()
-            }
-        };
-        n.max(1.0)
-    }
-}
-
-fn per_decade() -> u32 {
-    10
-}
-
-fn pair_correlation_bins() -> usize {
-    200
-}
-
-fn pair_correlation_range() -> f64 {
-    5.0
-}
-
-fn sk_max_index() -> usize {
-    32
-}
-
-fn output_interval() -> f64 {
-    0.1
-}
-fn bins() -> usize {
-    50
-}
-fn hist_max() -> f64 {
-    3.5
-}
-fn equilibration() -> f64 {
-    10.0
-}
-fn sample_spacing() -> f64 {
-    5.0
-}
-fn checkpoint() -> f64 {
-    60.0
-}
-
-impl Default for OutputSpec {
-    fn default() -> Self {
-        Self {
-            interval: output_interval(),
-            snapshot_every: 0,
-            histogram_bins: bins(),
-            histogram_max_speed: hist_max(),
-            equilibration_collisions_per_particle: equilibration(),
-            equilibration_time: None,
-            histogram_sample_spacing: sample_spacing(),
-            checkpoint_seconds: checkpoint(),
-            impact_histograms: false,
-            structure_factor: false,
-            structure_factor_max_index: sk_max_index(),
-            density_map: Vec::new(),
-            observable_times: Vec::new(),
-            trajectory: Vec::new(),
-            spacing: OutputSpacing::Linear,
-            per_decade: per_decade(),
-            pair_correlation: false,
-            pair_correlation_bins: pair_correlation_bins(),
-            pair_correlation_range: pair_correlation_range(),
-            msd: false,
-            msd_fit: Vec::new(),
-        }
-    }
-}
-
 /// `[edmd]`: options of the event-driven engine.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -738,6 +652,19 @@ impl Default for EdmdSpec {
         Self {
             collapse_ratio: collapse(),
             impact_bins: impact_bins(),
+        }
+    }
+}
+
+impl EdmdSpec {
+    /// The event-driven engine's options: this table's, with the gravity of `grains`.
+    /// The one conversion from the scenario to the engine.
+    pub fn options(&self, grains: &GrainsSpec) -> crate::edmd::EdmdOptions {
+        crate::edmd::EdmdOptions {
+            gravity: grains.gravity.clone(),
+            collapse_ratio: self.collapse_ratio,
+            impact_bins: self.impact_bins,
+            ..crate::edmd::EdmdOptions::default()
         }
     }
 }
@@ -838,7 +765,7 @@ impl Scenario {
             .get("engine")
             .and_then(|v| EngineKind::deserialize(v.clone()).ok())
         {
-            tables::strip(&mut table, engine);
+            layout::strip(&mut table, engine);
         }
         Self::from_toml_insisting(&toml::to_string(&table).unwrap_or_default(), &[])
     }
@@ -850,17 +777,19 @@ impl Scenario {
         for o in overrides {
             apply_override(&mut table, o)?;
         }
-        tables::check_table(&table).map_err(|e| e.at(source))?;
-        match Scenario::deserialize(table.clone()) {
-            Ok(s) => Ok(s),
-            Err(_) if overrides.is_empty() => Err(match toml::from_str::<Scenario>(source) {
-                Err(e) => spans::parse_error(source, source, &e),
-                Ok(_) => ScenarioError::new("", "the scenario could not be read"),
-            }),
+        layout::check_table(&table).map_err(|e| e.at(source))?;
+        let layout = match layout::Layout::deserialize(table.clone()) {
+            Ok(l) => l,
+            Err(_) if overrides.is_empty() => {
+                return Err(match toml::from_str::<layout::Layout>(source) {
+                    Err(e) => spans::parse_error(source, source, &e),
+                    Ok(_) => ScenarioError::new("", "the scenario could not be read"),
+                });
+            }
             Err(plain) => {
                 // Locate the error in the overridden text, then in the file.
                 let text = toml::to_string(&table).unwrap_or_default();
-                let mut e = match toml::from_str::<Scenario>(&text) {
+                let mut e = match toml::from_str::<layout::Layout>(&text) {
                     Err(e) => spans::parse_error(source, &text, &e),
                     Ok(_) => ScenarioError::new("--set", plain.message().to_string()),
                 };
@@ -868,59 +797,40 @@ impl Scenario {
                     e.message = format!("{} (set by --set {o})", e.message);
                     e.line = None;
                 }
-                Err(e)
+                return Err(e);
             }
-        }
+        };
+        layout.into_scenario().map_err(|e| e.at(source))
     }
 
     /// The resolved scenario as TOML (defaults filled in; only the tables its engine
     /// reads).
     pub fn to_toml(&self) -> String {
-        let grains = self.engine != EngineKind::Intruder;
-        let view = Resolved {
-            engine: self.engine,
-            dimension: self.dimension,
-            seed: self.seed,
-            description: &self.description,
-            simulation_box: (grains && !self.simulation_box.is_default())
-                .then_some(&self.simulation_box),
-            species: if grains { &self.species } else { &[] },
-            initial: grains.then_some(&self.initial),
-            collisions: grains.then_some(&self.collisions),
-            gravity: if grains { &self.gravity } else { &[] },
-            stop: &self.stop,
-            output: &self.output,
-            edmd: (self.engine == EngineKind::Edmd).then_some(&self.edmd),
-            dsmc: (self.engine == EngineKind::Dsmc).then_some(&self.dsmc),
-            intruder: self.intruder.as_ref(),
-            crater: self.crater.as_ref().filter(|_| grains),
-            sweep: self.sweep.as_ref(),
-            driving: self.driving.as_ref(),
-        };
-        toml::to_string_pretty(&view)
+        toml::to_string_pretty(&layout::Layout::of(self))
             .unwrap_or_else(|e| format!("# could not serialise the scenario: {e}\n"))
     }
 
     /// Box edge lengths (default: unit).
     pub fn lengths(&self) -> Vec<f64> {
-        if self.simulation_box.lengths.is_empty() {
+        if self.simulation_box().lengths.is_empty() {
             vec![1.0; self.dimension]
         } else {
-            self.simulation_box.lengths.clone()
+            self.simulation_box().lengths.clone()
         }
     }
 
     /// Boundary kind per axis.
     pub fn axes(&self) -> Vec<crate::boundary::AxisKind> {
-        match &self.simulation_box.boundary {
+        match &self.simulation_box().boundary {
             BoundarySpec::All(k) => vec![*k; self.dimension],
             BoundarySpec::PerAxis(v) => v.clone(),
         }
     }
 
-    /// Radius of species `s` (from `radius` or `packing_fraction`).
+    /// Radius of species `s` (from `radius` or `packing_fraction`, KT-1 and KT-2:
+    /// [`crate::theory::kinetic::radius_at_packing_fraction`] in its region).
     pub fn radius(&self, s: usize) -> f64 {
-        let sp = &self.species[s];
+        let sp = &self.species()[s];
         if let Some(r) = sp.radius {
             return r;
         }
@@ -929,25 +839,20 @@ impl Scenario {
             Some(r) => r.lo.iter().zip(&r.hi).map(|(a, b)| b - a).product(),
             None => self.lengths().iter().product(),
         };
-        let unit_ball = match self.dimension {
-            2 => std::f64::consts::PI,
-            _ => 4.0 / 3.0 * std::f64::consts::PI,
-        };
-        (phi * volume / (sp.count.max(1) as f64 * unit_ball)).powf(1.0 / self.dimension as f64)
+        crate::theory::kinetic::radius_at_packing_fraction(self.dimension, phi, volume, sp.count)
     }
 
     /// Total number of grains.
     pub fn particle_count(&self) -> usize {
-        self.species.iter().map(|s| s.count).sum()
+        self.species().iter().map(|s| s.count).sum()
     }
 
     /// Checks every value, table by table, then the pre-flight rules (the stop rule can
     /// be reached, the outputs, collisions and memory are within the documented limits);
     /// the error names the key, the value and the fix.
     pub fn validate(&self) -> Result<(), ScenarioError> {
-        tables::check_fields(self)?;
-        if self.engine == EngineKind::Intruder {
-            intruder::validate(self)?;
+        if let Some(spec) = self.intruder() {
+            intruder::validate(self, spec)?;
         } else {
             validate::dimension(self)?;
             validate::simulation_box(self)?;

@@ -70,7 +70,7 @@ const MAX_PAIR_BINS: usize = 100_000;
 pub(super) fn validate_structure_and_transport(sc: &super::Scenario) -> Result<(), ScenarioError> {
     let o = &sc.output;
     if o.pair_correlation {
-        if sc.engine != super::EngineKind::Edmd {
+        if sc.kind() != super::EngineKind::Edmd {
             return Err(ScenarioError::new(
                 "output.pair_correlation",
                 "is true, but only the event-driven engine has pair correlations (DSMC grains are points without excluded volume; its contact value is the input chi in summary.json's resolved block); set it to false or use engine = \"edmd\"".to_string(),
@@ -86,7 +86,7 @@ pub(super) fn validate_structure_and_transport(sc: &super::Scenario) -> Result<(
             ));
         }
         let range = o.pair_correlation_range;
-        let r_max_radius = (0..sc.species.len())
+        let r_max_radius = (0..sc.species().len())
             .map(|s| sc.radius(s))
             .fold(0.0f64, f64::max);
         let lengths = sc.lengths();

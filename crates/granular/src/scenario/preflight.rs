@@ -1,13 +1,13 @@
 //! The pre-flight check run by `check` and at the start of `run`: can the stop rule be
 //! reached and does the run fit in memory ([`check`], part of validation), and what will
 //! it cost ([`Cost`]: outputs, snapshots, bytes written, collisions, events or time steps),
-//! against limits that `--insist` lifts. The estimates come from the initial state with the
-//! Boltzmann collision frequency (Enskog factor χ = 1), Haff's law for a cooling gas
-//! (HD-17, DSMC-5) and, for the intruder, the bath's mean speed. Limits are documented in
-//! `docs/scenario.md`.
+//! against limits that `--insist` lifts. The estimates come from the scenario's resolved
+//! initial state ([`super::Resolved`]) with the Boltzmann collision frequency (Enskog
+//! factor χ = 1), Haff's law for a cooling gas (KT-9, DSMC-3) and, for the intruder, the
+//! bath's mean speed. Limits are documented in `docs/scenario.md`.
 
 use super::validate::num;
-use super::{BathTable, EngineKind, IntruderSpec, Scenario, ScenarioError, VelocitySpec};
+use super::{BathTable, EngineKind, IntruderSpec, Scenario, ScenarioError};
 use crate::boundary::AxisKind;
 use crate::intruder::ball::BallParams;
 use crate::output::format_number;
@@ -20,55 +20,37 @@ pub const MAX_COLLISIONS: f64 = 1e12;
 pub const FALLBACK_MEMORY: f64 = 16.0 * GIB;
 const GIB: f64 = 1024.0 * 1024.0 * 1024.0;
 
-/// The initial gas: grains, mean temperature, per-grain collision frequency ω0.
+/// The initial gas of the estimate, from the scenario's resolved values
+/// ([`super::Resolved`]): grains, mean temperature, the dilute (Boltzmann, `χ = 1`)
+/// collision frequency ω0 per grain (KT-5) and Haff's time of that estimate (KT-9 without
+/// the Sonine factor; infinite for an elastic gas).
 struct Gas {
     n: f64,
     temperature: f64,
     omega: f64,
-}
-
-fn kinetic_temperature(v: &VelocitySpec, mass: f64, d: f64) -> f64 {
-    let sq = |u: &[f64]| u.iter().map(|x| x * x).sum::<f64>();
-    match v {
-        VelocitySpec::Zero => 0.0,
-        VelocitySpec::FixedSpeed { speed } => mass * speed * speed / d,
-        VelocitySpec::MaxwellBoltzmann { temperature } => *temperature,
-        VelocitySpec::Given { velocity } => mass * sq(velocity) / d,
-        VelocitySpec::PerGrain { velocities } => {
-            let n = velocities.len().max(1) as f64;
-            velocities.iter().map(|u| mass * sq(u) / d).sum::<f64>() / n
-        }
-    }
+    haff: f64,
 }
 
 fn gas(sc: &Scenario) -> Gas {
-    let d = sc.dimension as f64;
-    let n: f64 = sc.species.iter().map(|s| s.count as f64).sum();
-    let volume: f64 = sc.lengths().iter().product();
-    let (mut t, mut m, mut sigma) = (0.0, 0.0, 0.0);
-    for (s, sp) in sc.species.iter().enumerate() {
-        let w = sp.count as f64 / n;
-        t += w * kinetic_temperature(&sp.velocity, sp.mass, d);
-        m += w * sp.mass;
-        sigma += w * 2.0 * sc.radius(s);
-    }
-    let density = n / volume;
-    let root_pi = std::f64::consts::PI.sqrt();
-    // Boltzmann collision frequency of hard disks / spheres (HD-16 with χ = 1).
-    let omega = if sc.dimension == 2 {
-        2.0 * root_pi * density * sigma * (t / m).sqrt()
-    } else {
-        4.0 * root_pi * density * sigma * sigma * (t / m).sqrt()
+    let resolved = sc.resolve();
+    let Some(g) = resolved.grains else {
+        return Gas {
+            n: 0.0,
+            temperature: 0.0,
+            omega: f64::NAN,
+            haff: f64::INFINITY,
+        };
     };
     Gas {
-        n,
-        temperature: t,
-        omega,
+        n: g.particles as f64,
+        temperature: g.temperature,
+        omega: g.dilute_collision_frequency,
+        haff: g.cooling.map_or(f64::INFINITY, |c| c.dilute_haff_time),
     }
 }
 
 fn elastic_everywhere(sc: &Scenario) -> bool {
-    let law = sc.collisions.law();
+    let law = sc.collisions().law();
     let walls = sc.axes().contains(&AxisKind::Wall);
     law.restitution == 1.0
         && (!walls || (law.wall_restitution == 1.0 && law.wall_tangential_restitution == 1.0))
@@ -78,7 +60,7 @@ fn elastic_everywhere(sc: &Scenario) -> bool {
 /// can be reached, the grains fit in memory, the DSMC step is below the mean free time.
 /// The cost limits are apart ([`Cost::check_limits`]): `--insist` lifts them.
 pub(super) fn check(sc: &Scenario) -> Result<(), ScenarioError> {
-    if sc.engine == EngineKind::Intruder {
+    if sc.kind() == EngineKind::Intruder {
         return Ok(());
     }
     let g = gas(sc);
@@ -90,7 +72,7 @@ pub(super) fn check(sc: &Scenario) -> Result<(), ScenarioError> {
 /// The stop rules that can never be met.
 fn reachable(sc: &Scenario, g: &Gas) -> Result<(), ScenarioError> {
     let s = &sc.stop;
-    let gravity = sc.gravity.iter().any(|&x| x != 0.0);
+    let gravity = sc.gravity().iter().any(|&x| x != 0.0);
     if s.energy_fraction.is_some() && elastic_everywhere(sc) {
         return Err(ScenarioError::new(
             "stop.energy_fraction",
@@ -149,7 +131,7 @@ pub fn available_memory() -> f64 {
 /// over ranks and nodes: `build::MemoryBudget`); here only its cell grid, which no number
 /// of ranks makes larger than the engine can index.
 fn memory(sc: &Scenario, n: f64) -> Result<(), ScenarioError> {
-    if sc.engine == EngineKind::Dsmc {
+    if sc.kind() == EngineKind::Dsmc {
         return dsmc_cells(sc);
     }
     let need = n * bytes_per_grain(sc);
@@ -159,11 +141,11 @@ fn memory(sc: &Scenario, n: f64) -> Result<(), ScenarioError> {
     }
     let gib = |b: f64| format_number((b / GIB * 10.0).round() / 10.0);
     let (s, _) = sc
-        .species
+        .species()
         .iter()
         .enumerate()
         .max_by_key(|(_, sp)| sp.count)
-        .unwrap_or((0, &sc.species[0]));
+        .unwrap_or((0, &sc.species()[0]));
     Err(ScenarioError::new(
         format!("species[{s}].count"),
         format!(
@@ -180,7 +162,7 @@ fn memory(sc: &Scenario, n: f64) -> Result<(), ScenarioError> {
 /// cell numbers are 32-bit), however many ranks share it: `n_k = max(1, floor(L_k /
 /// cell_size))` cells along axis `k`, as the engine cuts the box.
 fn dsmc_cells(sc: &Scenario) -> Result<(), ScenarioError> {
-    let Some(l) = sc.dsmc.cell_size.filter(|l| *l > 0.0) else {
+    let Some(l) = sc.dsmc().and_then(|d| d.cell_size).filter(|l| *l > 0.0) else {
         return Ok(());
     };
     let cells: f64 = sc
@@ -205,10 +187,10 @@ fn dsmc_cells(sc: &Scenario) -> Result<(), ScenarioError> {
 
 /// The DSMC time step must stay below the initial mean free time.
 fn dsmc_step(sc: &Scenario, g: &Gas) -> Result<(), ScenarioError> {
-    if sc.engine != EngineKind::Dsmc || g.omega.is_nan() || g.omega <= 0.0 {
+    if g.omega.is_nan() || g.omega <= 0.0 {
         return Ok(());
     }
-    let Some(tau) = sc.dsmc.time_step else {
+    let Some(tau) = sc.dsmc().and_then(|d| d.time_step) else {
         return Ok(());
     };
     let free_time = 1.0 / g.omega;
@@ -224,7 +206,8 @@ fn dsmc_step(sc: &Scenario, g: &Gas) -> Result<(), ScenarioError> {
 }
 
 /// Pair collisions per grain by time `t` and its inverse: Haff's law for an inelastic gas
-/// without gravity (`ω0 t0 ln(1 + t/t0)`, HD-17), `ω0 t` for an elastic one.
+/// without gravity (`ω0 t0 ln(1 + t/t0)`, the integral of KT-5 along KT-9's `T(t)`),
+/// `ω0 t` for an elastic one.
 struct Clock {
     omega: f64,
     /// Haff time t0 = 2D / ((1 - e²) ω0); infinite for an elastic gas.
@@ -300,7 +283,7 @@ const CSV_NUMBER: f64 = 24.0;
 
 fn bytes_written(sc: &Scenario, n: f64, outputs: f64, snapshots: f64) -> f64 {
     let d = sc.dimension as f64;
-    let columns = 12.0 + 2.0 * sc.species.len() as f64;
+    let columns = 12.0 + 2.0 * sc.species().len() as f64;
     let mut bytes = outputs * columns * CSV_NUMBER;
     // Positions, velocities, radius, mass (f64) and species (u32) per grain.
     bytes += snapshots * n * ((2.0 * d + 2.0) * 8.0 + 4.0);
@@ -463,20 +446,15 @@ impl End {
 /// The cost of a scenario of grains (EDMD or DSMC).
 fn grains_cost(sc: &Scenario, g: &Gas) -> Cost {
     let s = &sc.stop;
-    let gravity = sc.gravity.iter().any(|&x| x != 0.0);
-    let e = sc.collisions.restitution;
-    let d = sc.dimension as f64;
+    let gravity = sc.gravity().iter().any(|&x| x != 0.0);
+    let e = sc.collisions().restitution;
     // A driven gas (`[driving]`) does not cool: its clock runs at the initial
     // temperature (the rescaled one's exactly, the heated one's near its steady value).
     let cooling =
-        e < 1.0 && !gravity && sc.collisions.contact_duration == 0.0 && sc.driving.is_none();
+        e < 1.0 && !gravity && sc.collisions().contact_duration == 0.0 && sc.driving().is_none();
     let clock = Clock {
         omega: g.omega,
-        haff: if cooling {
-            2.0 * d / ((1.0 - e * e) * g.omega)
-        } else {
-            f64::INFINITY
-        },
+        haff: if cooling { g.haff } else { f64::INFINITY },
     };
     let elastic = Clock {
         omega: g.omega,
@@ -516,7 +494,7 @@ fn grains_cost(sc: &Scenario, g: &Gas) -> Cost {
         by_collisions(2.0 * c as f64 / g.n, "stop.collisions", true);
     }
     if let Some(ev) = s.events {
-        let per_collision = if sc.engine == EngineKind::Edmd {
+        let per_collision = if sc.kind() == EngineKind::Edmd {
             EDMD_EVENTS_PER_COLLISION
         } else {
             1.0
@@ -569,13 +547,14 @@ fn grains_cost(sc: &Scenario, g: &Gas) -> Cost {
     } else {
         2.0 + outputs / o.snapshot_every as f64
     };
-    let steps = match sc.engine {
+    let steps = match sc.kind() {
         EngineKind::Edmd => Some((collisions * EDMD_EVENTS_PER_COLLISION, "events")),
         _ => Some((
-            match sc.dsmc.time_step {
+            match sc.dsmc().and_then(|d| d.time_step) {
                 Some(tau) => end_time / tau,
-                // Ten steps per mean free time: five per collision of a grain.
-                None => 5.0 * collisions * 2.0 / g.n,
+                // The automatic step, `STEP_FRACTION` of the mean free time: that many
+                // steps per collision of a grain.
+                None => collisions * 2.0 / g.n / crate::dsmc::config::STEP_FRACTION,
             },
             "time steps",
         )),
@@ -597,7 +576,7 @@ fn grains_cost(sc: &Scenario, g: &Gas) -> Cost {
 
 /// The cost of `sc` (validated).
 pub(super) fn cost(sc: &Scenario) -> Cost {
-    if sc.engine == EngineKind::Intruder {
+    if sc.kind() == EngineKind::Intruder {
         intruder_cost(sc)
     } else {
         grains_cost(sc, &gas(sc))
@@ -609,7 +588,7 @@ pub(super) fn cost(sc: &Scenario) -> Cost {
 /// the limit, ten times that rate (an intruder faster than the bath collides more often).
 fn intruder_cost(sc: &Scenario) -> Cost {
     let mean_speed = |t: f64, m: f64| (2.0 * t / (std::f64::consts::PI * m)).sqrt();
-    let rate = match &sc.intruder {
+    let rate = match &sc.intruder() {
         Some(IntruderSpec::Needle(c)) => {
             c.bath_density * c.length * mean_speed(c.bath_temperature, c.bath_mass)
         }

@@ -10,14 +10,14 @@ pub const MAX_NAME_LEN: usize = 64;
 
 /// Checks every species (at least one, names unique).
 pub(super) fn validate(sc: &Scenario) -> Result<(), ScenarioError> {
-    if sc.species.is_empty() {
+    if sc.species().is_empty() {
         return Err(ScenarioError::new(
             "species",
             "no [[species]] table; add at least one with name, count and radius",
         ));
     }
     let mut names = std::collections::HashSet::new();
-    for (s, sp) in sc.species.iter().enumerate() {
+    for (s, sp) in sc.species().iter().enumerate() {
         let key = |f: &str| format!("species[{s}].{f}");
         name(&key("name"), &sp.name)?;
         if !names.insert(sp.name.as_str()) {
@@ -61,7 +61,7 @@ pub fn name(key: &str, n: &str) -> Result<(), ScenarioError> {
 
 /// Count, radius or packing fraction, mass, and the grain fitting in the box.
 fn size(sc: &Scenario, s: usize, key: &dyn Fn(&str) -> String) -> Result<(), ScenarioError> {
-    let sp = &sc.species[s];
+    let sp = &sc.species()[s];
     if sp.count == 0 {
         return Err(ScenarioError::new(
             key("count"),
@@ -143,7 +143,7 @@ fn region(
 }
 
 fn positions(sc: &Scenario, s: usize, key: &dyn Fn(&str) -> String) -> Result<(), ScenarioError> {
-    let sp = &sc.species[s];
+    let sp = &sc.species()[s];
     if sp.positions.is_empty() {
         return Ok(());
     }

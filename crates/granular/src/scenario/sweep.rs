@@ -97,13 +97,13 @@ const NEEDLE: &[&str] = &[
 pub fn sweep_observables(sc: &Scenario) -> Vec<String> {
     let mut out: Vec<String> = Vec::new();
     let mut add = |names: &[&str]| out.extend(names.iter().map(|s| s.to_string()));
-    match (sc.engine, &sc.intruder) {
+    match (sc.kind(), sc.intruder()) {
         (EngineKind::Edmd | EngineKind::Dsmc, _) => {
             add(GRAINS);
-            for sp in &sc.species {
+            for sp in sc.species() {
                 out.push(format!("kinetic_energy_per_grain.{}", sp.name));
                 out.push(format!("temperature.{}", sp.name));
-                if sc.engine == EngineKind::Edmd && sc.species.len() > 1 {
+                if sc.kind() == EngineKind::Edmd && sc.species().len() > 1 {
                     out.push(format!("a2.{}", sp.name));
                 }
             }
@@ -127,7 +127,7 @@ pub fn sweep_observables(sc: &Scenario) -> Vec<String> {
         }
         (EngineKind::Intruder, _) => add(ONE_D),
     }
-    if sc.crater.is_some() {
+    if sc.crater().is_some() {
         out.push("crater_size".into());
     }
     out

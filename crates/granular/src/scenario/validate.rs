@@ -129,7 +129,7 @@ pub(super) fn simulation_box(sc: &Scenario) -> Result<(), ScenarioError> {
 
 /// `[collisions]`.
 pub(super) fn collisions(sc: &Scenario) -> Result<(), ScenarioError> {
-    let c = &sc.collisions;
+    let c = &sc.collisions();
     unit_interval("collisions.restitution", c.restitution)?;
     if let Some(w) = c.wall_restitution {
         unit_interval("collisions.wall_restitution", w)?;
@@ -148,23 +148,23 @@ pub(super) fn collisions(sc: &Scenario) -> Result<(), ScenarioError> {
 /// periodic box the centre of mass would accelerate for ever).
 pub(super) fn gravity(sc: &Scenario) -> Result<(), ScenarioError> {
     let d = sc.dimension;
-    if sc.gravity.is_empty() {
+    if sc.gravity().is_empty() {
         return Ok(());
     }
-    if sc.gravity.len() != d {
+    if sc.gravity().len() != d {
         return Err(ScenarioError::new(
             "gravity",
             format!(
                 "has {} components; give {d} (one per axis) or leave it out",
-                sc.gravity.len()
+                sc.gravity().len()
             ),
         ));
     }
-    for (k, &g) in sc.gravity.iter().enumerate() {
+    for (k, &g) in sc.gravity().iter().enumerate() {
         finite(&format!("gravity[{k}]"), g, "a gravity component")?;
     }
     let pulls_along_periodic = sc
-        .gravity
+        .gravity()
         .iter()
         .zip(sc.axes())
         .any(|(&g, a)| g != 0.0 && a == AxisKind::Periodic);
@@ -173,7 +173,7 @@ pub(super) fn gravity(sc: &Scenario) -> Result<(), ScenarioError> {
             "gravity",
             format!(
                 "is {:?} along a periodic axis: nothing stops the fall, so the centre of mass accelerates for ever; put walls on that axis (box.boundary) or remove gravity",
-                sc.gravity
+                sc.gravity()
             ),
         ));
     }
@@ -182,13 +182,13 @@ pub(super) fn gravity(sc: &Scenario) -> Result<(), ScenarioError> {
 
 /// `[initial]`: `compress_from` in (0, target) and at least one placement attempt.
 pub(super) fn initial(sc: &Scenario) -> Result<(), ScenarioError> {
-    if sc.initial.max_attempts == 0 {
+    if sc.initial().max_attempts == 0 {
         return Err(ScenarioError::new(
             "initial.max_attempts",
             "is 0; give the random placement attempts per grain, e.g. 100000",
         ));
     }
-    let Some(p) = sc.initial.compress_from else {
+    let Some(p) = sc.initial().compress_from else {
         return Ok(());
     };
     if !(p > 0.0 && p < 1.0) {
@@ -209,17 +209,14 @@ pub(super) fn initial(sc: &Scenario) -> Result<(), ScenarioError> {
     Ok(())
 }
 
-/// Packing fraction of all grains at their radii in the box.
+/// Packing fraction of all grains at their radii in the box (KT-2).
 pub(super) fn target_packing_fraction(sc: &Scenario) -> f64 {
-    let unit_ball = match sc.dimension {
-        2 => std::f64::consts::PI,
-        _ => 4.0 / 3.0 * std::f64::consts::PI,
-    };
     let volume: f64 = sc.lengths().iter().product();
-    let grains: f64 = (0..sc.species.len())
-        .map(|s| sc.species[s].count as f64 * unit_ball * sc.radius(s).powi(sc.dimension as i32))
-        .sum();
-    grains / volume
+    crate::theory::kinetic::mixture_packing_fraction(
+        sc.dimension,
+        (0..sc.species().len()).map(|s| (sc.species()[s].count, sc.radius(s))),
+        volume,
+    )
 }
 
 /// `[stop]`: each rule in its range (the reachability is checked by `preflight`).
@@ -269,7 +266,7 @@ pub(super) fn stop(sc: &Scenario) -> Result<(), ScenarioError> {
         || s.energy_fraction.is_some()
         || s.wall_seconds.is_some();
     if !any {
-        let rules = if sc.engine == EngineKind::Intruder {
+        let rules = if sc.kind() == EngineKind::Intruder {
             "stop.collisions (e.g. 500000, the paper's statistics) or stop.time"
         } else {
             "at least one of time, collisions, collisions_per_particle, events, energy_fraction, wall_seconds"
@@ -317,7 +314,7 @@ pub(super) fn output(sc: &Scenario) -> Result<(), ScenarioError> {
             "the time before the time series enters the summary's averages",
         )?;
     }
-    if sc.engine == EngineKind::Intruder {
+    if sc.kind() == EngineKind::Intruder {
         return Ok(());
     }
     if o.histogram_bins == 0 || o.histogram_bins > MAX_BINS {
@@ -362,7 +359,10 @@ pub(super) fn output(sc: &Scenario) -> Result<(), ScenarioError> {
 /// `[dsmc]`: positive, finite step and cell (their size against the gas is checked by
 /// `preflight`).
 pub(super) fn dsmc(sc: &Scenario) -> Result<(), ScenarioError> {
-    if let Some(bins) = sc.dsmc.impact_bins
+    let Some(spec) = sc.dsmc() else {
+        return Ok(());
+    };
+    if let Some(bins) = spec.impact_bins
         && (bins == 0 || bins > MAX_BINS)
     {
         return Err(ScenarioError::new(
@@ -370,7 +370,7 @@ pub(super) fn dsmc(sc: &Scenario) -> Result<(), ScenarioError> {
             format!("is {bins}; use between 1 and {MAX_BINS} bins (default 20)"),
         ));
     }
-    if sc.dsmc.balance_every == Some(0) {
+    if spec.balance_every == Some(0) {
         return Err(ScenarioError::new(
             "dsmc.balance_every",
             "is 0; give the steps between two looks at the ranks' loads, at least 1 \
@@ -378,12 +378,9 @@ pub(super) fn dsmc(sc: &Scenario) -> Result<(), ScenarioError> {
                 .to_string(),
         ));
     }
-    if sc.engine != EngineKind::Dsmc {
-        return Ok(());
-    }
     // Species of equal grains (names, counts, regions, placements and velocities may
     // differ): DSMC's collision rule here is that of one radius and one mass.
-    for s in 1..sc.species.len() {
+    for s in 1..sc.species().len() {
         let (r0, r) = (sc.radius(0), sc.radius(s));
         if r != r0 {
             return Err(ScenarioError::new(
@@ -397,7 +394,7 @@ pub(super) fn dsmc(sc: &Scenario) -> Result<(), ScenarioError> {
                 ),
             ));
         }
-        let (m0, m) = (sc.species[0].mass, sc.species[s].mass);
+        let (m0, m) = (sc.species()[0].mass, sc.species()[s].mass);
         if m != m0 {
             return Err(ScenarioError::new(
                 format!("species[{s}].mass"),
@@ -411,7 +408,7 @@ pub(super) fn dsmc(sc: &Scenario) -> Result<(), ScenarioError> {
             ));
         }
     }
-    if sc.initial.compress_from.is_some() {
+    if sc.initial().compress_from.is_some() {
         return Err(ScenarioError::new(
             "initial.compress_from",
             "does not apply to the DSMC engine: its grains are placed independently of each \
@@ -420,14 +417,14 @@ pub(super) fn dsmc(sc: &Scenario) -> Result<(), ScenarioError> {
                 .to_string(),
         ));
     }
-    if let Some(t) = sc.dsmc.time_step {
+    if let Some(t) = spec.time_step {
         positive(
             "dsmc.time_step",
             t,
             "the time step (well below the mean free time)",
         )?;
     }
-    if let Some(l) = sc.dsmc.cell_size {
+    if let Some(l) = spec.cell_size {
         positive(
             "dsmc.cell_size",
             l,
@@ -439,7 +436,9 @@ pub(super) fn dsmc(sc: &Scenario) -> Result<(), ScenarioError> {
 
 /// `[edmd]`: the collapse threshold and the impact-parameter bins.
 pub(super) fn edmd(sc: &Scenario) -> Result<(), ScenarioError> {
-    let e = &sc.edmd;
+    let Some(e) = sc.edmd() else {
+        return Ok(());
+    };
     if !(e.collapse_ratio > 0.0 && e.collapse_ratio < 1.0) {
         return Err(ScenarioError::new(
             "edmd.collapse_ratio",
@@ -463,10 +462,10 @@ pub(super) fn edmd(sc: &Scenario) -> Result<(), ScenarioError> {
 
 /// `[crater]`: a species of the scenario and a positive displacement.
 pub(super) fn crater(sc: &Scenario) -> Result<(), ScenarioError> {
-    let Some(c) = &sc.crater else {
+    let Some(c) = &sc.crater() else {
         return Ok(());
     };
-    if !sc.species.iter().any(|s| s.name == c.species) {
+    if !sc.species().iter().any(|s| s.name == c.species) {
         return Err(ScenarioError::new(
             "crater.species",
             format!(
@@ -485,7 +484,7 @@ pub(super) fn crater(sc: &Scenario) -> Result<(), ScenarioError> {
 /// `output.trajectory`: each format once, and only for the engines with grains.
 fn trajectory(sc: &Scenario) -> Result<(), ScenarioError> {
     let formats = &sc.output.trajectory;
-    if sc.engine == EngineKind::Intruder && !formats.is_empty() {
+    if sc.kind() == EngineKind::Intruder && !formats.is_empty() {
         return Err(ScenarioError::new(
             "output.trajectory",
             "is set, but the intruder engine has no grain trajectories (one intruder in a bath that is not simulated grain by grain); remove output.trajectory",

@@ -77,22 +77,16 @@ pub enum InitError {
     },
 }
 
-/// Volume of a `D`-ball of radius `r` (area of a disk in 2D).
+/// Volume of a `D`-ball of radius `r` (area of a disk in 2D): the grain volume of KT-1,
+/// [`crate::theory::kinetic::grain_volume`].
 pub fn ball_volume<const D: usize>(r: f64) -> f64 {
-    match D {
-        1 => 2.0 * r,
-        2 => std::f64::consts::PI * r * r,
-        3 => 4.0 / 3.0 * std::f64::consts::PI * r * r * r,
-        _ => {
-            let d = D as f64;
-            std::f64::consts::PI.powf(d / 2.0) / libm::tgamma(d / 2.0 + 1.0) * r.powf(d)
-        }
-    }
+    crate::theory::kinetic::grain_volume(D, r)
 }
 
-/// Packing fraction of grains of the given radii in a region of the given volume.
+/// Packing fraction of grains of the given radii in a region of the given volume (KT-2,
+/// [`crate::theory::kinetic::mixture_packing_fraction`]).
 pub fn packing_fraction<const D: usize>(radii: &[f64], volume: f64) -> f64 {
-    radii.iter().map(|&r| ball_volume::<D>(r)).sum::<f64>() / volume
+    crate::theory::kinetic::mixture_packing_fraction(D, radii.iter().map(|&r| (1, r)), volume)
 }
 
 /// Region of the box where grains are placed: `[lo, hi]` per axis.

@@ -1,119 +1,42 @@
-//! Homogeneous cooling of inelastic hard disks and spheres: Haff's law (DSMC-3),
-//! the cooling rate with the first Sonine correction, and the Boltzmann/Enskog
-//! collision frequency.
+//! Homogeneous cooling of inelastic hard disks and spheres: Haff's law (DSMC-3), the
+//! cooling rate with the first Sonine correction (KT-8) and Haff's time (KT-9), on the
+//! Boltzmann/Enskog collision frequency of [`super::kinetic`].
 //!
 //! References: P. K. Haff, J. Fluid Mech. 134, 401 (1983); T. P. C. van Noije and
 //! M. H. Ernst, Granular Matter 1, 57 (1998); V. Garzó and J. W. Dufty, Phys. Rev. E 59,
 //! 5895 (1999); N. V. Brilliantov and T. Pöschel, *Kinetic Theory of Granular Gases*
 //! (Oxford 2004). Derivations in `docs/dsmc.md`.
 
+#[cfg(test)]
 use std::f64::consts::PI;
 
-fn check_dimension(dimension: usize) {
-    assert!(
-        dimension == 2 || dimension == 3,
-        "dimension must be 2 or 3, got {dimension}"
-    );
-}
+use super::kinetic::check_dimension;
+/// The kinetic theory the cooling rate rests on, written once in [`super::kinetic`] (KT-1
+/// to KT-7) and re-exported here for the callers that know it from this module.
+pub use super::kinetic::{
+    collision_frequency, contact_value, cross_section, grain_volume, mean_free_path,
+    mean_relative_speed, packing_fraction, random_close_packing,
+};
 
-/// Total collision cross-section of two equal grains of radius `radius`: the measure of
-/// the set of impact parameters `|b| < 2R` that lead to a collision, i.e. the length `4R`
-/// (twice the diameter) for disks and the area `pi (2R)^2` for spheres (DSMC-1's
-/// `sigma_2D = 4R`, `sigma_3D = 4 pi R^2`; see `docs/dsmc.md`).
-pub fn cross_section(dimension: usize, radius: f64) -> f64 {
-    check_dimension(dimension);
-    if dimension == 2 {
-        4.0 * radius
-    } else {
-        PI * 4.0 * radius * radius
-    }
-}
-
-/// Volume (area in 2D) of one grain: `pi R^2` or `4 pi R^3 / 3`.
-pub fn grain_volume(dimension: usize, radius: f64) -> f64 {
-    check_dimension(dimension);
-    if dimension == 2 {
-        PI * radius * radius
-    } else {
-        4.0 / 3.0 * PI * radius.powi(3)
-    }
-}
-
-/// Packing (area or volume) fraction `phi = n v_p` at number density `n`.
-pub fn packing_fraction(dimension: usize, number_density: f64, radius: f64) -> f64 {
-    number_density * grain_volume(dimension, radius)
-}
-
-/// Random-close-packing fraction used by the free-volume correction: 0.82 for disks,
-/// 0.64 for spheres (Berryman, Phys. Rev. A 27, 1053 (1983)).
-pub fn random_close_packing(dimension: usize) -> f64 {
-    check_dimension(dimension);
-    if dimension == 2 { 0.82 } else { 0.64 }
-}
-
-/// Pair correlation at contact `chi(phi)` (the Enskog factor): Henderson's
-/// `(1 - 7 phi / 16) / (1 - phi)^2` for disks (Mol. Phys. 30, 971 (1975)), the
-/// Carnahan-Starling `(1 - phi / 2) / (1 - phi)^3` for spheres (J. Chem. Phys. 51, 635
-/// (1969)).
-pub fn contact_value(dimension: usize, phi: f64) -> f64 {
-    check_dimension(dimension);
-    if dimension == 2 {
-        (1.0 - 7.0 * phi / 16.0) / ((1.0 - phi) * (1.0 - phi))
-    } else {
-        (1.0 - 0.5 * phi) / (1.0 - phi).powi(3)
-    }
-}
-
-/// Mean relative speed `<|v_1 - v_2|>` of two grains of mass `mass` drawn from a
-/// Maxwell-Boltzmann distribution at temperature `T`:
-/// `sqrt(4T/m) Gamma((D+1)/2) / Gamma(D/2)`, i.e. `sqrt(pi T / m)` in 2D and
-/// `4 sqrt(T / (pi m))` in 3D.
-pub fn mean_relative_speed(dimension: usize, temperature: f64, mass: f64) -> f64 {
-    check_dimension(dimension);
-    let s = (temperature / mass).sqrt();
-    if dimension == 2 {
-        PI.sqrt() * s
-    } else {
-        4.0 / PI.sqrt() * s
-    }
-}
-
-/// Collision frequency per grain, `omega = chi n sigma <|v_12|>` (number of collisions a
-/// given grain suffers per unit time) for a Maxwellian gas: `2 chi n (2R) sqrt(pi T/m)`
-/// in 2D, `4 chi n (2R)^2 sqrt(pi T/m)` in 3D. `chi = 1` is the Boltzmann value, `chi`
-/// from [`contact_value`] the Enskog value.
-pub fn collision_frequency(
-    dimension: usize,
-    number_density: f64,
-    radius: f64,
-    temperature: f64,
-    mass: f64,
-    chi: f64,
-) -> f64 {
-    chi * number_density
-        * cross_section(dimension, radius)
-        * mean_relative_speed(dimension, temperature, mass)
-}
-
-/// Mean free path `lambda = <|v|> / omega = 1 / (sqrt(2) chi n sigma)` of a Maxwellian gas.
-pub fn mean_free_path(dimension: usize, number_density: f64, radius: f64, chi: f64) -> f64 {
-    1.0 / (std::f64::consts::SQRT_2 * chi * number_density * cross_section(dimension, radius))
-}
-
-/// First Sonine coefficient of the homogeneous cooling state (van Noije & Ernst 1998,
-/// Eq. 36, linearised in `a2`):
+/// First Sonine coefficient of the homogeneous cooling state, van Noije and Ernst (1998)'s
+/// first estimate (KT-10), written in [`super::sonine`]:
 /// `a2 = 16 (1-e)(1-2e^2) / (9 + 24 D + e (8 D - 41) + 30 e^2 (1-e))`.
 pub fn sonine_a2(dimension: usize, restitution: f64) -> f64 {
     check_dimension(dimension);
-    let e = restitution;
-    let d = dimension as f64;
-    16.0 * (1.0 - e) * (1.0 - 2.0 * e * e)
-        / (9.0 + 24.0 * d + e * (8.0 * d - 41.0) + 30.0 * e * e * (1.0 - e))
+    super::sonine::cooling_a2_first(dimension, restitution)
 }
 
-/// Cooling rate `zeta` of `dT/dt = -zeta T` in the homogeneous cooling state:
-/// `zeta = (1 - e^2) / D * omega * (1 + 3 a2 / 16)`, `omega` the Maxwellian (Enskog)
-/// [`collision_frequency`] at `T`; `sonine = false` drops the `a2` term (Haff's
+/// The cooling rate of KT-8 from the collision frequency `omega` and a Sonine coefficient
+/// `a2`: `zeta = (1 - e^2) / D * omega * (1 + 3 a2 / 16)` (1/time), the rate of
+/// `dT/dt = -zeta T` of a gas of restitution `e` whose velocity distribution has the
+/// fourth cumulant `a2` (van Noije and Ernst 1998).
+pub fn sonine_cooling_rate(dimension: usize, restitution: f64, omega: f64, a2: f64) -> f64 {
+    (1.0 - restitution * restitution) / dimension as f64 * omega * (1.0 + 3.0 * a2 / 16.0)
+}
+
+/// Cooling rate `zeta` of `dT/dt = -zeta T` in the homogeneous cooling state, KT-8:
+/// [`sonine_cooling_rate`] with `omega` the Maxwellian (Enskog) [`collision_frequency`] at
+/// `T` and the HCS's [`sonine_a2`]; `sonine = false` drops the `a2` term (Haff's
 /// Maxwellian estimate).
 #[allow(clippy::too_many_arguments)]
 pub fn cooling_rate(
@@ -132,7 +55,7 @@ pub fn cooling_rate(
     } else {
         0.0
     };
-    (1.0 - restitution * restitution) / dimension as f64 * omega * (1.0 + 3.0 * a2 / 16.0)
+    sonine_cooling_rate(dimension, restitution, omega, a2)
 }
 
 /// The bound on the relative bias of the cooling rate of a gas whose collisions are
@@ -144,7 +67,7 @@ pub fn step_cooling_bias(zeta: f64, time_step: f64) -> f64 {
     0.75 * zeta * time_step
 }
 
-/// Haff's time `t0 = 2 / zeta(T(0))`, so that `T(t) = T(0) / (1 + t/t0)^2` (because
+/// Haff's time `t0 = 2 / zeta(T(0))`, KT-9, so that `T(t) = T(0) / (1 + t/t0)^2` (because
 /// `zeta ~ sqrt(T)`).
 #[allow(clippy::too_many_arguments)]
 pub fn haff_time(

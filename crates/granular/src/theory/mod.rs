@@ -9,6 +9,7 @@ pub mod equilibrium;
 pub mod haff;
 pub mod hard_wall;
 pub mod intruder;
+pub mod kinetic;
 pub mod rough;
 pub mod sonine;
 pub mod stability;

@@ -16,7 +16,7 @@ fn numerator(e: f64) -> f64 {
     16.0 * (1.0 - e) * (1.0 - 2.0 * e * e)
 }
 
-/// Homogeneous cooling state, the first estimate (van Noije and Ernst 1998; the one of
+/// Homogeneous cooling state, the first estimate (van Noije and Ernst 1998), KT-10 (also
 /// `theory::haff::sonine_a2`):
 /// `a2 = 16 (1-e)(1-2e²) / (9 + 24D - e (41 - 8D) + 30 e² (1-e))`.
 pub fn cooling_a2_first(dimension: usize, restitution: f64) -> f64 {
@@ -24,14 +24,14 @@ pub fn cooling_a2_first(dimension: usize, restitution: f64) -> f64 {
     numerator(e) / (9.0 + 24.0 * d - e * (41.0 - 8.0 * d) + 30.0 * e * e * (1.0 - e))
 }
 
-/// Homogeneous cooling state, the second estimate (van Noije and Ernst 1998):
+/// Homogeneous cooling state, the second estimate (van Noije and Ernst 1998), KT-11:
 /// `a2 = 16 (1-e)(1-2e²) / (25 + 24D - e (57 - 8D) - 2 e² (1-e))`.
 pub fn cooling_a2_second(dimension: usize, restitution: f64) -> f64 {
     let (d, e) = (dimension as f64, restitution);
     numerator(e) / (25.0 + 24.0 * d - e * (57.0 - 8.0 * d) - 2.0 * e * e * (1.0 - e))
 }
 
-/// The gas heated by white noise (random velocity kicks, van Noije and Ernst 1998):
+/// The gas heated by white noise (random velocity kicks, van Noije and Ernst 1998), KT-12:
 /// `a2 = 16 (1-e)(1-2e²) / (73 + 56D - 3e (35 + 8D) + 30 e² (1-e))`.
 pub fn white_noise_a2(dimension: usize, restitution: f64) -> f64 {
     let (d, e) = (dimension as f64, restitution);

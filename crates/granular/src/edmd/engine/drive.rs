@@ -56,12 +56,7 @@ impl<const D: usize> Edmd<D> {
         let n = self.particle_count();
         let radius = self.radii().first().copied().unwrap_or(0.0);
         let volume = self.simulation_box().volume();
-        let grain = if D == 2 {
-            std::f64::consts::PI * radius * radius
-        } else {
-            4.0 / 3.0 * std::f64::consts::PI * radius.powi(3)
-        };
-        let phi = n as f64 * grain / volume;
+        let phi = crate::theory::kinetic::mixture_packing_fraction(D, [(n, radius)], volume);
         GasTheory {
             dimension: D,
             restitution: self.collision_law().restitution,

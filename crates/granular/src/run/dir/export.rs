@@ -20,7 +20,7 @@ pub(super) fn export(run: &RunDir, formats: &[Format]) -> Result<Vec<PathBuf>, T
     })?;
     let scenario = Scenario::from_toml(&text, &[])
         .map_err(|e| TrajectoryError::Export(format!("{}: {e}", scenario_path.display())))?;
-    if scenario.engine == EngineKind::Intruder {
+    if scenario.kind() == EngineKind::Intruder {
         return Err(TrajectoryError::Export(format!(
             "{} is a run of the intruder engine, which has no grain trajectories (one intruder in a bath that is not simulated grain by grain); export runs of the edmd or dsmc engine",
             run.path().display()

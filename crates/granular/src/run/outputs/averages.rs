@@ -154,8 +154,7 @@ impl Output for Averages {
     fn finish(&mut self, simulation: &Simulation, summary: &mut Summary) -> Result<(), RunError> {
         let power_law = simulation
             .scenario()
-            .intruder
-            .as_ref()
+            .intruder()
             .and_then(|s| s.one_d())
             .is_some_and(|c| matches!(c.bath, BathTable::PowerLaw { .. }));
         let equilibration = rule(simulation).1;

@@ -47,7 +47,7 @@ impl Output for IntruderStatistics {
 
     fn finish(&mut self, simulation: &Simulation, summary: &mut Summary) -> Result<(), RunError> {
         if let (AnyEngine::Intruder(engine), Some(spec)) =
-            (simulation.engine(), &simulation.scenario().intruder)
+            (simulation.engine(), &simulation.scenario().intruder())
         {
             summary.intruder = Some(write_statistics(engine, spec, &self.dir)?);
         }

@@ -98,7 +98,7 @@ impl StandardOutputs {
         let scenario = simulation.scenario();
         // Every engine but the intruder models has grains (asked of the scenario, not of a
         // snapshot: that would gather a decomposed run).
-        let grains = scenario.intruder.is_none();
+        let grains = scenario.intruder().is_none();
         let o = &scenario.output;
         let spatial = o.impact_histograms || o.structure_factor || !o.density_map.is_empty();
         StandardOutputs {
@@ -107,9 +107,9 @@ impl StandardOutputs {
             speeds: grains.then(|| SpeedStatistics::new(dir)),
             spatial: (grains && spatial).then(|| SpatialObservables::new(dir)),
             impact: ImpactParameter::new(dir),
-            crater: scenario.crater.clone().map(Crater::new),
+            crater: scenario.crater().cloned().map(Crater::new),
             intruder: scenario
-                .intruder
+                .intruder()
                 .is_some()
                 .then(|| IntruderStatistics::new(dir)),
             trajectory: (grains && !o.trajectory.is_empty())

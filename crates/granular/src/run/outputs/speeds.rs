@@ -362,7 +362,7 @@ impl Output for SpeedStatistics {
         for (s, fit) in fits.into_iter().enumerate() {
             if self.samples > 0 && !self.steady(s) {
                 let mut scaled = self.scaled.summary(d, s, self.samples);
-                scaled.theory_a2 = cooling_theory_a2(simulation.scenario());
+                scaled.theory_a2 = cooling_theory_a2(simulation);
                 summary.warnings.push(format!(
                     "species `{}`: the pooled snapshots' temperatures range from {:.4e} to {:.4e}, \
                      beyond {}% of their mean: the gas is not in a steady state, so no \
@@ -395,20 +395,16 @@ impl Output for SpeedStatistics {
     }
 }
 
-/// The homogeneous cooling state's `a2` (van Noije and Ernst 1998, both estimates) where it
-/// applies: one species, a periodic box, no gravity, no TC model.
-fn cooling_theory_a2(scenario: &crate::scenario::Scenario) -> Option<[f64; 2]> {
+/// The homogeneous cooling state's `a2` (van Noije and Ernst 1998, both estimates, as the
+/// scenario resolved them) where it applies: one species, a periodic box, no gravity, no TC
+/// model.
+fn cooling_theory_a2(simulation: &crate::simulation::Simulation) -> Option<[f64; 2]> {
     use crate::boundary::AxisKind;
-    use crate::theory::sonine;
-    let homogeneous = scenario.species.len() == 1
+    let scenario = simulation.scenario();
+    let homogeneous = scenario.species().len() == 1
         && scenario.axes().iter().all(|a| *a == AxisKind::Periodic)
-        && scenario.gravity.iter().all(|g| *g == 0.0)
-        && scenario.collisions.contact_duration == 0.0;
-    let (d, e) = (scenario.dimension, scenario.collisions.restitution);
-    homogeneous.then(|| {
-        [
-            sonine::cooling_a2_first(d, e),
-            sonine::cooling_a2_second(d, e),
-        ]
-    })
+        && scenario.gravity().iter().all(|g| *g == 0.0)
+        && scenario.collisions().contact_duration == 0.0;
+    let hcs_a2 = simulation.resolved().grains.as_ref()?.hcs_a2;
+    homogeneous.then_some(hcs_a2)
 }

@@ -114,7 +114,7 @@ fn interval_error(interval: f64, message: String) -> RunError {
 fn lightest(simulation: &Simulation) -> f64 {
     simulation
         .scenario()
-        .species
+        .species()
         .iter()
         .map(|s| s.mass)
         .fold(f64::INFINITY, f64::min)
@@ -124,7 +124,7 @@ impl Output for TransportOutput {
     /// Refuses an output interval in which a grain could cross half a periodic edge
     /// (before the run starts).
     fn setup(&mut self, simulation: &Simulation) -> Result<(), RunError> {
-        if simulation.scenario().intruder.is_some() {
+        if simulation.scenario().intruder().is_some() {
             return Ok(());
         }
         let scenario = simulation.scenario();

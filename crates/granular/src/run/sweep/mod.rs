@@ -498,7 +498,7 @@ fn sidecar(
         granular_version: env!("CARGO_PKG_VERSION").to_string(),
         scenario: RunFile::Scenario.name().into(),
         description: base.description.clone(),
-        engine: toml::Value::try_from(base.engine)
+        engine: toml::Value::try_from(base.kind())
             .ok()
             .and_then(|v| v.as_str().map(str::to_string))
             .unwrap_or_default(),

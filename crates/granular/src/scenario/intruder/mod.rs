@@ -407,15 +407,7 @@ fn validate_ball(
 /// Validates a scenario with `engine = "intruder"`: the `[intruder]` table and the stop
 /// rules that make sense for a single driven particle (the shared `[stop]` and `[output]`
 /// checks follow in `Scenario::validate`).
-pub(super) fn validate(sc: &Scenario) -> Result<(), ScenarioError> {
-    let Some(spec) = &sc.intruder else {
-        return Err(ScenarioError::new(
-            "intruder",
-            format!(
-                "is missing; engine = \"intruder\" needs an [intruder] table with model = {MODELS} (docs/scenario.md)"
-            ),
-        ));
-    };
+pub(super) fn validate(sc: &Scenario, spec: &IntruderSpec) -> Result<(), ScenarioError> {
     match spec {
         IntruderSpec::OneD(c) => validate_1d(c)?,
         IntruderSpec::DsmcTwin(c) => {
