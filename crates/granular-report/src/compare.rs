@@ -55,20 +55,10 @@ fn first_departure(t: &[f64], ratio: &[f64], threshold: f64, t0: f64) -> serde_j
 fn critical_size(run: &RunFiles) -> (f64, f64) {
     let sc = &run.scenario;
     let longest = sc.lengths().iter().cloned().fold(0.0, f64::max);
-    // The library's resolved values: density, radius, restitution, the HCS a2 and the
-    // contact value of the run's collision rate.
-    let Some(g) = sc.resolve().grains else {
-        return (f64::NAN, longest);
-    };
-    let critical = granular::theory::stability::critical_length(
-        sc.dimension,
-        g.number_density,
-        g.radius,
-        g.restitution,
-        g.hcs_a2[0],
-        g.chi,
-    );
-    (critical, longest)
+    (
+        crate::run_files::critical_length(sc).unwrap_or(f64::NAN),
+        longest,
+    )
 }
 
 /// The numbers quoted in docs/dsmc.md: `t0`, the critical size of the homogeneous cooling

@@ -82,6 +82,23 @@ pub(crate) fn haff_theory(run: &RunFiles) -> Option<(f64, f64)> {
     Some((g.cooling?.haff_time, g.chi))
 }
 
+/// The critical size `L_c` of the homogeneous cooling state of a run's gas (HCS-2,
+/// `theory::stability::critical_length`: Haff's law holds only in a periodic box smaller
+/// than it), from the library's resolved values of the run's scenario (density, radius,
+/// restitution, the cooling state's first `a2` and the contact value of the run's
+/// collision rate). `None` for the intruder engines.
+pub(crate) fn critical_length(scenario: &Scenario) -> Option<f64> {
+    let g = scenario.resolve().grains?;
+    Some(granular::theory::stability::critical_length(
+        scenario.dimension,
+        g.number_density,
+        g.radius,
+        g.restitution,
+        g.hcs_a2[0],
+        g.chi,
+    ))
+}
+
 /// Haff's time of a run from kinetic theory ([`haff_theory`]).
 pub(crate) fn haff_time(run: &RunFiles) -> Option<f64> {
     haff_theory(run).map(|(t0, _)| t0)

@@ -16,8 +16,9 @@ use crate::run_files::{RunFiles, floats, get};
 use granular::boundary::AxisKind;
 use granular::observables::structure_factor_of;
 use granular::output::npz::{read_npz, read_snapshot};
+use granular::run::{RunDir, RunFile};
 use granular::scenario::{EngineKind, Scenario};
-use granular::theory::{equilibrium, haff, sonine, stability};
+use granular::theory::{equilibrium, haff, sonine};
 
 /// Collisions per grain before the window opens: the velocity distribution relaxes to the
 /// cooling state's (its `a2`) within a few.
@@ -89,7 +90,7 @@ fn homogeneity(run: &RunFiles, packing_fraction: f64) -> Option<Homogeneity> {
     let mut times = Vec::new();
     let mut s_small = Vec::new();
     let mut modes = f64::NAN;
-    let path = run.dir.join("structure_factor.npz");
+    let path = RunDir::new(&run.dir).file(RunFile::StructureFactor);
     let source;
     if path.is_file() {
         let a = read_npz(&path).ok()?;
@@ -112,13 +113,7 @@ fn homogeneity(run: &RunFiles, packing_fraction: f64) -> Option<Homogeneity> {
         }
         source = "S(k) of structure_factor.npz";
     } else {
-        let mut files: Vec<_> = std::fs::read_dir(run.dir.join("snapshots"))
-            .ok()?
-            .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| p.extension().is_some_and(|x| x == "npz"))
-            .collect();
-        files.sort();
-        for f in files {
+        for f in crate::table::snapshot_files(&run.dir) {
             let snap = read_snapshot(&f).ok()?;
             let sk = structure_factor_of(&snap, &sc.lengths(), SMALLEST_K as usize)?;
             let count: Vec<f64> = sk.count.iter().map(|c| *c as f64).collect();
@@ -160,11 +155,7 @@ pub(crate) fn rate_accuracy(
         parts.push((haff::step_cooling_bias(1.0, zeta_tau), "DSMC step bias"));
     }
     if chi != 1.0 {
-        let phi = haff::packing_fraction(
-            d,
-            sc.particle_count() as f64 / sc.lengths().iter().product::<f64>(),
-            sc.radius(0),
-        );
+        let phi = sc.resolve().grains.map_or(f64::NAN, |g| g.packing_fraction);
         let from_eos =
             (equilibrium::compressibility(d, phi) - 1.0) / (2f64.powi(d as i32 - 1) * phi);
         parts.push(((chi / from_eos - 1.0).abs(), "contact value"));
@@ -227,12 +218,9 @@ pub(crate) fn haff_row(run: &RunFiles) -> Option<Comparison> {
         return Some(Comparison::unmeasured(quantity).not_applicable(why));
     }
     let (theory, chi) = crate::run_files::haff_theory(run)?;
-    let volume: f64 = sc.lengths().iter().product();
-    let n = sc.particle_count() as f64 / volume;
-    let radius = sc.radius(0);
-    let phi = haff::packing_fraction(d, n, radius);
+    let phi = sc.resolve().grains?.packing_fraction;
     let length = sc.lengths().iter().cloned().fold(0.0, f64::max);
-    let critical = stability::critical_length(d, n, radius, e, sonine::cooling_a2_first(d, e), chi);
+    let critical = crate::run_files::critical_length(sc)?;
     let homogeneity = homogeneity(run, phi);
     let s_text = |h: &Homogeneity| {
         let top = h.s_small.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
@@ -347,7 +335,7 @@ pub(crate) fn haff_row(run: &RunFiles) -> Option<Comparison> {
 /// `T^(-1/2)` over the rows after [`RELAXATION_COLLISIONS`] up to time `end`.
 fn slope_fit(run: &RunFiles, end: f64) -> Option<(f64, f64, usize, f64, f64, f64)> {
     let t_init = *run.temperature.first()?;
-    let cpp = crate::table::read_csv(&run.dir.join("timeseries.csv"))
+    let cpp = crate::table::read_run_csv(&run.dir, RunFile::TimeSeries)
         .ok()
         .and_then(|ts| crate::table::column(&ts, "collisions_per_particle"))?;
     let rows: Vec<(f64, f64, f64)> = run
