@@ -222,15 +222,15 @@ mod tests {
     #[test]
     fn a_failed_write_keeps_the_previous_checkpoint_and_no_tmp() {
         let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("checkpoint.msgpack");
+        let path = crate::run::RunDir::new(dir.path()).file(crate::run::RunFile::Checkpoint);
         write_atomic(&path, b"first").unwrap();
-        // A directory where the temporary file would go: the write fails.
-        std::fs::create_dir(dir.path().join("checkpoint.msgpack.tmp")).unwrap();
-        std::fs::write(
-            dir.path().join("checkpoint.msgpack.tmp").join("x"),
-            b"occupied",
-        )
-        .unwrap();
+        // A directory where the temporary file would go (`write_atomic`'s `PATH.tmp`): the
+        // write fails.
+        let mut tmp = path.as_os_str().to_owned();
+        tmp.push(".tmp");
+        let tmp = PathBuf::from(tmp);
+        std::fs::create_dir(&tmp).unwrap();
+        std::fs::write(tmp.join("x"), b"occupied").unwrap();
         let e = write_atomic(&path, b"second").unwrap_err().to_string();
         assert!(
             e.contains("previous checkpoint is intact") && e.contains("granular resume"),

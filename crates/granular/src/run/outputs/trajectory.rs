@@ -49,7 +49,7 @@ impl Trajectory {
     /// Makes a decomposed run's ranks put their blocks of grains into `dir`'s trajectory
     /// folder (the run directory every rank sees).
     pub(crate) fn share(&mut self, dir: &Path) {
-        self.shared = Some(dir.join("trajectory"));
+        self.shared = Some(crate::run::RunDir::new(dir).trajectory_dir());
     }
 
     /// Cuts the files back to the frames written before the checkpoint.
