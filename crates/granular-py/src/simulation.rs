@@ -306,6 +306,26 @@ impl PySimulation {
         json_to_python(py, &value)
     }
 
+    /// resolved -> dict
+    ///
+    /// Every quantity the simulation derived from its scenario, resolved once at the
+    /// temperature of the drawn initial state (the library's `scenario::Resolved`, the record
+    /// `summary.json`'s `resolved` block, `granular check` and the report read): `dimension`
+    /// and, for the many-grain engines, `grains` (None for the intruder): `species` (name,
+    /// count, radius, mass, grain_volume, temperature), `volume`, `particles`,
+    /// `number_density`, `packing_fraction`, `restitution`, `hcs_a2`, `radius`, `mass`,
+    /// `contact_value`, `enskog`, `chi`, `temperature`, `collision_frequency`,
+    /// `mean_free_time`, `mean_free_path`, `dilute_collision_frequency`, `cooling` (Haff's
+    /// time and Sonine factor; None for an elastic gas), `dsmc` (time step and cells; None
+    /// for the event-driven engine) and `driving` (the steady state; None without
+    /// `[driving]`). Units are the scenario's.
+    #[getter]
+    fn resolved<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let sim = self.sim()?;
+        let value = serde_json::to_value(sim.resolved()).map_err(simulation_error)?;
+        json_to_python(py, &value)
+    }
+
     /// columns() -> dict[str, float]
     ///
     /// The observation as the named values of a `timeseries.csv` row (same names, same

@@ -150,6 +150,31 @@ def test_observation_is_typed_and_consistent(edmd2d: granular.Scenario) -> None:
     assert obs == sim.observe()  # no side effect
 
 
+def test_resolved_record_matches_the_state(edmd2d: granular.Scenario) -> None:
+    sim = granular.Simulation(edmd2d)
+    r = sim.resolved
+    g = r["grains"]
+    assert r["dimension"] == 2 and g["particles"] == 400
+    # The packing fraction and temperature of the drawn state, from its own arrays.
+    assert g["packing_fraction"] == pytest.approx((np.pi * sim.radii**2).sum(), rel=1e-12)
+    assert g["temperature"] == pytest.approx(sim.observe()["temperature"], rel=1e-12)
+    assert [s["name"] for s in g["species"]] == ["small", "big"]
+    assert g["mean_free_time"] == pytest.approx(1.0 / g["collision_frequency"], rel=1e-12)
+    assert g["cooling"]["haff_time"] > 0.0 and g["dsmc"] is None and g["driving"] is None
+    assert sim.resolved == r  # a copy, the same each time
+
+
+def test_resolved_record_of_dsmc_and_intruder(
+    dsmc2d: granular.Scenario, intruder1d: granular.Scenario
+) -> None:
+    g = granular.Simulation(dsmc2d).resolved["grains"]
+    assert g["dsmc"]["cell_size"] > 0.0 and len(g["dsmc"]["cell_edges"]) == 2
+    if g["dsmc"]["follows_mean_free_time"]:
+        assert g["dsmc"]["time_step"] == pytest.approx(0.1 * g["mean_free_time"], rel=1e-12)
+    r = granular.Simulation(intruder1d).resolved
+    assert r == {"dimension": 1, "grains": None}
+
+
 def test_path_argument(root: Path) -> None:
     sim = granular.Simulation(root / "scenarios" / "maxwell-boltzmann.toml", seed=4)
     assert sim.particle_count == 10000 and sim.scenario.seed == 4

@@ -92,7 +92,7 @@ pub fn rescale_factor(target: f64, temperature: f64) -> f64 {
 /// The kinetic theory of the driven gas: one species of radius `radius`, mass `mass`, at
 /// number density `number_density` in `dimension` dimensions, with restitution
 /// `restitution` and contact value `chi` (1: Boltzmann, dilute DSMC).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct GasTheory {
     /// `D`.
     pub dimension: usize,

@@ -18,7 +18,7 @@ use crate::dsmc::config::{AT_REST_TIME_STEP, automatic_time_step, default_cell_s
 use crate::theory::{haff, kinetic, sonine};
 
 /// One species, resolved.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct SpeciesResolved {
     /// Its name.
     pub name: String,
@@ -36,7 +36,7 @@ pub struct SpeciesResolved {
 }
 
 /// Haff's law for a gas that cools (`collisions.restitution < 1`).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Cooling {
     /// `1 + 3 a2 / 16` with the first estimate: the Sonine factor of the cooling rate (KT-8).
     pub sonine_factor: f64,
@@ -49,7 +49,7 @@ pub struct Cooling {
 }
 
 /// The numerical choices of the DSMC engine, resolved.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct DsmcResolved {
     /// The time step `τ`: `dsmc.time_step`, or the automatic step
     /// ([`automatic_time_step`]) at the initial temperature.
@@ -66,7 +66,7 @@ pub struct DsmcResolved {
 }
 
 /// The steady state of `[driving]` and its kinetic theory.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct DrivingResolved {
     /// What the engine applies (`rescale`'s temperature resolved to the initial
     /// temperature where the scenario leaves it out).
@@ -83,7 +83,7 @@ pub struct DrivingResolved {
 }
 
 /// The many-grain engines' resolved quantities.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Grains {
     /// Each species, in the scenario's order.
     pub species: Vec<SpeciesResolved>,
@@ -134,7 +134,7 @@ pub struct Grains {
 
 /// Every derived quantity of a scenario: what it holds, who computes and who reads it is
 /// told in `scenario/resolve.rs`.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Resolved {
     /// Spatial dimension of the state (the intruder models: 1 or 2).
     pub dimension: usize,
