@@ -87,6 +87,11 @@ pub const INITIAL_STATE: u64 = 0;
 pub const DYNAMICS: u64 = 1;
 /// Path prefix for ensemble members and sweep points.
 pub const MEMBER: u64 = 2;
+/// Path prefix of an engine's dynamics after its grains were set from outside at time
+/// `t` (`Simulation::set_state`): the streams restart under
+/// `derive_key(seed, [RESTART, t.to_bits()])`, so that what follows depends only on the
+/// state set and its time, not on the history before it. (3 is the driving's `KICKS`.)
+pub const RESTART: u64 = 4;
 
 mod ziggurat_tables;
 use rand::Rng;

@@ -5,8 +5,10 @@
 
 use crate::build::{AnyEngine, BuildError, build_resolved};
 use crate::engine::{Engine, EngineError, Progress, Snapshot};
+use crate::grain_state::{self, GrainState, StateError};
+use crate::in_flight::Change;
 use crate::observation::Observation;
-use crate::scenario::{Resolved, Scenario, StopSpec};
+use crate::scenario::{Resolved, Scenario, ScenarioError, StopSpec};
 use crate::stats::Histogram;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
@@ -97,6 +99,9 @@ pub(crate) struct SimulationState {
     pub initial_temperature: Option<f64>,
     pub outputs_done: u64,
     pub wall_seconds: f64,
+    /// Parameters changed in flight so far ([`Simulation::set`]).
+    #[serde(default)]
+    pub changes: Vec<Change>,
 }
 
 /// A simulation of any engine, in memory.
@@ -144,11 +149,25 @@ pub struct Simulation {
     /// Turns this process's `stop.wall_seconds` verdict into the one every rank of a
     /// decomposed run takes ([`Simulation::decide_wall_clock_with`]).
     wall_clock: Option<WallClock>,
+    /// Parameters changed in flight so far, in order ([`Simulation::set`]).
+    changes: Vec<Change>,
 }
 
 /// `decide(local)`: the `stop.wall_seconds` verdict of all ranks from this rank's own
 /// (`local`), the same on every rank (for example rank 0's, broadcast). Collective.
 pub type WallClock = Box<dyn Fn(bool) -> bool + Send + Sync>;
+
+/// `scenario` resolved at the initial temperature `temperature` of its simulation (the
+/// drawn state's; `None` for the intruder engine): a restored checkpoint and a change in
+/// flight ([`Simulation::set`]) resolve the scenario as it now stands at the same
+/// temperature as the run's start.
+fn resolve_at(scenario: &Scenario, temperature: Option<f64>) -> Resolved {
+    let nominal = scenario.resolve();
+    match temperature {
+        Some(t) => nominal.at_temperature(scenario, t),
+        None => nominal,
+    }
+}
 
 impl Simulation {
     /// Builds the engine of `scenario` (validated first) with its initial state.
@@ -175,17 +194,101 @@ impl Simulation {
             session_start: Instant::now(),
             session_events_start: 0,
             wall_clock: None,
+            changes: Vec::new(),
         }
+    }
+
+    /// A simulation of `scenario` that starts from given grains at time `time` instead of
+    /// the scenario's initial state: the engine is built from the scenario, then its
+    /// grains are set as by [`Simulation::set_state`] at `time` (both arrays row-major
+    /// `n × D` in input order). The continuation is the same, bit for bit, as that of any
+    /// simulation of the same scenario whose state was set to the same arrays at the same
+    /// time, for instance one that ran up to `time` and took a snapshot there: the
+    /// engines rebuild everything from the arrays and key their random streams by `time`
+    /// (see [`crate::random::RESTART`]).
+    pub fn from_state(
+        scenario: Scenario,
+        time: f64,
+        positions: &[f64],
+        velocities: &[f64],
+    ) -> Result<Simulation, StateError> {
+        if !(time.is_finite() && time >= 0.0) {
+            return Err(StateError::Time(time));
+        }
+        let mut simulation = Simulation::new(scenario)?;
+        let (positions, velocities) = grain_state::checked(
+            &simulation.engine,
+            GrainState {
+                positions: Some(positions),
+                velocities: Some(velocities),
+            },
+        )?;
+        simulation
+            .engine
+            .restart(time, &positions, &velocities)
+            .map_err(StateError::Engine)?;
+        simulation.initial_kinetic_energy = simulation.engine.kinetic_energy();
+        Ok(simulation)
+    }
+
+    /// Sets the positions and/or velocities of every grain (row-major `n × D` in input
+    /// order; `None` keeps the present ones) at the current time, and lets the engine
+    /// rebuild what depends on them: the event-driven engine synchronises every grain to
+    /// the current time and predicts every event again, DSMC sorts its cells again, and
+    /// both key their random streams by the current time ([`crate::random::RESTART`]), so
+    /// that the run goes on exactly as [`Simulation::from_state`] of the same arrays at
+    /// this time. Checked before anything changes: the lengths, finite values, centres
+    /// inside the box (and, for the event-driven engine, at least a radius from a wall
+    /// and no two grains overlapping). Refused for the intruder engines and for a DSMC
+    /// run split over ranks. The clock, the counters and `initial_kinetic_energy` go on.
+    pub fn set_state(&mut self, state: GrainState<'_>) -> Result<(), StateError> {
+        let (positions, velocities) = grain_state::checked(&self.engine, state)?;
+        let time = self.time();
+        self.engine
+            .restart(time, &positions, &velocities)
+            .map_err(StateError::Engine)
+    }
+
+    /// Changes the parameter `key` to `value` (the right side of `key = value` in TOML, as
+    /// `granular run --set` takes it) from the current time on: the collision law
+    /// (`collisions.restitution`, `collisions.wall_restitution`,
+    /// `collisions.wall_tangential_restitution`, `collisions.contact_duration`), the
+    /// driving's `driving.strength` or `driving.temperature`, and `gravity` (the keys of
+    /// [`crate::in_flight::KEYS`]). Validated as the same key in a scenario (the scenario
+    /// with the new value is checked whole); other keys, and every key of the intruder
+    /// engines, are refused saying so. The change is kept ([`Simulation::changes`]) for
+    /// `log.txt`, `summary.json` and checkpoints, and [`Simulation::resolved`] is resolved
+    /// again from the changed scenario at the same initial temperature (Haff's time and the
+    /// driving's steady state follow the new values). A refused change changes nothing.
+    pub fn set(&mut self, key: &str, value: &str) -> Result<&Change, ScenarioError> {
+        let time = self.time();
+        let (scenario, change) =
+            crate::in_flight::apply(&self.scenario, &mut self.engine, time, key, value)?;
+        self.resolved = resolve_at(&scenario, self.initial_temperature());
+        self.scenario = scenario;
+        self.changes.push(change);
+        Ok(&self.changes[self.changes.len() - 1])
+    }
+
+    /// The parameters changed in flight so far, in order.
+    pub fn changes(&self) -> &[Change] {
+        &self.changes
     }
 
     /// A simulation restored from a checkpoint's state.
     pub(crate) fn restore(scenario: Scenario, state: SimulationState) -> Simulation {
         let events = state.engine.events();
-        let nominal = scenario.resolve();
-        let resolved = match state.initial_temperature {
-            Some(t) => nominal.at_temperature(&scenario, t),
-            None => nominal,
-        };
+        // The checkpoint holds the scenario the run started with: the changes made in
+        // flight since are applied to it again (the engine has them already), and the
+        // scenario so changed is resolved at the initial temperature (as `set` does).
+        let mut scenario = scenario;
+        for change in &state.changes {
+            let set = [format!("{}={}", change.key, change.new)];
+            if let Ok(s) = Scenario::from_toml_insisting(&scenario.to_toml(), &set) {
+                scenario = s;
+            }
+        }
+        let resolved = resolve_at(&scenario, state.initial_temperature);
         Simulation {
             scenario,
             resolved,
@@ -196,6 +299,7 @@ impl Simulation {
             session_start: Instant::now(),
             session_events_start: events,
             wall_clock: None,
+            changes: state.changes,
         }
     }
 
@@ -241,6 +345,7 @@ impl Simulation {
             initial_temperature: self.initial_temperature(),
             outputs_done: self.outputs_done,
             wall_seconds: self.wall_seconds(),
+            changes: self.changes.clone(),
         }
     }
 
@@ -253,6 +358,7 @@ impl Simulation {
             initial_temperature: self.initial_temperature(),
             outputs_done: self.outputs_done,
             wall_seconds: self.wall_seconds(),
+            changes: self.changes.clone(),
         }
     }
 

@@ -17,6 +17,7 @@ mod preflight;
 mod problems;
 mod resolved;
 mod scenario_errors;
+mod set_state;
 mod simulation;
 mod spine;
 mod steady;

@@ -96,6 +96,32 @@ impl AnyEngine {
         }
     }
 
+    /// Sets every grain's position and velocity (row-major `n × D` by grain id) at
+    /// absolute time `time` and rebuilds what depends on them (`Edmd::restart`,
+    /// `DsmcEngine::restart`); the arrays are checked by the caller
+    /// (`Simulation::set_state`). The intruder engines have no grains: refused.
+    pub fn restart(
+        &mut self,
+        time: f64,
+        positions: &[f64],
+        velocities: &[f64],
+    ) -> Result<(), String> {
+        match self {
+            AnyEngine::Edmd2(e) => e.restart(time, positions, velocities),
+            AnyEngine::Edmd3(e) => e.restart(time, positions, velocities),
+            AnyEngine::Dsmc2(e) => e
+                .restart(time, positions, velocities)
+                .map_err(|e| e.to_string())?,
+            AnyEngine::Dsmc3(e) => e
+                .restart(time, positions, velocities)
+                .map_err(|e| e.to_string())?,
+            AnyEngine::Intruder(_) => {
+                return Err("the intruder engine has no grains to set".into());
+            }
+        }
+        Ok(())
+    }
+
     /// The whole engine: a clone, gathered from all ranks for a decomposed DSMC engine
     /// (collective then).
     pub fn whole(&self) -> AnyEngine {

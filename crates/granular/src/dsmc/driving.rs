@@ -17,6 +17,15 @@ impl<const D: usize> DsmcEngine<D> {
         self.driving = driving.map(|d| DrivingState::new(d, k));
     }
 
+    /// Replaces the driving's rule (a new white-noise strength or rescaling temperature)
+    /// from the next step on, keeping its tally and its kick streams' count. Without a
+    /// driving, nothing (the caller checks that there is one).
+    pub fn change_driving(&mut self, driving: Driving) {
+        if let Some(state) = self.driving.as_mut() {
+            state.driving = driving;
+        }
+    }
+
     /// The driving and its tally, if any.
     pub fn driving(&self) -> Option<&DrivingState> {
         self.driving.as_ref()
@@ -36,7 +45,7 @@ impl<const D: usize> DsmcEngine<D> {
             }
             Driving::WhiteNoise { strength } => {
                 let width = (strength * dt).sqrt();
-                let (seed, k) = (self.seed, state.applications);
+                let (seed, k) = self.kick_seed_and_application();
                 // Each grain's kick comes from its own stream, drawn twice (for the mean,
                 // then to apply it) rather than stored: no per-grain buffer.
                 let kick = |id: u32| {

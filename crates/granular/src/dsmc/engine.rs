@@ -19,6 +19,7 @@ use rand_distr::{Distribution, StandardNormal};
 
 mod as_engine;
 mod moments;
+mod restart;
 mod slab;
 mod step;
 pub use slab::UniformGas;
@@ -75,6 +76,10 @@ pub struct DsmcEngine<const D: usize> {
     /// step; `None`: a free (cooling) gas.
     #[serde(default)]
     pub(super) driving: Option<crate::driving::DrivingState>,
+    /// Where the random streams restarted after the grains were set from outside
+    /// ([`DsmcEngine::restart`]); `None` before any.
+    #[serde(default)]
+    restart: Option<restart::StreamRestart>,
 }
 
 fn default_species_name() -> String {
@@ -262,6 +267,7 @@ impl<const D: usize> DsmcEngine<D> {
             validity: Vec::new(),
             domain,
             driving: None,
+            restart: None,
         };
         engine.sort_in_place();
         engine.validity = engine.check_validity();
@@ -302,6 +308,7 @@ impl<const D: usize> DsmcEngine<D> {
             validity: self.validity.clone(),
             domain: None,
             driving: self.driving.clone(),
+            restart: self.restart,
         }
     }
 

@@ -21,7 +21,7 @@
 //! (`engine/drive.rs`: the stops of the event loop, the new velocities, the predictions).
 
 use crate::driving::{Driving, DrivingState, GasTheory, KICKS};
-use crate::random::{std_normal, stream};
+use crate::random::{RESTART, derive_key, std_normal, stream};
 use crate::theory::haff;
 use crate::vector::Vector;
 use serde::{Deserialize, Serialize};
@@ -51,6 +51,21 @@ pub struct EdmdDriving {
     pub start: f64,
     /// `dt_kick` (time units).
     pub interval: f64,
+    /// Where the kick streams restarted after the grains were set from outside
+    /// (`Edmd::restart`); `None` before any.
+    #[serde(default)]
+    pub restart: Option<DrivingRestart>,
+}
+
+/// The driving's state at a restart of the engine's grains (`Edmd::restart`): the kick
+/// times start again from the restart time (`EdmdDriving::start`) and the kicks come from
+/// the streams `(derive_key(seed, [RESTART, t]), [KICKS, k - applications, id])`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DrivingRestart {
+    /// The applications before the restart.
+    pub applications: u64,
+    /// The seed of the streams after it.
+    pub seed: u64,
 }
 
 impl EdmdDriving {
@@ -85,12 +100,36 @@ impl EdmdDriving {
             seed,
             start,
             interval: fraction / omega,
+            restart: None,
+        }
+    }
+
+    /// The driving carried over a restart of the grains at absolute time `time`: the
+    /// same driving, interval and tally; kick times counted from `time` and kick streams
+    /// keyed by `time` ([`crate::random::RESTART`]), whatever happened before.
+    pub(crate) fn restarted(&self, time: f64) -> Self {
+        Self {
+            start: time,
+            restart: Some(DrivingRestart {
+                applications: self.state.applications,
+                seed: derive_key(self.seed, &[RESTART, time.to_bits()]),
+            }),
+            ..self.clone()
+        }
+    }
+
+    /// Applications since the start (or the last restart), and the seed of their streams.
+    fn applications_and_seed(&self) -> (u64, u64) {
+        match self.restart {
+            Some(r) => (self.state.applications - r.applications, r.seed),
+            None => (self.state.applications, self.seed),
         }
     }
 
     /// Absolute time of the next application.
     pub(crate) fn next_time(&self) -> f64 {
-        self.start + (self.state.applications + 1) as f64 * self.interval
+        let (k, _) = self.applications_and_seed();
+        self.start + (k + 1) as f64 * self.interval
     }
 
     /// The white-noise kick of grain `id` at the next application, for a noise of
@@ -98,7 +137,8 @@ impl EdmdDriving {
     /// mean kick is taken off.
     pub(crate) fn kick<const D: usize>(&self, strength: f64, id: u32) -> Vector<D> {
         let width = (strength * self.interval).sqrt();
-        let mut rng = stream(self.seed, &[KICKS, self.state.applications, u64::from(id)]);
+        let (k, seed) = self.applications_and_seed();
+        let mut rng = stream(seed, &[KICKS, k, u64::from(id)]);
         let mut v = Vector::<D>::zero();
         for c in 0..D {
             v[c] = width * std_normal(&mut rng);

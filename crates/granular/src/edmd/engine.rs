@@ -26,7 +26,9 @@
 //! * `look_ahead`: prefetch for the coming events; `layout`: time-origin shifts and the
 //!   spatial reordering of the grains;
 //! * `collapse`: the inelastic-collapse detector; `compress`: the end of growth;
-//!   `velocities`: velocities changed from outside the event loop;
+//!   `velocities`: velocities changed from outside the event loop; `in_flight`: gravity
+//!   and the driving changed between two advances; `restart`: grains set
+//!   from outside (a new state at a given time);
 //! * `observe`, `diagnostics`, `as_engine`: observables, checks, the [`Engine`] trait.
 //!
 //! [`Engine`]: crate::engine::Engine
@@ -41,10 +43,12 @@ mod diagnostics;
 mod dispatch;
 mod drive;
 mod events;
+mod in_flight;
 mod layout;
 mod look_ahead;
 mod observe;
 mod predict;
+mod restart;
 mod velocities;
 
 pub use collide::CollisionRecord;

@@ -321,6 +321,49 @@ impl Run {
         Run::resume_with(dir, None)
     }
 
+    /// The simulation of the last checkpoint of the run directory `dir`, in memory, as
+    /// [`Run::resume`] restores it (the same state, bit for bit: run on, it continues as
+    /// `granular resume` does), without taking the directory over: nothing in `dir` is
+    /// written or locked. Refused as [`Run::resume`] refuses (no directory, a finished run,
+    /// no checkpoint, a damaged checkpoint).
+    pub fn checkpointed(dir: &Path) -> Result<Simulation, RunError> {
+        let run_dir = RunDir::new(dir);
+        let path = run_dir.file(RunFile::Checkpoint);
+        let refuse = |message: String| {
+            Err(RunError::Directory {
+                dir: dir.to_path_buf(),
+                message,
+            })
+        };
+        match run_dir.state() {
+            DirectoryState::Missing => {
+                return refuse("no such directory: give a run directory".into());
+            }
+            DirectoryState::Run { finished: true } => {
+                return refuse(format!(
+                    "the run is finished (summary.json is present and no checkpoint): nothing \
+                     to continue. Its results are in {}; read them with granular.load_run",
+                    run_dir.file(RunFile::Summary).display()
+                ));
+            }
+            _ if !path.is_file() => {
+                return refuse(format!(
+                    "no checkpoint ({} is missing): the run stopped before its first \
+                     checkpoint, or this is not a run directory",
+                    path.display()
+                ));
+            }
+            _ => {}
+        }
+        let cp = run_dir.checkpoint()?;
+        let scenario =
+            Scenario::from_toml_insisting(&cp.scenario, &[]).map_err(|e| RunError::Checkpoint {
+                path: path.clone(),
+                message: e.to_string(),
+            })?;
+        parts::restore(dir, scenario, cp.simulation, cp.parts.as_ref(), None)
+    }
+
     /// [`Run::resume`] on the ranks of `comm` (collective): `dir` is this rank's copy of
     /// the run directory (its files), `shared` the run directory every rank sees. The
     /// checkpoint of a run over several ranks is read in parts, each rank only the parts
@@ -561,6 +604,19 @@ impl Recorder {
             return Ok(());
         }
         self.started = true;
+        // Parameters changed in flight before the run was recorded.
+        for c in simulation.changes() {
+            self.log(
+                simulation.wall_seconds(),
+                &format!(
+                    "set {} from {} to {} at t = {}",
+                    c.key,
+                    c.old,
+                    c.new,
+                    format_number(c.time)
+                ),
+            );
+        }
         self.outputs.setup(simulation)?;
         for o in &mut self.attached {
             o.setup(simulation)?;
@@ -658,6 +714,7 @@ impl Recorder {
             steady_state: None,
             resolved: ResolvedSummary::of(simulation.resolved()),
             warnings: self.warnings.clone(),
+            changes: simulation.changes().to_vec(),
             outputs: simulation.outputs_done(),
             snapshots: 0,
         };

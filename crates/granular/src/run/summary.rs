@@ -331,6 +331,10 @@ pub struct Summary {
     /// Warnings raised during the run (e.g. DSMC's validity conditions), also in `log.txt`.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<String>,
+    /// Parameters changed in flight (`Simulation::set`), in order: time, key, old and
+    /// new value.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub changes: Vec<crate::in_flight::Change>,
     /// Outputs written (rows of `timeseries.csv` after the one at `t = 0`).
     pub outputs: u64,
     /// Snapshots written.

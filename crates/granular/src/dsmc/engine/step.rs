@@ -37,9 +37,10 @@ impl<const D: usize> DsmcEngine<D> {
             VmaxMode::Global => self.global_speed_bound(),
             VmaxMode::Cell => 0.0,
         };
+        let (seed, step) = self.stream_seed_and_step();
         let params = StepParams {
-            seed: self.seed,
-            step: self.steps,
+            seed,
+            step,
             time: self.time,
             dt,
             sigma: haff::cross_section(D, self.radius),
