@@ -270,6 +270,14 @@ impl PyScenario {
         .into()
     }
 
+    /// The box as a dict that freud (`freud.box.Box.from_box`) and HOOMD-blue take: "Lx",
+    /// "Ly", "Lz" (0 in 2D), "xy", "xz", "yz" (0), "dimensions". SimulationError for the intruder
+    /// engine, which has no box.
+    #[getter(r#box)]
+    fn simulation_box<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
+        crate::state::box_dict(py, &self.resolved)
+    }
+
     /// Spatial dimension D (2: disks, 3: spheres; for the intruder engine 2 with the disk, 3
     /// with the sphere, unused by the other models).
     #[getter]

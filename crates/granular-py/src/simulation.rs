@@ -5,6 +5,7 @@ use crate::convert::json_to_python;
 use crate::errors::{SimulationError, guard, scenario_error, simulation_error, value_error};
 use crate::scenario::PyScenario;
 use granular::engine::{EngineError, Progress};
+use granular::grain_state::{GrainState, StateError};
 use granular::run::{BuildError, Run, RunError};
 use granular::simulation::{RunHooks, Simulation};
 use numpy::{PyArray1, PyArray2};
@@ -31,6 +32,10 @@ pub struct PySimulation {
     scenario: PyScenario,
     /// Where `run(out=...)` wrote the run, once it has (the simulation then lives there).
     recorded: Option<PathBuf>,
+    /// The run directory `Simulation.resume` read, with the events of its checkpoint:
+    /// `run(out=that directory)` continues it as `granular resume` while the simulation
+    /// has not moved since.
+    resumed: Option<(PathBuf, u64)>,
 }
 
 /// Errors of the interruptible run loop: the engine's, or a Python exception (Ctrl-C).
@@ -99,6 +104,107 @@ fn engine_error(e: EngineError) -> PyErr {
     simulation_error(format!("{e}\n(fix the scenario and rerun)"))
 }
 
+/// The scenario argument of `Simulation(...)` and `Simulation.from_snapshot(...)`: a
+/// `granular.Scenario` or the path of a scenario file, with `seed` overriding its seed and
+/// the pre-flight cost limits checked unless `insist`.
+fn scenario_argument(
+    py: Python<'_>,
+    scenario: &Bound<'_, PyAny>,
+    seed: Option<u64>,
+    insist: bool,
+) -> PyResult<PyScenario> {
+    let base: PyScenario = match scenario.cast::<PyScenario>() {
+        Ok(s) => s.borrow().clone(),
+        Err(_) => {
+            let path: PathBuf = scenario.extract().map_err(|_| {
+                pyo3::exceptions::PyTypeError::new_err(
+                    "scenario must be a granular.Scenario or the path of a scenario file",
+                )
+            })?;
+            let text = std::fs::read_to_string(&path).map_err(|e| {
+                pyo3::exceptions::PyOSError::new_err(format!("{}: {e}", path.display()))
+            })?;
+            PyScenario::build(py, text, Vec::new(), Some(path.display().to_string()))?
+        }
+    };
+    let scenario = match seed {
+        Some(s) => base.with_overrides(py, &[format!("seed={s}")])?,
+        None => base,
+    };
+    scenario.within_limits(py, insist)?;
+    Ok(scenario)
+}
+
+/// Whether two paths name the same directory (compared canonically when both exist).
+fn same_directory(a: &std::path::Path, b: &std::path::Path) -> bool {
+    match (a.canonicalize(), b.canonicalize()) {
+        (Ok(x), Ok(y)) => x == y,
+        _ => a == b,
+    }
+}
+
+/// A refused state as a Python exception: SimulationError where the engine cannot take
+/// one, ValueError where the arrays are wrong.
+fn state_error(e: StateError) -> PyErr {
+    match e {
+        StateError::NoGrains { .. } | StateError::Engine(_) | StateError::Build(_) => {
+            simulation_error(e)
+        }
+        other => value_error(other.to_string()),
+    }
+}
+
+/// `(time, positions, velocities)` of a snapshot given as a path, a `granular.Snapshot`
+/// or a dict, checked against the scenario's grains and dimension.
+fn snapshot_arrays(
+    py: Python<'_>,
+    snapshot: &Bound<'_, PyAny>,
+    scenario: &granular::Scenario,
+) -> PyResult<(f64, Vec<f64>, Vec<f64>)> {
+    if scenario.kind() == granular::scenario::EngineKind::Intruder {
+        return Err(state_error(StateError::NoGrains { engine: "intruder" }));
+    }
+    let n: usize = scenario.species().iter().map(|s| s.count).sum();
+    let d = scenario.dimension;
+    let path: Option<PathBuf> = if snapshot.is_instance_of::<pyo3::types::PyDict>() {
+        None
+    } else {
+        snapshot.extract().ok()
+    };
+    if let Some(path) = path {
+        let s = py
+            .detach(|| granular::run::read_snapshot(&path))
+            .map_err(|e| {
+                pyo3::exceptions::PyOSError::new_err(format!("{}: {e}", path.display()))
+            })?;
+        if s.radii.len() != n || s.dimension != d {
+            return Err(value_error(format!(
+                "{}: the snapshot holds {} grains in {} dimensions; the scenario has {n} in {d}",
+                path.display(),
+                s.radii.len(),
+                s.dimension
+            )));
+        }
+        return Ok((s.time, s.positions, s.velocities));
+    }
+    let get = |key: &str| -> PyResult<Bound<'_, PyAny>> {
+        if let Ok(dict) = snapshot.cast::<pyo3::types::PyDict>() {
+            dict.get_item(key)?
+                .ok_or_else(|| value_error(format!("the snapshot dict has no `{key}`")))
+        } else {
+            snapshot.getattr(key).map_err(|_| {
+                pyo3::exceptions::PyTypeError::new_err(format!(
+                    "snapshot must be the path of a snapshot .npz, a granular.Snapshot (granular.load_run(...).snapshot(k)) or the dict of Simulation.snapshot(); it has no `{key}`"
+                ))
+            })
+        }
+    };
+    let time: f64 = get("time")?.extract()?;
+    let positions = crate::state::grain_array(py, "positions", &get("positions")?, n, d)?;
+    let velocities = crate::state::grain_array(py, "velocities", &get("velocities")?, n, d)?;
+    Ok((time, positions, velocities))
+}
+
 impl PySimulation {
     fn sim(&self) -> PyResult<&Simulation> {
         self.simulation.as_ref().ok_or_else(|| gone(&self.recorded))
@@ -161,12 +267,33 @@ observe() for the intruder's velocity and statistics",
         py: Python<'py>,
         out: PathBuf,
     ) -> PyResult<Bound<'py, PyAny>> {
+        let continues = match &self.resumed {
+            Some((dir, events)) if same_directory(dir, &out) => {
+                if self.sim()?.events() != *events {
+                    return Err(SimulationError::new_err(format!(
+                        "this simulation was resumed from {} and advanced since: run(out=...) \
+into that directory would not continue its files; give another directory (a new run from the \
+present state) or resume again",
+                        dir.display()
+                    )));
+                }
+                true
+            }
+            _ => false,
+        };
         let sim = self.simulation.take().ok_or_else(|| gone(&self.recorded))?;
         self.recorded = Some(out.clone());
         let dir = out.clone();
         let outcome = py.detach(move || {
             std::panic::catch_unwind(std::panic::AssertUnwindSafe(move || {
-                let run = Run::from_simulation(&dir, sim)?;
+                let run = if continues {
+                    // The directory's own run, reopened as `granular resume` does (its
+                    // outputs, log and lock); the in-memory copy is the same state.
+                    drop(sim);
+                    Run::resume(&dir)?
+                } else {
+                    Run::from_simulation(&dir, sim)?
+                };
                 run.run_to_end(
                     &mut |_| {
                         if let Err(e) = Python::attach(|py| py.check_signals()) {
@@ -217,25 +344,7 @@ impl PySimulation {
         seed: Option<u64>,
         insist: bool,
     ) -> PyResult<Self> {
-        let base: PyScenario = match scenario.cast::<PyScenario>() {
-            Ok(s) => s.borrow().clone(),
-            Err(_) => {
-                let path: PathBuf = scenario.extract().map_err(|_| {
-                    pyo3::exceptions::PyTypeError::new_err(
-                        "scenario must be a granular.Scenario or the path of a scenario file",
-                    )
-                })?;
-                let text = std::fs::read_to_string(&path).map_err(|e| {
-                    pyo3::exceptions::PyOSError::new_err(format!("{}: {e}", path.display()))
-                })?;
-                PyScenario::build(py, text, Vec::new(), Some(path.display().to_string()))?
-            }
-        };
-        let scenario = match seed {
-            Some(s) => base.with_overrides(py, &[format!("seed={s}")])?,
-            None => base,
-        };
-        scenario.within_limits(py, insist)?;
+        let scenario = scenario_argument(py, scenario, seed, insist)?;
         let resolved = scenario.resolved.clone();
         let origin = scenario.origin.clone();
         let built = py.detach(|| guard("Simulation()", || Ok(Simulation::new(resolved))))?;
@@ -244,7 +353,169 @@ impl PySimulation {
             simulation: Some(simulation),
             scenario,
             recorded: None,
+            resumed: None,
         })
+    }
+
+    /// Simulation.from_snapshot(scenario, snapshot, seed=None, insist=False) -> Simulation
+    ///
+    /// A simulation of `scenario` that starts from the grains of `snapshot` at its time
+    /// instead of the scenario's initial state: `snapshot` is the path of a snapshot
+    /// `.npz` (a run directory's `snapshot_NNNNNN.npz`), a `granular.Snapshot`
+    /// (`granular.load_run(...).snapshot(k)`) or the dict of `Simulation.snapshot()`;
+    /// its `positions` and `velocities` (float64 (N, D), input order) and `time` are used.
+    /// The run goes on exactly, bit for bit, as a simulation of the same scenario whose
+    /// state was set to the same arrays at the same time (`set_state`). Raises ValueError
+    /// or TypeError for arrays that do not fit the scenario (shape, dtype, NaN, a grain
+    /// outside the box, overlapping grains), ScenarioError, SimulationError (e.g. the
+    /// intruder engine, which has no grains).
+    #[staticmethod]
+    #[pyo3(signature = (scenario, snapshot, seed = None, insist = false))]
+    fn from_snapshot(
+        py: Python<'_>,
+        scenario: &Bound<'_, PyAny>,
+        snapshot: &Bound<'_, PyAny>,
+        seed: Option<u64>,
+        insist: bool,
+    ) -> PyResult<Self> {
+        let scenario = scenario_argument(py, scenario, seed, insist)?;
+        let resolved = scenario.resolved.clone();
+        let origin = scenario.origin.clone();
+        let (time, positions, velocities) = snapshot_arrays(py, snapshot, &resolved)?;
+        let built = py.detach(|| {
+            guard("Simulation.from_snapshot()", || {
+                Ok(Simulation::from_state(
+                    resolved,
+                    time,
+                    &positions,
+                    &velocities,
+                ))
+            })
+        })?;
+        let simulation = built.map_err(|e| match e {
+            StateError::Build(b) => build_error(py, b, origin.as_deref()),
+            other => state_error(other),
+        })?;
+        Ok(Self {
+            simulation: Some(simulation),
+            scenario,
+            recorded: None,
+            resumed: None,
+        })
+    }
+
+    /// Simulation.resume(run_dir) -> Simulation
+    ///
+    /// The simulation of the last checkpoint of a run directory (written by `granular run`,
+    /// `granular resume`, a cluster run or `Simulation.run(out=...)`), in memory: advanced
+    /// or run on, it continues bit for bit as `granular resume run_dir` does. The
+    /// directory is only read; `run(out=run_dir)` (before any other advance) continues it
+    /// there, writing the same files as `granular resume run_dir`. Raises SimulationError
+    /// when there is nothing to resume (no directory, a finished run, no checkpoint, a
+    /// damaged checkpoint), with the command line's message.
+    #[staticmethod]
+    fn resume(py: Python<'_>, run_dir: PathBuf) -> PyResult<Self> {
+        let dir = run_dir.clone();
+        let simulation = py
+            .detach(|| guard("Simulation.resume()", || Ok(Run::checkpointed(&dir))))?
+            .map_err(simulation_error)?;
+        let text = simulation.scenario().to_toml();
+        let scenario = PyScenario::build(
+            py,
+            text,
+            Vec::new(),
+            Some(run_dir.join("scenario.toml").display().to_string()),
+        )?;
+        let events = simulation.events();
+        Ok(Self {
+            simulation: Some(simulation),
+            scenario,
+            recorded: None,
+            resumed: Some((run_dir, events)),
+        })
+    }
+
+    /// set(key, value) -> dict
+    ///
+    /// Changes a parameter from the current time on, between two advance() calls:
+    /// "collisions.restitution", "collisions.wall_restitution",
+    /// "collisions.wall_tangential_restitution", "collisions.contact_duration" (the TC
+    /// model), "driving.strength" (white noise), "driving.temperature" (rescaling),
+    /// "gravity" (a list of D numbers). Validated as the same key in a scenario; other keys
+    /// (counts, dimension, box, species, seed, engine) and every key of the intruder engine
+    /// raise ScenarioError saying so, and a refused call changes nothing. Returns the change
+    /// as a dict (time, key, old, new); the changes are kept (`changes`) and written to
+    /// log.txt and summary.json (`changes`) by run(out=...).
+    fn set<'py>(
+        &mut self,
+        py: Python<'py>,
+        key: &str,
+        value: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let text = crate::convert::to_toml(value, key)?.to_string();
+        let sim = self.sim_mut()?;
+        let change = guard("set", || Ok(sim.set(key, &text).cloned()))?
+            .map_err(|e| scenario_error(py, &e, None))?;
+        if let Ok(s) = self.scenario.with_overrides(py, &[format!("{key}={text}")]) {
+            self.scenario = s;
+        }
+        let value = serde_json::to_value(&change).map_err(simulation_error)?;
+        json_to_python(py, &value)
+    }
+
+    /// The parameters changed in flight so far (set), in order: a list of dicts with
+    /// time, key, old and new value.
+    #[getter]
+    fn changes<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let value = serde_json::to_value(self.sim()?.changes()).map_err(simulation_error)?;
+        json_to_python(py, &value)
+    }
+
+    /// set_state(positions=None, velocities=None) -> None
+    ///
+    /// Sets the positions and/or the velocities of every grain at the current time
+    /// (float64 (N, D), input order: grain i is the i-th grain of the scenario's species
+    /// list; an array left out keeps its present values). Checked before anything changes:
+    /// shape and dtype (TypeError, ValueError), finite values, every centre inside the box
+    /// (for edmd at least a radius from a wall) and, for edmd, no two grains overlapping
+    /// (ValueError naming the first overlapping pair and their distance); a refused call
+    /// leaves the simulation unchanged. The engine then rebuilds what depends on the state
+    /// (edmd: every grain synchronised to the current time and every event predicted
+    /// again; dsmc: the cell sort) and keys its random streams by the current time, so the
+    /// run goes on exactly as `Simulation.from_snapshot` of the same arrays at this time.
+    /// Time, counters and initial_kinetic_energy go on. SimulationError for the intruder
+    /// engine (no grains).
+    #[pyo3(signature = (positions = None, velocities = None))]
+    fn set_state(
+        &mut self,
+        py: Python<'_>,
+        positions: Option<&Bound<'_, PyAny>>,
+        velocities: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        let sim = self.sim_mut()?;
+        if sim.engine_name() == "intruder" {
+            return Err(state_error(StateError::NoGrains {
+                engine: sim.engine_name(),
+            }));
+        }
+        if positions.is_none() && velocities.is_none() {
+            return Err(pyo3::exceptions::PyTypeError::new_err(
+                "set_state() needs positions=..., velocities=... or both",
+            ));
+        }
+        let (n, d) = (sim.particle_count(), sim.dimension());
+        let positions = positions
+            .map(|p| crate::state::grain_array(py, "positions", p, n, d))
+            .transpose()?;
+        let velocities = velocities
+            .map(|v| crate::state::grain_array(py, "velocities", v, n, d))
+            .transpose()?;
+        let state = GrainState {
+            positions: positions.as_deref(),
+            velocities: velocities.as_deref(),
+        };
+        py.detach(|| guard("set_state", || Ok(sim.set_state(state))))?
+            .map_err(state_error)
     }
 
     /// advance(until) -> None
@@ -391,6 +662,16 @@ impl PySimulation {
     #[getter]
     fn species<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<u32>>> {
         Ok(PyArray1::from_vec(py, self.snapshot_or_error()?.species))
+    }
+
+    /// The box as a dict that freud (`freud.box.Box.from_box(sim.box)`) and HOOMD-blue
+    /// take: "Lx", "Ly", "Lz" (0 in 2D), "xy", "xz", "yz" (0), "dimensions". granular's box
+    /// runs from 0 to L along each axis, freud's from -L/2 to L/2 (shift the positions by
+    /// L/2); freud treats every axis as periodic (set its `periodic` for walled axes).
+    /// SimulationError for the intruder engine.
+    #[getter(r#box)]
+    fn simulation_box<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        crate::state::box_dict(py, self.sim()?.scenario())
     }
 
     /// Species names, in the scenario's order.

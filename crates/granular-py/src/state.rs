@@ -42,3 +42,86 @@ pub fn by_id<'py>(
     };
     Ok(filled.then_some(array))
 }
+
+/// A per-grain array given by the user (`positions`, `velocities`) as the row-major
+/// values of a float64 `(n, d)` array: a NumPy array must be float64 (another dtype is
+/// refused, not converted silently); a list of rows is converted. TypeError / ValueError
+/// name the array, what it is and what to give.
+pub fn grain_array(
+    py: Python<'_>,
+    name: &str,
+    value: &Bound<'_, PyAny>,
+    n: usize,
+    d: usize,
+) -> PyResult<Vec<f64>> {
+    let numpy = py.import("numpy")?;
+    let ndarray = numpy.getattr("ndarray")?;
+    let array = if value.is_instance(&ndarray)? {
+        let dtype = value.getattr("dtype")?;
+        if dtype.str()?.to_str()? != "float64" {
+            return Err(pyo3::exceptions::PyTypeError::new_err(format!(
+                "`{name}` has dtype {}; give float64 values (for example \
+np.asarray({name}, dtype=np.float64))",
+                dtype.str()?
+            )));
+        }
+        value.clone()
+    } else {
+        numpy
+            .call_method1("asarray", (value, numpy.getattr("float64")?))
+            .map_err(|e| {
+                pyo3::exceptions::PyTypeError::new_err(format!(
+                    "`{name}` is not an array of numbers ({e}); give a float64 NumPy array of \
+shape ({n}, {d})"
+                ))
+            })?
+    };
+    let shape: Vec<usize> = array.getattr("shape")?.extract()?;
+    if shape != [n, d] {
+        return Err(crate::errors::value_error(format!(
+            "`{name}` has shape {}; give shape ({n}, {d}): one row of {d} per grain, in input \
+order (grain i is the i-th grain of the scenario's species list)",
+            match shape.as_slice() {
+                [a] => format!("({a},)"),
+                s => format!(
+                    "({})",
+                    s.iter()
+                        .map(|x| x.to_string())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            }
+        )));
+    }
+    let typed = array.cast::<PyArray2<f64>>()?;
+    let view = typed.try_readonly()?;
+    Ok(match view.as_slice() {
+        Ok(s) => s.to_vec(),
+        Err(_) => view.as_array().iter().copied().collect(),
+    })
+}
+
+/// The box of a scenario with grains in the form other analysis packages take (freud's
+/// `freud.box.Box.from_box`, HOOMD-blue's box dict): `Lx`, `Ly`, `Lz` (0 in 2D), the tilts
+/// `xy`, `xz`, `yz` (0: granular's boxes are rectangular), `dimensions`. SimulationError
+/// for the intruder engine, which has no box.
+pub fn box_dict<'py>(
+    py: Python<'py>,
+    scenario: &granular::Scenario,
+) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
+    if scenario.kind() == granular::scenario::EngineKind::Intruder {
+        return Err(crate::errors::simulation_error(
+            "the intruder engine has no box (its bath is infinite); box is for edmd and dsmc",
+        ));
+    }
+    let lengths = scenario.lengths();
+    let d = pyo3::types::PyDict::new(py);
+    for (k, name) in ["Lx", "Ly", "Lz"].iter().enumerate() {
+        d.set_item(*name, lengths.get(k).copied().unwrap_or(0.0))?;
+    }
+    for tilt in ["xy", "xz", "yz"] {
+        d.set_item(tilt, 0.0)?;
+    }
+    d.set_item("dimensions", scenario.dimension)?;
+    Ok(d)
+}

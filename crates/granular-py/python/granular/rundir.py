@@ -144,6 +144,13 @@ class RunData:
         for p in self.snapshot_paths:
             yield Snapshot.load(p)
 
+    @property
+    def box(self) -> dict[str, Any]:
+        """The run's box as a dict that freud (``freud.box.Box.from_box(run.box)``) and HOOMD-blue take:
+        ``Lx``, ``Ly``, ``Lz`` (0 in 2D), ``xy``, ``xz``, ``yz`` (0), ``dimensions``. granular's box runs from 0 to
+        L along each axis, freud's from -L/2 to L/2: shift the positions by L/2."""
+        return dict(self.scenario().box)
+
     def scenario(self) -> Any:
         """The run's resolved scenario as a :class:`granular.Scenario`."""
         from . import Scenario

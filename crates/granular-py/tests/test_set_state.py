@@ -1,0 +1,199 @@
+"""Simulation.set_state and Simulation.from_snapshot: a state set at time t goes on exactly, bit for bit,
+as a simulation started from the same arrays at t, in every engine with grains; bad arrays are refused and
+change nothing."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import granular
+from conftest import DSMC_2D, EDMD_2D, EDMD_3D, INTRUDER_1D
+
+DSMC_3D = DSMC_2D.replace("dimension = 2", "dimension = 3").replace("lengths = [1.0, 1.0]", "lengths = [1.0, 1.0, 1.0]")
+DRIVEN = "\n[driving]\nkind = \"white_noise\"\nstrength = 1.0\n"
+
+CASES = {
+    "edmd2d": EDMD_2D,
+    "edmd3d": EDMD_3D,
+    "dsmc2d": DSMC_2D,
+    "dsmc3d": DSMC_3D,
+    "edmd2d-driven": EDMD_2D.replace("[stop]", DRIVEN + "[stop]"),
+    "dsmc2d-driven": DSMC_2D.replace("[stop]", DRIVEN + "[stop]"),
+}
+
+
+@pytest.mark.parametrize("name", sorted(CASES))
+def test_set_state_goes_on_as_from_snapshot(name: str) -> None:
+    scenario = granular.Scenario.from_toml(CASES[name])
+    t, t_end = 0.03, 0.06
+    sim = granular.Simulation(scenario)
+    sim.advance(t)
+    snap = sim.snapshot()
+    # A temperature step and a shear flow along the first axis.
+    v = snap["velocities"].copy()
+    v[:, 0] = 1.5 * v[:, 0] + 0.2 * (snap["positions"][:, 1] - 0.5)
+    snap["velocities"] = v
+    before = sim.collisions
+    sim.set_state(velocities=v)
+    assert sim.time == t and sim.collisions == before
+    np.testing.assert_array_equal(sim.velocities, v)
+    started = granular.Simulation.from_snapshot(scenario, snap)
+    assert started.time == t
+    np.testing.assert_array_equal(started.positions, sim.positions)
+    sim.advance(t_end)
+    started.advance(t_end)
+    assert sim.collisions - before == started.collisions > 0
+    assert sim.positions.tobytes() == started.positions.tobytes()
+    assert sim.velocities.tobytes() == started.velocities.tobytes()
+
+
+def test_from_a_run_directory_snapshot(tmp_path: Path) -> None:
+    scenario = granular.Scenario.from_toml(EDMD_2D)
+    granular.Simulation(scenario).run(out=tmp_path / "run")
+    run = granular.load_run(tmp_path / "run")
+    snap = run.snapshot(1)
+    assert snap.time > 0.0
+    by_path = granular.Simulation.from_snapshot(scenario, run.snapshot_paths[1])
+    by_object = granular.Simulation.from_snapshot(scenario, snap)
+    live = granular.Simulation(scenario)
+    live.advance(snap.time)
+    live.set_state(positions=snap.positions, velocities=snap.velocities)
+    for sim in (by_path, by_object, live):
+        assert sim.time == snap.time
+        sim.advance(snap.time + 0.05)
+    assert by_path.positions.tobytes() == by_object.positions.tobytes() == live.positions.tobytes()
+    assert by_path.velocities.tobytes() == by_object.velocities.tobytes() == live.velocities.tobytes()
+
+
+def test_bad_arrays_are_refused_and_change_nothing() -> None:
+    scenario = granular.Scenario.from_toml(EDMD_2D)
+    sim = granular.Simulation(scenario)
+    twin = granular.Simulation(scenario)
+    sim.advance(0.02)
+    twin.advance(0.02)
+    x, v = sim.positions, sim.velocities
+    with pytest.raises(TypeError, match=r"`velocities` has dtype float32; give float64"):
+        sim.set_state(velocities=v.astype(np.float32))
+    with pytest.raises(ValueError, match=r"`positions` has shape \(399, 2\); give shape \(400, 2\)"):
+        sim.set_state(positions=x[:-1])
+    with pytest.raises(ValueError, match=r"`positions` has shape \(800,\)"):
+        sim.set_state(positions=x.ravel())
+    bad = v.copy()
+    bad[12, 1] = np.nan
+    with pytest.raises(ValueError, match=r"`velocities\[12, 1\]` is NaN; give finite numbers"):
+        sim.set_state(velocities=bad)
+    outside = x.copy()
+    outside[3, 0] = 1.25
+    with pytest.raises(ValueError, match=r"`positions\[3, 0\]` = 1.25 lies outside the box"):
+        sim.set_state(positions=outside, velocities=v)
+    overlap = x.copy()
+    overlap[9] = overlap[4] + [0.001, 0.0]
+    with pytest.raises(ValueError, match=r"grains 4 and 9 overlap \(distance 0\.00(1|0999)"):
+        sim.set_state(positions=overlap)
+    with pytest.raises(TypeError, match="snapshot must be"):
+        granular.Simulation.from_snapshot(scenario, 3.0)
+    sim.advance(0.05)
+    twin.advance(0.05)
+    assert sim.positions.tobytes() == twin.positions.tobytes()
+    assert sim.velocities.tobytes() == twin.velocities.tobytes()
+    # A list of rows is taken as float64.
+    sim.set_state(velocities=sim.velocities.tolist())
+
+
+def test_the_intruder_engine_has_no_grains() -> None:
+    scenario = granular.Scenario.from_toml(INTRUDER_1D)
+    sim = granular.Simulation(scenario)
+    with pytest.raises(granular.SimulationError, match="intruder engine has no grain state"):
+        sim.set_state(velocities=np.zeros((1, 1)))
+    with pytest.raises(granular.SimulationError, match="intruder engine has no grain state"):
+        granular.Simulation.from_snapshot(scenario, {"time": 0.0, "positions": [], "velocities": []})
+
+
+def test_a_walled_box_takes_centres_a_radius_from_the_walls() -> None:
+    sim = granular.Simulation(granular.Scenario.from_toml(EDMD_3D))
+    x = sim.positions
+    r = sim.radii[0]
+    x[0, 2] = 0.5 * r
+    with pytest.raises(ValueError, match=r"walls; radius"):
+        sim.set_state(positions=x)
+
+
+def _interrupted_run(scenario: granular.Scenario, out: Path) -> None:
+    """A run directory left as a killed run (Ctrl-C after half a second), with its checkpoint."""
+    import _thread
+    import threading
+
+    timer = threading.Timer(0.5, _thread.interrupt_main)
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            granular.Simulation(scenario).run(out=out)
+    finally:
+        timer.cancel()
+
+
+def test_resume_goes_on_as_granular_resume(tmp_path: Path) -> None:
+    import shutil
+
+    scenario = granular.Scenario.from_toml(EDMD_2D)
+    scenario.set("output.checkpoint_seconds", 1e-9)
+    scenario.set("stop.collisions_per_particle", 4000.0)
+    scenario.set("output.interval", 0.5)
+    _interrupted_run(scenario, tmp_path / "a")
+    assert any((tmp_path / "a").glob("checkpoint*"))
+    shutil.copytree(tmp_path / "a", tmp_path / "b")
+    shutil.copytree(tmp_path / "a", tmp_path / "c")
+    assert granular.main(["resume", str(tmp_path / "a"), "--quiet"]) == 0
+    by_cli = granular.load_run(tmp_path / "a").snapshot(-1)
+    in_memory = granular.Simulation.resume(tmp_path / "b")
+    assert 0.0 < in_memory.time < by_cli.time
+    assert in_memory.run() == "collisions_per_particle"
+    assert in_memory.time == by_cli.time
+    assert in_memory.positions.tobytes() == by_cli.positions.tobytes()
+    assert in_memory.velocities.tobytes() == by_cli.velocities.tobytes()
+    # Into its own directory: the files of `granular resume`.
+    recorded = granular.Simulation.resume(tmp_path / "c")
+    recorded.run(out=tmp_path / "c")
+    by_python = granular.load_run(tmp_path / "c")
+    assert by_python.snapshot(-1).positions.tobytes() == by_cli.positions.tobytes()
+    np.testing.assert_array_equal(
+        np.asarray(by_python.timeseries["kinetic_energy"]), np.asarray(granular.load_run(tmp_path / "a").timeseries["kinetic_energy"])
+    )
+    with pytest.raises(granular.SimulationError, match="finished"):
+        granular.Simulation.resume(tmp_path / "a")
+
+
+def test_set_state_needs_an_array() -> None:
+    sim = granular.Simulation(granular.Scenario.from_toml(EDMD_2D))
+    with pytest.raises(TypeError, match="positions=..., velocities=... or both"):
+        sim.set_state()
+
+
+def test_set_in_flight_is_validated_and_recorded(tmp_path: Path) -> None:
+    sim = granular.Simulation(granular.Scenario.from_toml(EDMD_2D))
+    sim.advance(0.02)
+    change = sim.set("collisions.restitution", 0.5)
+    assert change == {"time": 0.02, "key": "collisions.restitution", "old": "0.95", "new": "0.5"}
+    assert sim.changes == [change]
+    assert sim.scenario.to_dict()["collisions"]["restitution"] == 0.5
+    with pytest.raises(granular.ScenarioError, match="cannot change in flight") as err:
+        sim.set("species[0].count", 10)
+    assert err.value.key == "species[0].count"
+    with pytest.raises(granular.ScenarioError, match="collisions.restitution"):
+        sim.set("collisions.restitution", 1.5)
+    with pytest.raises(granular.ScenarioError, match="no \\[driving\\]"):
+        sim.set("driving.strength", 1.0)
+    assert sim.changes == [change]
+    summary = sim.run(out=tmp_path / "run")
+    assert summary["changes"] == [change]
+    log = (tmp_path / "run" / "log.txt").read_text()
+    assert "set collisions.restitution from 0.95 to 0.5 at t = 0.02" in log
+
+
+def test_set_on_the_intruder_engine_is_refused() -> None:
+    sim = granular.Simulation(granular.Scenario.from_toml(INTRUDER_1D))
+    with pytest.raises(granular.ScenarioError, match="intruder engine"):
+        sim.set("collisions.restitution", 0.5)
