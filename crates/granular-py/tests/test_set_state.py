@@ -198,6 +198,11 @@ def test_set_in_flight_is_validated_and_recorded(tmp_path: Path) -> None:
     assert change == {"time": 0.02, "key": "collisions.restitution", "old": "0.95", "new": "0.5"}
     assert sim.changes == [change]
     assert sim.scenario.to_dict()["collisions"]["restitution"] == 0.5
+    # The resolved record follows the new restitution at the same initial temperature: the
+    # same as a simulation of the same seed built with e = 0.5 from the start.
+    quenched = granular.Scenario.from_toml(EDMD_2D)
+    quenched.set("collisions.restitution", 0.5)
+    assert sim.resolved == granular.Simulation(quenched).resolved
     with pytest.raises(granular.ScenarioError, match="cannot change in flight") as err:
         sim.set("species[0].count", 10)
     assert err.value.key == "species[0].count"
