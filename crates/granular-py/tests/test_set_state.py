@@ -39,11 +39,14 @@ def test_set_state_goes_on_as_from_snapshot(name: str) -> None:
     v[:, 0] = 1.5 * v[:, 0] + 0.2 * (snap["positions"][:, 1] - 0.5)
     snap["velocities"] = v
     before = sim.collisions
+    resolved = sim.resolved
     sim.set_state(velocities=v)
     assert sim.time == t and sim.collisions == before
     np.testing.assert_array_equal(sim.velocities, v)
     started = granular.Simulation.from_snapshot(scenario, snap)
     assert started.time == t
+    # The resolved record stays the scenario's, at its drawn initial state (docs/python.md).
+    assert sim.resolved == started.resolved == resolved
     np.testing.assert_array_equal(started.positions, sim.positions)
     sim.advance(t_end)
     started.advance(t_end)
