@@ -42,8 +42,9 @@ use std::time::Instant;
 /// the summary's `averages`; 10: the engines' driving state; 11: the DSMC engine's species
 /// table instead of one species name; 12: the DSMC record's positions as lattice words
 /// carrying the identities; 13: the initial temperature the scenario's derived values are
-/// resolved at).
-pub const CHECKPOINT_FORMAT: u32 = 13;
+/// resolved at; 14: the parameters changed in flight and the random streams of a state set
+/// from outside).
+pub const CHECKPOINT_FORMAT: u32 = 14;
 
 /// Why a run failed.
 #[derive(Debug, thiserror::Error)]
