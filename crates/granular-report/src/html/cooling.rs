@@ -10,7 +10,7 @@
 //! comes from its slope, the error from ten batches of the window, and the theory `t0`
 //! carries its stated accuracy (the Sonine truncation, DSMC's step bias, the contact value).
 
-use super::numbers::Comparison;
+use super::comparison::Comparison;
 use super::page::{number, short};
 use crate::run_files::{RunFiles, floats, get};
 use granular::boundary::AxisKind;

@@ -4,6 +4,7 @@
 //! for runs with snapshots, an interactive player on a canvas. Style sheet and script are
 //! written by hand and inlined; the page loads nothing from the network.
 
+mod comparison;
 mod cooling;
 mod numbers;
 mod page;
@@ -80,7 +81,11 @@ pub(crate) fn report_run(dir: &Path) -> Result<PathBuf, String> {
         let run = crate::run_files::load(dir).ok();
         numbers::grains(&scenario, &summary, run.as_ref())
     };
-    page.section("theory", "Summary against theory", &numbers::render(&rows));
+    page.section(
+        "theory",
+        "Summary against theory",
+        &comparison::render(&rows),
+    );
 
     let mut script = String::new();
     let player = if scenario.intruder().is_none() {

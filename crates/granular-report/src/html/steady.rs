@@ -1,8 +1,8 @@
 //! The steady state of a driven gas (`summary.json`'s `steady_state` block) against the
 //! Sonine theory of van Noije and Ernst, each theory value with its stated accuracy.
 
+use super::comparison::Comparison;
 use super::cooling::{dsmc_cooling_per_step, rate_accuracy};
-use super::numbers::Comparison;
 use super::page::number;
 use granular::Summary;
 use granular::run::summary::{AverageValue, SteadyStateSummary};

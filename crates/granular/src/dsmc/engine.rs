@@ -64,7 +64,7 @@ pub struct DsmcEngine<const D: usize> {
     steps: u64,
     pub(super) tally: Tally,
     /// The species of the grains (names and id ranges), for snapshots and histograms.
-    pub(super) species: super::setup::SpeciesTable,
+    pub(super) species: super::species::SpeciesTable,
     /// The validity conditions violated by the initial state (computed once at build).
     #[serde(default)]
     validity: Vec<ValidityWarning>,
@@ -177,7 +177,7 @@ impl<const D: usize> DsmcEngine<D> {
             particles.velocities,
             seed,
         )?;
-        engine.species = super::setup::SpeciesTable::one(&name, engine.n_global());
+        engine.species = super::species::SpeciesTable::one(&name, engine.n_global());
         Ok(engine)
     }
 
@@ -263,7 +263,7 @@ impl<const D: usize> DsmcEngine<D> {
             dest: Vec::new(),
             time: 0.0,
             steps: 0,
-            species: super::setup::SpeciesTable::one(&default_species_name(), n_global),
+            species: super::species::SpeciesTable::one(&default_species_name(), n_global),
             validity: Vec::new(),
             domain,
             driving: None,
@@ -375,13 +375,13 @@ impl<const D: usize> DsmcEngine<D> {
     }
 
     /// The species of the grains: their names and id ranges.
-    pub fn species(&self) -> &super::setup::SpeciesTable {
+    pub fn species(&self) -> &super::species::SpeciesTable {
         &self.species
     }
 
     /// Names the species of the grains (contiguous id ranges; the table must cover the
     /// engine's `N` grains).
-    pub(super) fn set_species(&mut self, species: super::setup::SpeciesTable) {
+    pub(super) fn set_species(&mut self, species: super::species::SpeciesTable) {
         self.species = species;
     }
 

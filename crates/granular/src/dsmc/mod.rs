@@ -35,6 +35,7 @@ pub mod lattice;
 pub mod observables;
 pub mod parts;
 pub mod setup;
+mod species;
 mod sums;
 
 pub use config::{DensityScope, DsmcConfig, VmaxMode};
@@ -44,4 +45,5 @@ pub use grains::Grains;
 pub use guards::{GuardKind, ValidityWarning};
 pub use observables::{DensityMap, StructureFactor};
 pub use parts::{EnginePart, IdBlock, PartInfo};
-pub use setup::{GrainSetup, InitialVelocity, Placement, SpeciesSetup, SpeciesTable};
+pub use setup::{GrainSetup, InitialVelocity, Placement, SpeciesSetup};
+pub use species::SpeciesTable;

@@ -42,13 +42,13 @@
 use super::cells::CellIndex;
 use super::domain::{Communicator, Domain};
 use super::engine::{Derived, DsmcEngine, DsmcError};
+use super::species::SpeciesTable;
 use crate::boundary::SimulationBox;
 use crate::dsmc::config::DsmcConfig;
 use crate::random::{INITIAL_STATE, RngExt, Stream, derive_key, stream_from_key};
 use crate::setup::{Lattice, Region};
 use crate::vector::Vector;
 use rand_distr::{Distribution, StandardNormal};
-use serde::{Deserialize, Serialize};
 use std::ops::Range;
 use std::sync::Arc;
 
@@ -118,38 +118,6 @@ pub struct GrainSetup<const D: usize> {
     pub zero_momentum: bool,
     /// The run's seed (the keyed streams are derived from it).
     pub seed: u64,
-}
-
-/// The species of an engine's grains: names, and the id ranges (species are contiguous
-/// in id order).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct SpeciesTable {
-    /// Names, in id order.
-    pub names: Vec<String>,
-    /// One past the last id of each species.
-    pub ends: Vec<u32>,
-}
-
-impl SpeciesTable {
-    /// One species of `n` grains called `name`.
-    pub fn one(name: &str, n: usize) -> SpeciesTable {
-        SpeciesTable {
-            names: vec![name.to_string()],
-            ends: vec![n as u32],
-        }
-    }
-
-    /// The species of grain `id`.
-    #[inline]
-    pub fn of(&self, id: u32) -> u32 {
-        (self.ends.partition_point(|&e| e <= id) as u32).min(self.names.len() as u32 - 1)
-    }
-
-    /// The ids of species `s`.
-    pub fn ids(&self, s: usize) -> Range<usize> {
-        let start = if s == 0 { 0 } else { self.ends[s - 1] as usize };
-        start..self.ends[s] as usize
-    }
 }
 
 impl<const D: usize> GrainSetup<D> {
