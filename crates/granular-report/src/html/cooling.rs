@@ -179,9 +179,10 @@ pub(crate) fn dsmc_cooling_per_step(sc: &Scenario, a2: f64, zeta: f64) -> Option
     let e = sc.collisions().restitution;
     Some(match sc.dsmc().and_then(|d| d.time_step) {
         Some(tau) => zeta * tau,
+        // The step is `STEP_FRACTION / omega`, so `zeta tau` is KT-8 at `omega = 1` times it.
         None => {
-            granular::dsmc::engine::STEP_FRACTION * (1.0 - e * e) / sc.dimension as f64
-                * (1.0 + 3.0 * a2 / 16.0)
+            granular::dsmc::engine::STEP_FRACTION
+                * granular::theory::haff::sonine_cooling_rate(sc.dimension, e, 1.0, a2)
         }
     })
 }
