@@ -32,6 +32,9 @@ pub struct BadScenario {
     source: NamedSource<String>,
     /// Whether the bad key was set on the command line.
     overridden: bool,
+    /// Whether the bad line and its neighbours are short enough to show (a scenario "file"
+    /// of one 20 MB line would otherwise be printed whole).
+    snippet_fits: bool,
     /// What is wrong, where.
     error: ScenarioError,
 }
@@ -45,10 +48,12 @@ impl CliError {
             o.split_once('=')
                 .is_some_and(|(k, _)| k.trim() == error.key)
         });
+        let snippet_fits = error.line.is_some_and(|line| snippet_fits(text, line));
         Self::Scenario(Box::new(BadScenario {
             path: path.to_path_buf(),
             source: NamedSource::new(path.display().to_string(), text.to_string()),
             overridden,
+            snippet_fits,
             error,
         }))
     }
@@ -87,6 +92,21 @@ impl From<granular_report::ReportError> for CliError {
     }
 }
 
+/// The longest line (in characters) an error shows from the scenario file; a longer bad
+/// line, or a longer line next to it (the snippet shows one on each side), leaves the
+/// snippet out: the message still names the file, the line and the key.
+const MAX_SNIPPET_LINE: usize = 300;
+
+/// Whether the 1-based line `line` of `text` and its two neighbours are at most
+/// [`MAX_SNIPPET_LINE`] characters long.
+fn snippet_fits(text: &str, line: usize) -> bool {
+    text.lines()
+        .enumerate()
+        .skip(line.saturating_sub(2))
+        .take(3)
+        .all(|(_, l)| l.chars().count() <= MAX_SNIPPET_LINE)
+}
+
 /// Byte span of the 1-based line `line` of `text` (without its line break).
 fn line_span(text: &str, line: usize) -> Option<(usize, usize)> {
     let mut start = 0;
@@ -102,7 +122,7 @@ fn line_span(text: &str, line: usize) -> Option<(usize, usize)> {
 impl Diagnostic for CliError {
     fn source_code(&self) -> Option<&dyn SourceCode> {
         match self {
-            Self::Scenario(s) if s.error.line.is_some() && !s.overridden => Some(&s.source),
+            Self::Scenario(s) if s.snippet_fits && !s.overridden => Some(&s.source),
             _ => None,
         }
     }
@@ -111,7 +131,7 @@ impl Diagnostic for CliError {
         let Self::Scenario(s) = self else {
             return None;
         };
-        if s.overridden {
+        if s.overridden || !s.snippet_fits {
             return None;
         }
         let (start, len) = line_span(s.source.inner(), s.error.line?)?;
@@ -175,6 +195,35 @@ mod tests {
         assert_eq!(labels.len(), 1);
         assert_eq!((labels[0].offset(), labels[0].len()), (13, 17));
         assert_eq!(labels[0].label(), Some("`collisions.restitution`"));
+    }
+
+    #[test]
+    fn a_line_too_long_to_show_leaves_the_snippet_out() {
+        let long = "#".repeat(MAX_SNIPPET_LINE + 1);
+        for text in [
+            format!("{long}\n[collisions]\nrestitution = 1.2\n"),
+            format!("[collisions]\nrestitution = 1.2 {long}\n"),
+        ] {
+            let line = text
+                .lines()
+                .position(|l| l.starts_with("restitution"))
+                .unwrap()
+                + 1;
+            let error = ScenarioError {
+                line: Some(line),
+                ..bad_restitution()
+            };
+            let e = CliError::scenario(Path::new("s.toml"), &text, &[], error);
+            assert!(e.source_code().is_none() && e.labels().is_none());
+            assert!(e.to_string().starts_with(&format!("s.toml: line {line}:")));
+        }
+        // The limit itself is shown.
+        let text = format!(
+            "[collisions]\nrestitution = 1.2\n{}\n",
+            "#".repeat(MAX_SNIPPET_LINE)
+        );
+        let e = CliError::scenario(Path::new("s.toml"), &text, &[], bad_restitution());
+        assert!(e.source_code().is_some());
     }
 
     #[test]
