@@ -201,7 +201,7 @@ mod tests {
     fn a_line_too_long_to_show_leaves_the_snippet_out() {
         let long = "#".repeat(MAX_SNIPPET_LINE + 1);
         for text in [
-            format!("{long}\n[collisions]\nrestitution = 1.2\n"),
+            format!("[collisions]\n{long}\nrestitution = 1.2\n"),
             format!("[collisions]\nrestitution = 1.2 {long}\n"),
         ] {
             let line = text
