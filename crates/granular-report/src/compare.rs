@@ -122,7 +122,12 @@ fn numbers(runs: &[RunFiles]) -> Result<serde_json::Value, String> {
             }),
         );
     }
-    Ok(serde_json::json!({"t0": t0, "runs": per_run, "energy_ratios": pairs}))
+    let mut all = serde_json::json!({"t0": t0, "runs": per_run, "energy_ratios": pairs});
+    if let Some(why) = crate::run_files::haff_excluded(&runs[0].scenario) {
+        // No Haff's law for this set-up: `t0` is null and nothing is measured against it.
+        all["haff_not_applicable"] = serde_json::Value::String(why);
+    }
+    Ok(all)
 }
 
 fn energy(runs: &[RunFiles], out: &Path, made: &mut Vec<PathBuf>) -> Result<(), String> {

@@ -2,6 +2,7 @@
 //! series), with the theory the figures put next to it (Haff's time `t0`).
 
 use crate::plot::LinePlot;
+use granular::boundary::AxisKind;
 use granular::output::npz::NpzArray;
 use granular::run::{RunDir, RunFile};
 use granular::scenario::{EngineKind, Scenario};
@@ -99,9 +100,34 @@ pub(crate) fn critical_length(scenario: &Scenario) -> Option<f64> {
     ))
 }
 
-/// Haff's time of a run from kinetic theory ([`haff_theory`]).
+/// Haff's time of a run from kinetic theory ([`haff_theory`]), for a set-up where Haff's law
+/// can hold (`None` where [`haff_excluded`] gives a reason: no curve or `t/t0` axis then).
 pub(crate) fn haff_time(run: &RunFiles) -> Option<f64> {
+    if haff_excluded(&run.scenario).is_some() {
+        return None;
+    }
     haff_theory(run).map(|(t0, _)| t0)
+}
+
+/// Why Haff's law does not apply to a run's set-up at all (`None`: it may apply): the
+/// report's Haff row says so instead of comparing, and `plot` and `compare` draw no Haff
+/// curve.
+pub(crate) fn haff_excluded(sc: &Scenario) -> Option<String> {
+    if sc.species().len() != 1 {
+        return Some("a mixture: Haff's law is the one-species cooling state".into());
+    }
+    if sc.gravity().iter().any(|g| *g != 0.0) {
+        return Some("gravity makes the gas inhomogeneous".into());
+    }
+    if sc.driving().is_some() {
+        return Some("a driven gas does not cool freely (steady-state rows)".into());
+    }
+    if sc.axes().contains(&AxisKind::Wall) {
+        return Some(
+            "the box has walls; Haff's law is the homogeneous state of a periodic box".into(),
+        );
+    }
+    None
 }
 
 /// How [`haff_time`] was computed, for legends: `Enskog + Sonine` or `Boltzmann + Sonine`.

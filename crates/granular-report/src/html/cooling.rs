@@ -13,7 +13,6 @@
 use super::comparison::Comparison;
 use super::page::{number, short};
 use crate::run_files::{RunFiles, floats, get};
-use granular::boundary::AxisKind;
 use granular::observables::structure_factor_of;
 use granular::output::npz::{read_npz, read_snapshot};
 use granular::run::{RunDir, RunFile};
@@ -187,25 +186,6 @@ pub(crate) fn dsmc_cooling_per_step(sc: &Scenario, a2: f64, zeta: f64) -> Option
     })
 }
 
-/// Why Haff's law does not apply to the run's set-up at all (`None`: it may apply).
-fn set_up_excludes(sc: &Scenario) -> Option<String> {
-    if sc.species().len() != 1 {
-        return Some("a mixture: Haff's law is the one-species cooling state".into());
-    }
-    if sc.gravity().iter().any(|g| *g != 0.0) {
-        return Some("gravity makes the gas inhomogeneous".into());
-    }
-    if sc.driving().is_some() {
-        return Some("a driven gas does not cool freely (steady-state rows)".into());
-    }
-    if sc.axes().contains(&AxisKind::Wall) {
-        return Some(
-            "the box has walls; Haff's law is the homogeneous state of a periodic box".into(),
-        );
-    }
-    None
-}
-
 /// The row of Haff's time `t0` for a freely cooling one-species run (`None` for an elastic
 /// or a driven run, which have rows of their own).
 pub(crate) fn haff_row(run: &RunFiles) -> Option<Comparison> {
@@ -215,7 +195,7 @@ pub(crate) fn haff_row(run: &RunFiles) -> Option<Comparison> {
         return None;
     }
     let quantity = "Haff's time t0 = 1/(s √T(0)), s the slope of T^(-1/2) against t";
-    if let Some(why) = set_up_excludes(sc) {
+    if let Some(why) = crate::run_files::haff_excluded(sc) {
         return Some(Comparison::unmeasured(quantity).not_applicable(why));
     }
     let (theory, chi) = crate::run_files::haff_theory(run)?;
