@@ -344,31 +344,11 @@ fn load_with(
         }
     };
     let mut sc = read(&overrides).map_err(|e| CliError::scenario(path, &text, &overrides, e))?;
-    if let Some(o) = bath_file_override(path, &sc) {
+    if let Some(o) = granular::scenario::bath_file_override(path, &sc) {
         overrides.push(o);
         sc = read(&overrides).map_err(|e| CliError::scenario(path, &text, &overrides, e))?;
     }
     Ok(sc)
-}
-
-/// A tabulated intruder bath `file` is relative to the scenario file: the override that
-/// makes it absolute (so that validation reads it, and run directories, sweeps and
-/// resumes find it from any working directory), if there is one to make.
-fn bath_file_override(path: &Path, sc: &Scenario) -> Option<String> {
-    use granular::scenario::BathTable;
-    let BathTable::Tabulated { file: Some(f), .. } = sc.intruder()?.bath()? else {
-        return None;
-    };
-    if Path::new(f).is_absolute() {
-        return None;
-    }
-    let base = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let base = std::path::absolute(base).unwrap_or_else(|_| base.to_path_buf());
-    let full = base.join(f).to_string_lossy().into_owned();
-    Some(format!("intruder.bath.file={}", toml::Value::String(full)))
 }
 
 fn dispatch(cli: Cli) -> Result<(), CliError> {
@@ -557,7 +537,7 @@ fn dispatch(cli: Cli) -> Result<(), CliError> {
             let dir = out.unwrap_or_else(|| default_dir(&scenario));
             let mut set = set;
             let base = load_with(&scenario, None, &set, insist)?;
-            if let Some(o) = bath_file_override(&scenario, &base) {
+            if let Some(o) = granular::scenario::bath_file_override(&scenario, &base) {
                 set.push(o);
             }
             let args = sweep::SweepArgs {

@@ -39,7 +39,7 @@ impl PyScenario {
             .map_err(|e| scenario_error(py, &e, origin.as_deref()))?;
         if let Some(o) = origin
             .as_deref()
-            .and_then(|p| bath_file_override(Path::new(p), &resolved))
+            .and_then(|p| granular::scenario::bath_file_override(Path::new(p), &resolved))
         {
             overrides.push(o);
             resolved = Scenario::from_toml_insisting(&source, &overrides)
@@ -78,25 +78,6 @@ impl PyScenario {
             .map(|_| ())
             .map_err(|e| scenario_error(py, &e, self.origin.as_deref()))
     }
-}
-
-/// A tabulated intruder bath `file` is relative to the scenario file: the override that
-/// makes it absolute, as the command line does.
-fn bath_file_override(path: &Path, sc: &Scenario) -> Option<String> {
-    use granular::scenario::BathTable;
-    let BathTable::Tabulated { file: Some(f), .. } = sc.intruder()?.bath()? else {
-        return None;
-    };
-    if Path::new(f).is_absolute() {
-        return None;
-    }
-    let base = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let base = std::path::absolute(base).unwrap_or_else(|_| base.to_path_buf());
-    let full = base.join(f).to_string_lossy().into_owned();
-    Some(format!("intruder.bath.file={}", toml::Value::String(full)))
 }
 
 /// `KEY=VALUE` with the value written as TOML.

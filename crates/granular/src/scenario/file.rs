@@ -81,6 +81,27 @@ pub fn read_text_file(path: &Path) -> Result<String, Error> {
     })
 }
 
+/// The `--set` override (`intruder.bath.file="/abs/path"`) that makes a tabulated intruder
+/// bath's relative `file` absolute, relative to the directory of the scenario file
+/// `scenario_file`, so that validation reads it and run directories, sweeps and resumes
+/// find it from any working directory; `None` when there is nothing to make absolute. The
+/// command line and the Python package both apply it.
+pub fn bath_file_override(scenario_file: &Path, sc: &super::Scenario) -> Option<String> {
+    let super::BathTable::Tabulated { file: Some(f), .. } = sc.intruder()?.bath()? else {
+        return None;
+    };
+    if Path::new(f).is_absolute() {
+        return None;
+    }
+    let base = scenario_file
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let base = std::path::absolute(base).unwrap_or_else(|_| base.to_path_buf());
+    let full = base.join(f).to_string_lossy().into_owned();
+    Some(format!("intruder.bath.file={}", toml::Value::String(full)))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -26,7 +26,7 @@ mod validate;
 use crate::dsmc::config::DsmcConfig;
 pub use de::seed::HELP as SEED_HELP;
 pub use driving::{DrivingKind, DrivingSpec};
-pub use file::{MAX_FILE_BYTES, read_text_file};
+pub use file::{MAX_FILE_BYTES, bath_file_override, read_text_file};
 pub use intruder::{BathTable, DsmcTwinTable, IntruderSpec, NeedleTable, OneDTable, bath_file};
 pub use output::{OutputSpacing, OutputSpec};
 pub use overrides::apply_override;

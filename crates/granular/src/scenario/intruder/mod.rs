@@ -98,23 +98,6 @@ impl IntruderSpec {
             IntruderSpec::Needle(_) => None,
         }
     }
-
-    /// Makes a relative tabulated-bath `file` absolute, relative to `base` (the directory
-    /// of the scenario file), so that run directories, sweeps and resumes find it from any
-    /// working directory.
-    pub fn resolve_paths(&mut self, base: &std::path::Path) {
-        let bath = match self {
-            IntruderSpec::OneD(c) => &mut c.bath,
-            IntruderSpec::DsmcTwin(c) => &mut c.intruder.bath,
-            IntruderSpec::Disk(c) | IntruderSpec::Sphere(c) => &mut c.bath,
-            IntruderSpec::Needle(_) => return,
-        };
-        if let BathTable::Tabulated { file: Some(f), .. } = bath
-            && std::path::Path::new(f.as_str()).is_relative()
-        {
-            *f = base.join(&*f).to_string_lossy().into_owned();
-        }
-    }
 }
 
 impl Serialize for IntruderSpec {
