@@ -100,6 +100,20 @@ fn matrix<'py>(
     Ok(PyArray2::from_owned_array(py, a))
 }
 
+/// Angular velocities as NumPy: (n,) for disks, (n, 3) for spheres.
+fn spins<'py>(
+    py: Python<'py>,
+    values: Vec<f64>,
+    n: usize,
+    d: usize,
+) -> PyResult<Bound<'py, PyAny>> {
+    if d == 2 {
+        Ok(PyArray1::from_vec(py, values).into_any())
+    } else {
+        Ok(matrix(py, values, n, 3)?.into_any())
+    }
+}
+
 fn engine_error(e: EngineError) -> PyErr {
     simulation_error(format!("{e}\n(fix the scenario and rerun)"))
 }
@@ -630,7 +644,27 @@ impl PySimulation {
         d.set_item("masses", PyArray1::from_vec(py, s.masses))?;
         d.set_item("species", PyArray1::from_vec(py, s.species))?;
         d.set_item("species_names", s.species_names)?;
+        if !s.angular_velocities.is_empty() {
+            d.set_item(
+                "angular_velocities",
+                spins(py, s.angular_velocities, n, dim)?,
+            )?;
+        }
         Ok(d)
+    }
+
+    /// Angular velocities of rough grains (radians per time unit), input order: float64
+    /// (N,) in 2D (the spin ω_z about the axis normal to the plane), (N, 3) in 3D; None for
+    /// smooth grains (collisions.tangential_restitution = -1), which carry no rotation. A
+    /// new copy at every access.
+    #[getter]
+    fn angular_velocities<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
+        let s = self.snapshot_or_error()?;
+        if s.angular_velocities.is_empty() {
+            return Ok(None);
+        }
+        let n = s.radii.len();
+        spins(py, s.angular_velocities, n, s.dimension).map(Some)
     }
 
     /// Positions, float64 (N, D), input order; a new copy at every access (use

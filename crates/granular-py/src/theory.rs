@@ -4,6 +4,7 @@
 
 use crate::errors::value_error;
 use granular::intruder::{BathDistribution, Gaussian, PowerLaw};
+use granular::theory::rough::{Approximation, RoughGas, RoughState};
 use granular::theory::{equilibrium as eq, haff};
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
@@ -298,6 +299,88 @@ fn needle_flux<'py>(
     })
 }
 
+/// The rough gas of the four parameters, checked: α in [0, 1], β in [-1, 1], κ in its
+/// range (`None` for any value out of range: the result is NaN, as for a NaN input).
+fn rough_gas(dimension: usize, alpha: f64, beta: f64, kappa: f64) -> Option<RoughGas> {
+    let ok = (0.0..=1.0).contains(&alpha)
+        && (-1.0..=1.0).contains(&beta)
+        && kappa > 0.0
+        && kappa <= granular::collision_law::rough::max_inertia(dimension);
+    ok.then_some(RoughGas {
+        dimension,
+        normal_restitution: alpha,
+        tangential_restitution: beta,
+        inertia: kappa,
+    })
+}
+
+/// Which state and approximation of the rough-gas theory, from the Python names.
+fn rough_choice(state: &str, approximation: &str) -> PyResult<(RoughState, Approximation)> {
+    let state = match state {
+        "cooling" => RoughState::Cooling,
+        "white_noise" => RoughState::WhiteNoise,
+        other => {
+            return Err(value_error(format!(
+                "state is {other:?}; use \"cooling\" (the homogeneous cooling state) or \"white_noise\""
+            )));
+        }
+    };
+    let approximation = match approximation {
+        "maxwell" => Approximation::Maxwell,
+        "sonine" => Approximation::Sonine,
+        other => {
+            return Err(value_error(format!(
+                "approximation is {other:?}; use \"maxwell\" (RS-4 to RS-6) or \"sonine\" (RS-8, RS-9)"
+            )));
+        }
+    };
+    Ok((state, approximation))
+}
+
+/// `RoughGas::temperature_ratio` (RS-4, RS-6, RS-8, RS-9) element by element; NaN where the
+/// parameters are out of range or there is no solution.
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+fn rough_temperature_ratio<'py>(
+    py: Python<'py>,
+    dimension: usize,
+    state: &str,
+    approximation: &str,
+    alpha: A<'py>,
+    beta: A<'py>,
+    kappa: A<'py>,
+) -> Out<'py> {
+    dimension_2_or_3(dimension)?;
+    let (state, approximation) = rough_choice(state, approximation)?;
+    map(py, [alpha, beta, kappa], |[a, b, k]| {
+        rough_gas(dimension, a, b, k)
+            .and_then(|g| g.temperature_ratio(state, approximation))
+            .unwrap_or(f64::NAN)
+    })
+}
+
+/// `RoughGas::reduced_cooling_rate` (ζ/ν of the total energy; RS-5 and its Sonine value)
+/// element by element; NaN where the parameters are out of range or there is no solution.
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+fn rough_cooling_rate<'py>(
+    py: Python<'py>,
+    dimension: usize,
+    state: &str,
+    approximation: &str,
+    alpha: A<'py>,
+    beta: A<'py>,
+    kappa: A<'py>,
+) -> Out<'py> {
+    dimension_2_or_3(dimension)?;
+    let (state, approximation) = rough_choice(state, approximation)?;
+    map(py, [alpha, beta, kappa], |[a, b, k]| {
+        rough_gas(dimension, a, b, k)
+            .and_then(|g| g.reduced_cooling_rate(state, approximation))
+            .unwrap_or(f64::NAN)
+    })
+}
+
 /// Adds the `theory` submodule.
 pub fn register(parent: &Bound<'_, PyModule>) -> PyResult<()> {
     let m = PyModule::new(parent.py(), "theory")?;
@@ -320,6 +403,8 @@ pub fn register(parent: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(martin_piasecki_ratio, &m)?)?;
     m.add_function(wrap_pyfunction!(bath, &m)?)?;
     m.add_function(wrap_pyfunction!(needle_flux, &m)?)?;
+    m.add_function(wrap_pyfunction!(rough_temperature_ratio, &m)?)?;
+    m.add_function(wrap_pyfunction!(rough_cooling_rate, &m)?)?;
     parent.add_submodule(&m)?;
     Ok(())
 }

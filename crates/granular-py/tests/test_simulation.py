@@ -272,3 +272,42 @@ def test_run_out_hands_the_simulation_over(edmd2d: granular.Scenario, tmp_path: 
     with pytest.raises(granular.SimulationError, match="load_run"):
         sim.advance(10.0)
     assert "run to its end" in repr(sim)
+
+
+ROUGH = """
+engine = "edmd"
+dimension = {d}
+seed = 5
+[box]
+lengths = {lengths}
+boundary = "periodic"
+[[species]]
+name = "grain"
+count = 200
+packing_fraction = 0.05
+angular_velocity = {{ distribution = "maxwell_boltzmann", temperature = 1.0 }}
+[collisions]
+restitution = 0.9
+tangential_restitution = 0.5
+[stop]
+time = 0.05
+"""
+
+
+@pytest.mark.parametrize("d", [2, 3])
+def test_angular_velocities_of_rough_grains(d: int, edmd2d: granular.Scenario) -> None:
+    """Rough grains: (N,) in 2D, (N, 3) in 3D, also in snapshot(); None for smooth grains."""
+    lengths = "[1.0, 1.0]" if d == 2 else "[1.0, 1.0, 1.0]"
+    sim = granular.Simulation(granular.Scenario.from_toml(ROUGH.format(d=d, lengths=lengths)))
+    w = sim.angular_velocities
+    assert w is not None and w.dtype == np.float64
+    assert w.shape == ((200,) if d == 2 else (200, 3))
+    np.testing.assert_array_equal(sim.snapshot()["angular_velocities"], w)
+    sim.run()
+    assert not np.array_equal(sim.angular_velocities, w)
+    cols = sim.columns()
+    assert cols["translational_temperature"] == cols["temperature"]
+    assert cols["temperature_ratio"] == pytest.approx(cols["rotational_temperature"] / cols["temperature"])
+    smooth = granular.Simulation(edmd2d)
+    assert smooth.angular_velocities is None
+    assert "angular_velocities" not in smooth.snapshot()

@@ -127,3 +127,25 @@ def test_disk_and_sphere_collision_rates() -> None:
     np.testing.assert_allclose(theory.martin_piasecki_ratio(0.5, [0.5, 1.0, 2.0]), [0.5, 0.6, 2 / 3])
     with pytest.raises(ValueError, match="dimension is 4"):
         theory.intruder_collision_rate(1.0, dimension=4)
+def test_rough_grains_theory_on_arrays() -> None:
+    """RS-4 to RS-9 on arrays: hand values of docs/rough.md's tables, limits, NaN outside the ranges."""
+    # White noise (RS-6): kappa (1 + beta) / (1 + 2 kappa - beta), any alpha.
+    beta = np.array([0.0, 0.5, -0.5, 1.0])
+    np.testing.assert_allclose(
+        theory.rough_temperature_ratio(0.9, beta, 0.5, state="white_noise"),
+        0.5 * (1 + beta) / (2.0 - beta),
+        rtol=1e-14,
+    )
+    # Homogeneous cooling state (RS-4, RS-5), docs/rough.md: disks and spheres.
+    assert theory.rough_temperature_ratio(0.9, 0.0) == pytest.approx(0.4695, abs=5e-5)
+    assert theory.rough_temperature_ratio(0.9, 0.0, dimension=3) == pytest.approx(0.5738, abs=5e-5)
+    assert theory.rough_cooling_rate(0.9, 0.0) == pytest.approx(0.2078, abs=5e-5)
+    assert theory.rough_temperature_ratio(0.5, 1.0, approximation="sonine") == pytest.approx(1.8095, abs=5e-5)
+    # Perfectly rough elastic grains: equipartition, no cooling.
+    assert theory.rough_temperature_ratio(1.0, 1.0, dimension=3) == pytest.approx(1.0, abs=1e-12)
+    assert theory.rough_cooling_rate(1.0, 1.0) == pytest.approx(0.0, abs=1e-12)
+    out = theory.rough_temperature_ratio(np.array([[0.9], [0.7]]), np.array([0.0, 0.5, 2.0]))
+    assert out.shape == (2, 3) and np.isnan(out[:, 2]).all() and np.isfinite(out[:, :2]).all()
+    assert math.isnan(theory.rough_temperature_ratio(0.9, 0.0, inertia=0.8, dimension=3))
+    with pytest.raises(ValueError, match="white_noise"):
+        theory.rough_temperature_ratio(0.9, 0.0, state="driven")  # type: ignore[arg-type]

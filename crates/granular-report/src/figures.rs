@@ -50,6 +50,7 @@ pub(crate) fn plot_run(
     energy(dir, scenario, &out, &mut made)?;
     speed_histograms(dir, scenario, summary.as_ref(), &out, &mut made)?;
     impact_parameters(dir, scenario, &out, &mut made)?;
+    crate::rough_plots::rough_temperatures(dir, scenario, summary.as_ref(), &out, &mut made)?;
     snapshot_figures(dir, scenario, animate, &out, &mut made)?;
     // Impact histograms at several times, S(k), density maps (opt-in [output] keys).
     made.extend(crate::observable_plots::observables(dir, &out)?);

@@ -22,6 +22,7 @@ mod intruder_plots;
 mod observable_plots;
 pub mod plot;
 pub mod reproduce;
+mod rough_plots;
 mod run_files;
 pub mod scaling;
 mod sweep_plots;

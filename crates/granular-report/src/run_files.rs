@@ -75,7 +75,8 @@ pub(crate) fn load(dir: &Path) -> Result<RunFiles, String> {
 /// (`Resolved::at_temperature`, KT-9): the contact value of the collision rate the run
 /// uses (Enskog's at the run's packing fraction for the event-driven engine and for DSMC
 /// with `dsmc.enskog = true`; 1, Boltzmann's, for DSMC without it), first Sonine
-/// correction. `None` for an elastic gas or one at rest.
+/// correction. `None` for an elastic gas, one at rest, or rough grains (they cool at RS-5,
+/// not at Haff's rate of smooth grains: the rough figure).
 pub(crate) fn haff_theory(run: &RunFiles) -> Option<(f64, f64)> {
     let t0 = *run.temperature.first().filter(|t| **t > 0.0)?;
     let resolved = run.scenario.resolve().at_temperature(&run.scenario, t0);
@@ -125,6 +126,13 @@ pub(crate) fn haff_excluded(sc: &Scenario) -> Option<String> {
     if sc.axes().contains(&AxisKind::Wall) {
         return Some(
             "the box has walls; Haff's law is the homogeneous state of a periodic box".into(),
+        );
+    }
+    if sc.collisions().law().is_rough() {
+        return Some(
+            "rough grains cool at the rate of RS-5, not at Haff's rate of smooth grains (the \
+             rough grains' rows)"
+                .into(),
         );
     }
     None

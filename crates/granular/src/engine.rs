@@ -114,6 +114,10 @@ pub struct Snapshot {
     pub species: Vec<u32>,
     /// Species names, indexed by the values of `species`.
     pub species_names: Vec<String>,
+    /// Angular velocities of rough grains, `n * d_r` values (`d_r` = 1 in 2D: `ω_z`; 3 in
+    /// 3D), radians per time unit; empty for smooth grains.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub angular_velocities: Vec<f64>,
 }
 
 /// The common interface of all engines.

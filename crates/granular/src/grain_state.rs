@@ -197,8 +197,7 @@ fn check<const D: usize>(
                 velocities: Vec::new(),
                 radii: radii.to_vec(),
                 masses: Vec::new(),
-                species: Vec::new(),
-                species_names: Vec::new(),
+                ..Default::default()
             };
             crate::setup::check_overlaps(bx, &set).map_err(|o| StateError::Overlap {
                 a: o.a,

@@ -63,6 +63,15 @@ pub struct Observation {
     pub temperature: f64,
     /// Per species, when the scenario has more than one.
     pub species: Vec<SpeciesObservation>,
+    /// Rotational kinetic energy `Σ I |ω|² / 2` of rough grains, energy units (`None` for
+    /// smooth grains, which do not rotate). `kinetic_energy` and `temperature` are the
+    /// translational ones.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rotational_energy: Option<f64>,
+    /// Rotational temperature `T_r = 2 E_rot / (d_r N)` per rotational degree of freedom
+    /// (`d_r` = 1 for disks, 3 for spheres), energy units; rough grains only.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rotational_temperature: Option<f64>,
     /// Grain-wall collisions since `t = 0` (event-driven engine).
     pub wall_collisions: Option<u64>,
     /// Kinetic energy lost in inelastic collisions since `t = 0` (event-driven engine).
@@ -111,6 +120,12 @@ pub struct Rates {
     /// driving).
     #[serde(default)]
     pub dissipation_rate: f64,
+    /// Rough grains: the cooling rate of the total (translational plus rotational) energy
+    /// per collision of a grain, `ζ/ν`: `-Δ ln E / Δ(collisions per particle)` of a freely
+    /// cooling gas, or the driving's loss rate over the energy and the collision frequency
+    /// of a driven one (RS-5; NaN for smooth grains).
+    #[serde(default = "not_a_number", skip_serializing_if = "is_nan")]
+    pub reduced_cooling_rate: f64,
 }
 
 impl Rates {
@@ -124,6 +139,7 @@ impl Rates {
             wall_pressure: f64::NAN,
             driving_power: f64::NAN,
             dissipation_rate: f64::NAN,
+            reduced_cooling_rate: f64::NAN,
         }
     }
 }
@@ -165,6 +181,16 @@ impl Observation {
         } else {
             (f64::NAN, f64::NAN)
         };
+        let reduced_cooling_rate = match (self.total_energy(), earlier.total_energy()) {
+            (Some(_), Some(_)) if driven(self) && driven(earlier) => {
+                2.0 * dissipation_rate / self.degrees_of_freedom_energy() / rate
+            }
+            (Some(e1), Some(e0)) => {
+                let per_grain = self.collisions_per_particle - earlier.collisions_per_particle;
+                -(e1.ln() - e0.ln()) / per_grain
+            }
+            _ => f64::NAN,
+        };
         Rates {
             interval: dt,
             collision_frequency: rate,
@@ -173,6 +199,26 @@ impl Observation {
             wall_pressure,
             driving_power,
             dissipation_rate,
+            reduced_cooling_rate,
+        }
+    }
+
+    /// Rough grains: translational plus rotational kinetic energy (`None` for smooth
+    /// grains).
+    fn total_energy(&self) -> Option<f64> {
+        self.rotational_energy.map(|e| self.kinetic_energy + e)
+    }
+
+    /// `N Σ_dof T`, twice the energy of the temperatures: `D N T` for smooth grains,
+    /// `N (d_t T_t + d_r T_r)` for rough ones.
+    fn degrees_of_freedom_energy(&self) -> f64 {
+        let d = self.dimension as f64;
+        match self.rotational_temperature {
+            Some(t) => {
+                let dr = crate::collision_law::rough::rotational_dof(self.dimension) as f64;
+                self.particles as f64 * (d * self.temperature + dr * t)
+            }
+            None => d * self.particles as f64 * self.temperature,
         }
     }
 
@@ -187,6 +233,17 @@ impl Observation {
         }
         out.push(("kinetic_energy".into(), self.kinetic_energy));
         out.push(("temperature".into(), self.temperature));
+        if let (Some(e), Some(t)) = (self.rotational_energy, self.rotational_temperature) {
+            // Rough grains: the two temperatures per degree of freedom and their ratio.
+            out.push(("rotational_energy".into(), e));
+            out.push(("translational_temperature".into(), self.temperature));
+            out.push(("rotational_temperature".into(), t));
+            out.push(("temperature_ratio".into(), t / self.temperature));
+            out.push((
+                "reduced_cooling_rate".into(),
+                rates.map_or(f64::NAN, |r| r.reduced_cooling_rate),
+            ));
+        }
         for s in &self.species {
             out.push((
                 format!("kinetic_energy_per_grain.{}", s.name),
@@ -234,7 +291,8 @@ impl Observation {
             // `zeta = 2 (loss rate) / (D N T)` (`crate::driving`).
             let nan = Rates::undefined(f64::NAN);
             let r = rates.unwrap_or(&nan);
-            let dnt = self.dimension as f64 * self.particles as f64 * self.temperature;
+            // Rough grains: the energy is `N (d_t T_t + d_r T_r) / 2`.
+            let dnt = self.degrees_of_freedom_energy();
             out.push(("driving_power".into(), r.driving_power));
             out.push(("dissipation_rate".into(), r.dissipation_rate));
             out.push(("cooling_rate".into(), 2.0 * r.dissipation_rate / dnt));
@@ -286,6 +344,8 @@ impl Observation {
             kinetic_energy,
             temperature,
             species: Vec::new(),
+            rotational_energy: None,
+            rotational_temperature: None,
             wall_collisions: None,
             dissipated_energy: None,
             tc_elastic_collisions: None,
@@ -298,4 +358,14 @@ impl Observation {
             engine_specific: quantities,
         }
     }
+}
+
+/// Serde: an absent rate is NaN (`Rates::reduced_cooling_rate` of smooth grains).
+fn not_a_number() -> f64 {
+    f64::NAN
+}
+
+/// Serde: NaN rates are not written.
+fn is_nan(x: &f64) -> bool {
+    x.is_nan()
 }

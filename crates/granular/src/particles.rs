@@ -5,7 +5,7 @@ use crate::vector::Vector;
 use serde::{Deserialize, Serialize};
 
 /// Everything that defines the grains at the start of a run.
-#[derive(Clone, Debug, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct ParticleSet<const D: usize> {
     /// Centre positions, inside the box.
     pub positions: Vec<Vector<D>>,
@@ -19,6 +19,15 @@ pub struct ParticleSet<const D: usize> {
     pub species: Vec<u32>,
     /// Species names.
     pub species_names: Vec<String>,
+    /// Angular velocities of rough grains (radians per time unit), `d_r` values per grain
+    /// (`ω_z` of a disk; `ω_x, ω_y, ω_z` of a sphere; `collision_law::rough::spin_at`);
+    /// empty for smooth grains, and zero spins for rough grains when empty.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub angular_velocities: Vec<f64>,
+    /// Reduced moment of inertia `κ = 4I/(mσ²)` of each species (by species index) of
+    /// rough grains; empty: uniform grains (`collision_law::rough::uniform_inertia`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub inertia: Vec<f64>,
 }
 
 impl<const D: usize> ParticleSet<D> {

@@ -165,6 +165,7 @@ fn both_engines_lose_the_expected_energy_at_walls() {
         masses,
         species: vec![0; n],
         species_names: vec!["gas".into()],
+        ..Default::default()
     };
     // Centres of the event-driven engine live on [r, 1 - r] and touch a wall at r or
     // 1 - r; DSMC's reach the wall at 0 or 1 (from the same positions).
@@ -240,6 +241,7 @@ fn tc_counter_counts_every_collision_made_elastic() {
         masses,
         species: vec![0; n],
         species_names: vec!["grain".into()],
+        ..Default::default()
     };
     // Event-driven: collisions counted as pair + wall.
     let mut e = Edmd::new(

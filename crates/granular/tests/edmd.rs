@@ -25,6 +25,7 @@ fn set<const D: usize>(
         masses: mass,
         species: vec![0; n],
         species_names: vec!["grain".into()],
+        ..Default::default()
     }
 }
 
@@ -773,6 +774,7 @@ fn large_projectile_in_a_bed_of_small_grains() {
             .chain(std::iter::repeat_n(1, n))
             .collect(),
         species_names: vec!["projectile".into(), "bed".into()],
+        ..Default::default()
     };
     let mut law = CollisionLaw::uniform(0.5);
     law.contact_duration = 1e-6;
@@ -992,6 +994,7 @@ fn long_runs_stay_exact() {
         masses: keep.iter().map(|&i| p.masses[i]).collect(),
         species: keep.iter().map(|&i| p.species[i]).collect(),
         species_names: p.species_names,
+        ..Default::default()
     };
     for c in intruders {
         p.positions.push(Vector(c));

@@ -202,6 +202,7 @@ fn two_kinds<const D: usize>(
         radii,
         masses,
         species_names: vec!["small".into(), "large".into()],
+        ..Default::default()
     };
     (bx, set)
 }

@@ -79,6 +79,7 @@ golden! {
     intruder_needle: "intruder-needle", &[];
     intruder_disk: "intruder-disk", &[];
     intruder_sphere: "intruder-sphere", &[];
+    rough_hcs_edmd: "rough-hcs-edmd", &[];
 }
 
 /// Runs the bundled scenario `name` with `overrides` and compares its run directory with

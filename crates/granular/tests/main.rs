@@ -16,6 +16,7 @@ mod observables;
 mod preflight;
 mod problems;
 mod resolved;
+mod rough;
 mod scenario_errors;
 mod set_state;
 mod simulation;

@@ -37,6 +37,7 @@ fn gas(n: usize, phi: f64, e: f64, seed: u64) -> Edmd<2> {
         masses,
         species: vec![0; n],
         species_names: vec!["grain".into()],
+        ..Default::default()
     };
     Edmd::new(bx, set, CollisionLaw::uniform(e), EdmdOptions::default())
 }

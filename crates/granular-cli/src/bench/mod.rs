@@ -77,6 +77,10 @@ pub enum BenchCommand {
         /// axis, towards its wall at 0, negative up, towards the other.
         #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = crate::args::number)]
         gravity: f64,
+        /// Tangential restitution of pair collisions, in [-1, 1]: above -1 the grains are
+        /// rough and spin (docs/rough.md); -1 smooth.
+        #[arg(long, default_value_t = -1.0, allow_hyphen_values = true, value_parser = crate::args::number)]
+        tangential_restitution: f64,
         /// One JSON object per case on standard output.
         #[arg(long)]
         json: bool,
@@ -245,12 +249,18 @@ pub fn run(cmd: BenchCommand) -> Result<(), String> {
             size_ratio,
             mass_ratio,
             gravity,
+            tangential_restitution,
             json,
         } => {
             check_edmd_flags(dimension, n, packing_fraction, collisions_per_particle)?;
             if !(0.0..=1.0).contains(&restitution) {
                 return Err(format!(
                     "--restitution {restitution}: the restitution must lie in [0, 1] (1: elastic)"
+                ));
+            }
+            if !(-1.0..=1.0).contains(&tangential_restitution) {
+                return Err(format!(
+                    "--tangential-restitution {tangential_restitution}: it must lie in [-1, 1] (-1: smooth grains, 1: perfectly rough)"
                 ));
             }
             if !gravity.is_finite() {
@@ -277,6 +287,7 @@ pub fn run(cmd: BenchCommand) -> Result<(), String> {
                     size_ratio,
                     mass_ratio,
                     gravity,
+                    tangential_restitution,
                     ..FluidCase::standard(case.n, case.packing_fraction)
                 };
                 let r = lib::edmd::measure(
@@ -330,6 +341,9 @@ fn describe(c: &FluidCase) -> String {
     }
     if c.gravity != 0.0 {
         out.push_str(&format!(", gravity {}", c.gravity));
+    }
+    if c.tangential_restitution != -1.0 {
+        out.push_str(&format!(", rough β = {}", c.tangential_restitution));
     }
     out
 }

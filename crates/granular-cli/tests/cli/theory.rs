@@ -7,7 +7,7 @@ use super::{granular, scenarios, tmp};
 use std::path::{Path, PathBuf};
 
 /// Each bundled scenario with the overrides that make it a few seconds long.
-const SHORT: [(&str, &[&str]); 15] = [
+const SHORT: [(&str, &[&str]); 16] = [
     (
         "maxwell-boltzmann",
         &["species.0.count=2000", "stop.collisions_per_particle=150"],
@@ -31,6 +31,7 @@ const SHORT: [(&str, &[&str]); 15] = [
     ("intruder-needle", &["stop.collisions=500000"]),
     ("intruder-disk", &[]),
     ("intruder-sphere", &[]),
+    ("rough-hcs-edmd", &[]),
     (
         "section32-edmd",
         &[

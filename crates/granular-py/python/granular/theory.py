@@ -4,8 +4,8 @@ and src/intruder), applied element by element with NumPy broadcasting.
 Array arguments may be Python numbers, lists or NumPy arrays of any shape; they are broadcast
 together and the result has the broadcast shape (a 0-d input gives a Python float). Units:
 ``k_B = 1`` (a temperature is an energy), lengths and masses in the scenario's units.
-Equation labels: HD-n (the hard-disk assignment), DSMC-n (Müller & Herrmann's DSMC paper), G-n (Gillespie intruder
-seed).
+Equation labels: HD-n (the hard-disk assignment), DSMC-n (Müller & Herrmann's DSMC paper), G-n (the Gillespie
+intruder paper), RS-n (rough grains, docs/rough.md).
 """
 
 from __future__ import annotations
@@ -41,6 +41,8 @@ __all__ = [
     "bath_density",
     "bath_flux",
     "needle_flux",
+    "rough_temperature_ratio",
+    "rough_cooling_rate",
 ]
 
 ArrayLike = npt.ArrayLike
@@ -265,3 +267,58 @@ def needle_flux(
     ``v_n`` and angular velocity ``omega`` in a Gaussian bath of density ``rho`` and ``a = m / (2 T_B)``."""
     a = np.asarray(bath_mass, dtype=np.float64) / (2.0 * np.asarray(temperature, dtype=np.float64))
     return _apply(_T.needle_flux, (), density, a, length, normal_velocity, angular_velocity)
+
+
+RoughState = Literal["cooling", "white_noise"]
+Approximation = Literal["maxwell", "sonine"]
+
+
+def rough_temperature_ratio(
+    normal_restitution: ArrayLike,
+    tangential_restitution: ArrayLike,
+    inertia: ArrayLike | None = None,
+    dimension: int = 2,
+    state: RoughState = "cooling",
+    approximation: Approximation = "maxwell",
+) -> Result:
+    """Temperature ratio ``T_rot / T_tr`` of a homogeneous gas of rough disks or spheres.
+
+    ``state``: ``"cooling"`` (the homogeneous cooling state, RS-4 Maxwellian / RS-8 Sonine) or
+    ``"white_noise"`` (heated on the translational velocities, RS-6 ``kappa (1+beta)/(1+2 kappa-beta)``
+    / RS-9). ``inertia`` is kappa = 4I/(m sigma^2), default 1/2 (disks) or 2/5 (spheres). NaN where
+    alpha is outside [0, 1], beta outside [-1, 1], kappa outside (0, 1] (disks) or (0, 2/3] (spheres),
+    for smooth grains (beta = -1) in the cooling state, or where the Sonine equations have no solution.
+    """
+    if inertia is None:
+        inertia = 0.5 if dimension == 2 else 0.4
+    return _apply(
+        _T.rough_temperature_ratio,
+        (dimension, state, approximation),
+        normal_restitution,
+        tangential_restitution,
+        inertia,
+    )
+
+
+def rough_cooling_rate(
+    normal_restitution: ArrayLike,
+    tangential_restitution: ArrayLike,
+    inertia: ArrayLike | None = None,
+    dimension: int = 2,
+    state: RoughState = "cooling",
+    approximation: Approximation = "maxwell",
+) -> Result:
+    """Cooling rate of the total (translational plus rotational) energy per collision of a grain,
+    ``zeta / nu``, of a homogeneous gas of rough grains (RS-5; its Sonine value over the Sonine
+    collision frequency). Arguments and NaN cases as :func:`rough_temperature_ratio`; multiply by the
+    collision frequency (:func:`collision_frequency`) for a rate per unit time.
+    """
+    if inertia is None:
+        inertia = 0.5 if dimension == 2 else 0.4
+    return _apply(
+        _T.rough_cooling_rate,
+        (dimension, state, approximation),
+        normal_restitution,
+        tangential_restitution,
+        inertia,
+    )

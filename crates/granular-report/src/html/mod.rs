@@ -9,6 +9,7 @@ mod cooling;
 mod numbers;
 mod page;
 pub mod player;
+mod rough;
 mod steady;
 mod sweep;
 

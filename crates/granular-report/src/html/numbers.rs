@@ -86,6 +86,17 @@ pub(crate) fn grains(
             number(s.temperature_max)
         );
         let row = match s.theory_a2 {
+            Some(_) if summary.rough.is_some() => Comparison::new(
+                format!("a2 of the scaled speeds of {name}"),
+                s.a2,
+                f64::NAN,
+                f64::NAN,
+            )
+            .not_applicable(
+                "rough grains: van Noije and Ernst's a2 is that of smooth grains (the rough \
+                 theory's a20 is in summary.json's rough block, theory_cumulants_sonine)",
+            )
+            .source(range),
             Some([first, second]) => Comparison::new(
                 format!("a2 of the scaled speeds of {name}"),
                 s.a2,
@@ -118,6 +129,7 @@ pub(crate) fn grains(
     }
     rows.extend(equation_of_state(scenario, summary));
     rows.extend(super::steady::rows(scenario, summary));
+    rows.extend(super::rough::rows(scenario, summary));
     rows
 }
 

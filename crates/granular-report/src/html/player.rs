@@ -246,6 +246,7 @@ mod tests {
                 masses: vec![1.0; n],
                 species: vec![0; n],
                 species_names: vec!["disk".into()],
+                ..Default::default()
             };
             granular::run::write_snapshot(
                 dir.join(format!("snapshots/snapshot_{f:06}.npz")),

@@ -73,6 +73,11 @@ pub(crate) fn rows(scenario: &Scenario, summary: &Summary) -> Vec<Comparison> {
     if white_noise {
         rows.push(temperature_row(s, relative));
     }
+    if summary.rough.is_some() {
+        let why = "rough grains: this row's wording and stated accuracy are those of smooth grains \
+                   (van Noije and Ernst); the rough grains' rows compare θ and ζ/ν with RS-4..RS-9";
+        rows = rows.into_iter().map(|r| r.not_applicable(why)).collect();
+    }
     rows
 }
 

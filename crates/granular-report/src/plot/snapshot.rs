@@ -593,6 +593,7 @@ pub(crate) mod tests {
             masses,
             species,
             species_names: vec!["bath".into(), "intruder".into(), "tracer".into()],
+            ..Default::default()
         }
     }
 
@@ -641,6 +642,7 @@ pub(crate) mod tests {
             masses: vec![1.0],
             species: vec![0],
             species_names: vec!["a".into()],
+            ..Default::default()
         };
         let dir = temp_dir("snapshot_round");
         let path = dir.join("one.png");
@@ -703,6 +705,7 @@ pub(crate) mod tests {
             masses: vec![1.0; 3],
             species: vec![0, 1, 0],
             species_names: vec!["a".into(), "b".into()],
+            ..Default::default()
         };
         SnapshotPicture::new(&snap3, PictureStyle::new(1.0, 1.0))
             .save(dir.join("projection.png"))

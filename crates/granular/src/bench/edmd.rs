@@ -45,6 +45,11 @@ pub struct FluidCase {
     /// the bench (temperature 1, the first kind's mass 1, box side `n^(1/D)`), `g` = 0.1
     /// makes the barometric height `T / (m g)` of that kind ten grain spacings.
     pub gravity: f64,
+    /// Tangential restitution β of pair collisions (RS-1): -1 smooth grains (the engine's
+    /// smooth path, no angular storage); above -1 rough grains with the κ of uniform disks
+    /// or spheres, starting without spin once melted (walls stay smooth for the contact
+    /// point, `e_t = 1`).
+    pub tangential_restitution: f64,
 }
 
 impl FluidCase {
@@ -58,6 +63,7 @@ impl FluidCase {
             size_ratio: 1.0,
             mass_ratio: 1.0,
             gravity: 0.0,
+            tangential_restitution: -1.0,
         }
     }
 
@@ -94,6 +100,7 @@ pub fn fluid<const D: usize>(case: &FluidCase, seed: u64) -> Result<Edmd<D>, Ben
         size_ratio,
         mass_ratio,
         gravity,
+        tangential_restitution,
     } = case;
     let side = (n as f64).powf(1.0 / D as f64);
     let kind = if walls {
@@ -140,6 +147,7 @@ pub fn fluid<const D: usize>(case: &FluidCase, seed: u64) -> Result<Edmd<D>, Ben
                     masses: masses.clone(),
                     species: species.clone(),
                     species_names: species_names.clone(),
+                    ..Default::default()
                 };
                 init::compress(&bx, start, &radii, &mut rng)?
             }
@@ -155,6 +163,7 @@ pub fn fluid<const D: usize>(case: &FluidCase, seed: u64) -> Result<Edmd<D>, Ben
         masses,
         species,
         species_names,
+        ..Default::default()
     };
     let mut options = EdmdOptions::default();
     if gravity != 0.0 {
@@ -163,12 +172,17 @@ pub fn fluid<const D: usize>(case: &FluidCase, seed: u64) -> Result<Edmd<D>, Ben
     }
     let mut e = Edmd::new(bx, set, CollisionLaw::default(), options);
     advance_collisions(&mut e, 5 * n as u64 / 2)?;
-    if restitution != 1.0 {
+    if restitution != 1.0 || tangential_restitution != -1.0 {
         e.set_collision_law(CollisionLaw {
             restitution,
             wall_restitution: restitution,
             wall_tangential_restitution: 1.0,
-            contact_duration: 1e-3 * e.mean_free_time_so_far(),
+            contact_duration: if restitution != 1.0 {
+                1e-3 * e.mean_free_time_so_far()
+            } else {
+                0.0
+            },
+            tangential_restitution,
             ..CollisionLaw::default()
         });
     }
@@ -291,6 +305,8 @@ pub struct Measurement {
     pub mass_ratio: f64,
     /// See [`FluidCase::gravity`].
     pub gravity: f64,
+    /// See [`FluidCase::tangential_restitution`].
+    pub tangential_restitution: f64,
     /// Wall seconds to build and melt the fluid.
     pub setup_seconds: f64,
     /// Worker threads (the engine is sequential: 1).
@@ -355,6 +371,7 @@ fn measure_in<const D: usize>(c: &FluidCase, cpp: f64) -> Result<Measurement, Be
         size_ratio: c.size_ratio,
         mass_ratio: c.mass_ratio,
         gravity: c.gravity,
+        tangential_restitution: c.tangential_restitution,
         setup_seconds,
         threads: 1,
         reference_collisions_per_second: None,

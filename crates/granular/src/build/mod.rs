@@ -3,6 +3,7 @@
 //! here imports the simulation or the run directory).
 
 pub mod intruder;
+mod rotation;
 
 use crate::boundary::SimulationBox;
 use crate::dsmc::config::DsmcConfig;
@@ -427,6 +428,7 @@ pub fn initial_particles<const D: usize>(
         masses: Vec::new(),
         species: Vec::new(),
         species_names: scenario.species().iter().map(|s| s.name.clone()).collect(),
+        ..Default::default()
     };
     // Grains with given positions first, so random placement avoids them.
     let mut fixed: Vec<(Vector<D>, f64)> = Vec::new();
@@ -524,6 +526,7 @@ pub fn initial_particles<const D: usize>(
     if scenario.initial().zero_momentum {
         setup::remove_drift(&mut set.velocities, &set.masses);
     }
+    (set.inertia, set.angular_velocities) = rotation::rotation(scenario);
     if compress.is_some() {
         let mut small = set.clone();
         small.radii.iter_mut().for_each(|r| *r /= shrink);

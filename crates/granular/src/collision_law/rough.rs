@@ -32,6 +32,49 @@ pub const fn rotational_dof(dimension: usize) -> usize {
     dimension * (dimension - 1) / 2
 }
 
+/// The reduced moment of inertia of a uniform grain: 1/2 for a disk, 2/5 for a sphere
+/// (the default of `species[i].inertia`).
+pub const fn uniform_inertia(dimension: usize) -> f64 {
+    if dimension == 2 { 0.5 } else { 0.4 }
+}
+
+/// The largest reduced moment of inertia of a grain whose mass lies within its radius:
+/// 1 for a ring (disks), 2/3 for a hollow sphere.
+pub const fn max_inertia(dimension: usize) -> f64 {
+    if dimension == 2 { 1.0 } else { 2.0 / 3.0 }
+}
+
+/// The spin of grain `i` from a flat array of `d_r` values per grain (the `z` component
+/// alone for disks).
+#[inline(always)]
+pub fn spin_at<const D: usize>(flat: &[f64], i: usize) -> Spin {
+    if D == 2 {
+        [0.0, 0.0, flat[i]]
+    } else {
+        [flat[3 * i], flat[3 * i + 1], flat[3 * i + 2]]
+    }
+}
+
+/// Stores the spin of grain `i` into a flat array of `d_r` values per grain.
+#[inline(always)]
+pub fn set_spin<const D: usize>(flat: &mut [f64], i: usize, w: &Spin) {
+    if D == 2 {
+        flat[i] = w[2];
+    } else {
+        flat[3 * i..3 * i + 3].copy_from_slice(w);
+    }
+}
+
+/// The rotational kinetic energy `I |ω|² / 2 = κ m R² |ω|² / 2` of a grain.
+#[inline(always)]
+pub fn rotational_energy(body: &Body, w: &Spin) -> f64 {
+    0.5 * body.inertia
+        * body.mass
+        * body.radius
+        * body.radius
+        * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2])
+}
+
 /// A grain as a collision sees it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Body {

@@ -512,6 +512,12 @@ impl<const D: usize> DsmcEngine<D> {
 
 /// Rejects restitutions outside `[0, 1]` and a negative or non-finite contact duration.
 fn check_law(law: &CollisionLaw) -> Result<(), DsmcError> {
+    if law.is_rough() {
+        return Err(DsmcError::Invalid(format!(
+            "law.tangential_restitution is {} (rough grains); DSMC simulates smooth grains only (-1)",
+            law.tangential_restitution
+        )));
+    }
     for (key, x) in [
         ("restitution", law.restitution),
         ("wall_restitution", law.wall_restitution),

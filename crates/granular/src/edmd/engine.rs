@@ -165,6 +165,13 @@ pub struct Edmd<const D: usize> {
     kind_radius: Vec<f64>,
     kind_mass: Vec<f64>,
     kind_species: Vec<u32>,
+    /// Rough grains only (empty for smooth ones, which carry no rotation): the reduced
+    /// moment of inertia κ of each kind, and the angular velocity of each slot, `d_r`
+    /// values per slot (`collision_law::rough::spin_at`). Free flight leaves spins alone.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    kind_inertia: Vec<f64>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    spin: Vec<f64>,
     queue: EventQueue,
     cells: CellGrid<D>,
     species_names: Vec<String>,

@@ -444,7 +444,7 @@ pub fn write_snapshot(path: impl AsRef<Path>, snapshot: &Snapshot) -> Result<(),
             )));
         }
     }
-    let arrays = [
+    let mut arrays = vec![
         ("time", NpzArray::scalar(snapshot.time)),
         (
             "dimension",
@@ -469,6 +469,24 @@ pub fn write_snapshot(path: impl AsRef<Path>, snapshot: &Snapshot) -> Result<(),
             NpzArray::strings(snapshot.species_names.clone()),
         ),
     ];
+    // Rough grains: `angular_velocities`, (n,) for disks (ω_z), (n, 3) for spheres.
+    if !snapshot.angular_velocities.is_empty() {
+        let r = d * (d - 1) / 2;
+        if snapshot.angular_velocities.len() != n * r {
+            return Err(NpzError::Format(format!(
+                "snapshot `angular_velocities` has {} values, expected {} for {n} particles in {d}D",
+                snapshot.angular_velocities.len(),
+                n * r
+            )));
+        }
+        let w = snapshot.angular_velocities.clone();
+        let array = if r == 1 {
+            NpzArray::f64_1d(w)
+        } else {
+            NpzArray::f64_2d(w, n, r)?
+        };
+        arrays.push(("angular_velocities", array));
+    }
     write_npz(path, &arrays)
 }
 
@@ -551,12 +569,18 @@ pub fn read_snapshot(path: impl AsRef<Path>) -> Result<Snapshot, NpzError> {
         masses: f64s("masses")?,
         species,
         species_names,
+        angular_velocities: match get("angular_velocities") {
+            Ok(_) => f64s("angular_velocities")?,
+            Err(_) => Vec::new(),
+        },
     };
     let n = snapshot.radii.len();
     if snapshot.velocities.len() != n * dimension
         || snapshot.positions.len() != n * dimension
         || snapshot.masses.len() != n
         || snapshot.species.len() != n
+        || !(snapshot.angular_velocities.is_empty()
+            || snapshot.angular_velocities.len() == n * dimension * (dimension - 1) / 2)
     {
         return Err(NpzError::Format(
             "snapshot arrays have inconsistent lengths".into(),
@@ -595,6 +619,7 @@ mod tests {
             masses: vec![1.0, 1.0, 25.0],
             species: vec![0, 0, 1],
             species_names: vec!["bath".into(), "intruder".into()],
+            ..Default::default()
         }
     }
 
@@ -635,11 +660,63 @@ mod tests {
             masses: vec![2.0],
             species: vec![0],
             species_names: vec![String::new()],
+            ..Default::default()
         };
         write_snapshot(&path, &s).expect("write");
         let r = read_snapshot(&path).expect("read");
         assert_eq!(r.dimension, 3);
         assert_eq!(r.species_names, vec![String::new()]);
+        assert!(r.angular_velocities.is_empty());
+    }
+
+    /// Rough grains: `angular_velocities` (n,) in 2D and (n, 3) in 3D, read back; a smooth
+    /// snapshot has no such array.
+    #[test]
+    fn snapshot_angular_velocities() {
+        let path = temp_path("snap_rough2.npz");
+        let mut s = sample_snapshot();
+        write_snapshot(&path, &s).expect("write");
+        let arrays = read_npz(&path).expect("read npz");
+        assert!(arrays.iter().all(|(n, _)| n != "angular_velocities"));
+        s.angular_velocities = vec![1.0, -2.0, 0.5];
+        write_snapshot(&path, &s).expect("write");
+        let arrays = read_npz(&path).expect("read npz");
+        let w = &arrays
+            .iter()
+            .find(|(n, _)| n == "angular_velocities")
+            .expect("w")
+            .1;
+        assert_eq!(w.shape, vec![3]);
+        assert_eq!(
+            read_snapshot(&path).expect("read").angular_velocities,
+            s.angular_velocities
+        );
+        let path = temp_path("snap_rough3.npz");
+        let s3 = Snapshot {
+            time: 0.0,
+            dimension: 3,
+            positions: vec![1.0, 2.0, 3.0],
+            velocities: vec![0.0; 3],
+            radii: vec![0.5],
+            masses: vec![2.0],
+            species: vec![0],
+            species_names: vec!["a".into()],
+            angular_velocities: vec![0.1, 0.2, 0.3],
+        };
+        write_snapshot(&path, &s3).expect("write");
+        let arrays = read_npz(&path).expect("read npz");
+        let w = &arrays
+            .iter()
+            .find(|(n, _)| n == "angular_velocities")
+            .expect("w")
+            .1;
+        assert_eq!(w.shape, vec![1, 3]);
+        assert_eq!(
+            read_snapshot(&path).expect("read").angular_velocities,
+            s3.angular_velocities
+        );
+        s.angular_velocities = vec![1.0];
+        assert!(write_snapshot(&path, &s).is_err());
     }
 
     #[test]

@@ -713,6 +713,7 @@ impl Recorder {
             intruder: None,
             averages: None,
             steady_state: None,
+            rough: None,
             resolved: ResolvedSummary::of(simulation.resolved()),
             warnings: self.warnings.clone(),
             changes: simulation.changes().to_vec(),

@@ -275,6 +275,42 @@ pub struct SteadyStateSummary {
     pub chi: f64,
 }
 
+/// Rough grains (`docs/rough.md`): the measured temperature ratio and reduced cooling
+/// rate of the run (averages after the equilibration time, with their standard errors)
+/// beside the kinetic theory of one species of rough grains in a homogeneous gas: the
+/// Maxwellian approximation (RS-4/RS-5 for a cooling gas and the rescaled cooling state,
+/// RS-6 for white noise) and the first Sonine approximation (RS-8, RS-9).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RoughSummary {
+    /// `cooling` (free), `rescale` (the rescaled cooling state) or `white_noise`.
+    pub state: String,
+    /// α, β and κ (of the first species) the theory is evaluated at.
+    pub normal_restitution: f64,
+    /// β (Walton's sticking value β₀ when `friction` is set: then no theory is given).
+    pub tangential_restitution: f64,
+    /// κ of the first species.
+    pub inertia: f64,
+    /// Measured `T_r / T_t` (the `temperature_ratio` column).
+    pub temperature_ratio: Option<AverageValue>,
+    /// Maxwellian approximation: RS-4 (cooling states) or RS-6 (white noise).
+    pub theory_temperature_ratio: Option<f64>,
+    /// First Sonine approximation: RS-8 or RS-9 (`null` where it has no solution).
+    pub theory_temperature_ratio_sonine: Option<f64>,
+    /// Measured `ζ/ν`, the cooling rate of the total energy per collision of a grain (the
+    /// `reduced_cooling_rate` column).
+    pub reduced_cooling_rate: Option<AverageValue>,
+    /// Maxwellian approximation of `ζ/ν` (RS-5; for white noise
+    /// `d_t ζ_t / (d_t + d_r θ)` at RS-6).
+    pub theory_reduced_cooling_rate: Option<f64>,
+    /// Sonine approximation of `ζ/ν`, over the Sonine collision frequency
+    /// `ν_M (1 - a20/16)` as a measured rate is.
+    pub theory_reduced_cooling_rate_sonine: Option<f64>,
+    /// The Sonine cumulants `[a20, a02, a11]` of the state (`a20` is the `a2` column).
+    pub theory_cumulants_sonine: Option<[f64; 3]>,
+    /// How far the theory can be trusted here.
+    pub note: String,
+}
+
 /// What a finished run reports (`summary.json`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Summary {
@@ -325,6 +361,9 @@ pub struct Summary {
     /// A driven gas (`[driving]`): its measured steady state beside kinetic theory.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub steady_state: Option<SteadyStateSummary>,
+    /// Rough grains: the temperature ratio and cooling rate beside theory.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rough: Option<RoughSummary>,
     /// Values resolved at build time (radius, packing fraction, contact value).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub resolved: Option<ResolvedSummary>,

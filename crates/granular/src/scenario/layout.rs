@@ -245,9 +245,30 @@ pub(super) fn check_table(table: &toml::Table) -> Result<(), ScenarioError> {
         COMMON.contains(&k) || GRAINS.contains(&k) || ["edmd", "dsmc", "intruder"].contains(&k)
     };
     match table.keys().find(|k| known(k) && !applies(k, engine)) {
-        Some(k) => Err(not_applicable(k, engine)),
+        Some(k) => Err(match rough_intruder(table, k, engine) {
+            Some(e) => e,
+            None => not_applicable(k, engine),
+        }),
         None => Ok(()),
     }
+}
+
+/// Rough grains asked of an intruder engine (`collisions.tangential_restitution` or
+/// `collisions.friction` above their smooth values): the intruder and its bath are smooth.
+fn rough_intruder(table: &toml::Table, key: &str, engine: EngineKind) -> Option<ScenarioError> {
+    if engine != EngineKind::Intruder || key != "collisions" {
+        return None;
+    }
+    let c = table.get("collisions")?.as_table()?;
+    let (k, v) = ["tangential_restitution", "friction"]
+        .iter()
+        .find_map(|k| c.get(*k).map(|v| (*k, v)))?;
+    Some(ScenarioError::new(
+        format!("collisions.{k}"),
+        format!(
+            "is {v}, but the intruder engines model smooth grains only (no rotation, no tangential restitution); remove [collisions] and set the intruder's restitution in [intruder], or simulate rough grains with engine = \"edmd\""
+        ),
+    ))
 }
 
 /// Removes the top-level keys that do not apply to the engine from a serialised scenario

@@ -18,6 +18,7 @@ mod output;
 mod overrides;
 mod preflight;
 mod resolve;
+mod rough;
 mod spans;
 mod species;
 mod sweep;
@@ -34,7 +35,10 @@ pub use preflight::{
     Cost, EDMD_EVENTS_PER_COLLISION, FALLBACK_MEMORY, MAX_BYTES, MAX_COLLISIONS, MAX_OUTPUTS,
     NOMINAL_COLLISIONS_PER_SECOND, WARN_OUTPUTS, available_memory,
 };
-pub use resolve::{Cooling, DrivingResolved, DsmcResolved, Grains, Resolved, SpeciesResolved};
+pub use resolve::{
+    Cooling, DrivingResolved, DsmcResolved, Grains, Resolved, RoughResolved, SpeciesResolved,
+};
+pub use rough::AngularVelocitySpec;
 pub use spans::locate;
 pub use species::MAX_NAME_LEN;
 pub(crate) use sweep::sweep_member;
@@ -460,6 +464,13 @@ pub struct SpeciesSpec {
     /// Initial velocities.
     #[serde(default)]
     pub velocity: VelocitySpec,
+    /// Reduced moment of inertia `κ = 4I/(mσ²)` of rough grains (RS-1): in (0, 1] for
+    /// disks, (0, 2/3] for spheres; default 1/2 (uniform disk) or 2/5 (uniform sphere).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inertia: Option<f64>,
+    /// Initial angular velocities of rough grains; default: none (zero spin).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub angular_velocity: Option<AngularVelocitySpec>,
 }
 
 fn unit() -> f64 {
@@ -576,6 +587,14 @@ pub struct CollisionSpec {
     /// TC-model contact duration t_c (time units); 0 disables it.
     #[serde(default)]
     pub contact_duration: f64,
+    /// Tangential restitution β in [-1, 1] of grain-grain collisions (RS-1): above -1 the
+    /// grains are rough and rotate; default -1 (smooth grains).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tangential_restitution: Option<f64>,
+    /// Coulomb friction coefficient μ >= 0 of Walton's rule (RS-7), with
+    /// `tangential_restitution` as the sticking value β₀; absent: a constant β.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction: Option<f64>,
 }
 
 impl Default for CollisionSpec {
@@ -585,6 +604,8 @@ impl Default for CollisionSpec {
             wall_restitution: None,
             wall_tangential_restitution: None,
             contact_duration: 0.0,
+            tangential_restitution: None,
+            friction: None,
         }
     }
 }
@@ -598,7 +619,8 @@ impl CollisionSpec {
             wall_restitution: wall,
             wall_tangential_restitution: self.wall_tangential_restitution.unwrap_or(wall),
             contact_duration: self.contact_duration,
-            ..Default::default()
+            tangential_restitution: self.tangential_restitution.unwrap_or(-1.0),
+            friction: self.friction,
         }
     }
 }
@@ -857,6 +879,7 @@ impl Scenario {
             validate::dimension(self)?;
             validate::simulation_box(self)?;
             validate::collisions(self)?;
+            rough::validate(self)?;
             validate::gravity(self)?;
             species::validate(self)?;
             validate::initial(self)?;

@@ -23,7 +23,7 @@ const GIB: f64 = 1024.0 * 1024.0 * 1024.0;
 /// The initial gas of the estimate, from the scenario's resolved values
 /// ([`super::Resolved`]): grains, mean temperature, the dilute (Boltzmann, `χ = 1`)
 /// collision frequency ω0 per grain (KT-5) and Haff's time of that estimate (KT-9 without
-/// the Sonine factor; infinite for an elastic gas).
+/// the Sonine factor, or `2 / ζ` of RS-5 for rough grains; infinite for an elastic gas).
 struct Gas {
     n: f64,
     temperature: f64,
@@ -45,14 +45,23 @@ fn gas(sc: &Scenario) -> Gas {
         n: g.particles as f64,
         temperature: g.temperature,
         omega: g.dilute_collision_frequency,
-        haff: g.cooling.map_or(f64::INFINITY, |c| c.dilute_haff_time),
+        // Rough grains: `2 / ζ` with the cooling rate of their cooling state (RS-5).
+        haff: match (&g.rough, &g.cooling) {
+            (Some(r), _) => r.dilute_haff_time,
+            (None, Some(c)) => c.dilute_haff_time,
+            (None, None) => f64::INFINITY,
+        },
     }
 }
 
 fn elastic_everywhere(sc: &Scenario) -> bool {
     let law = sc.collisions().law();
     let walls = sc.axes().contains(&AxisKind::Wall);
+    // Rough grains lose energy to the tangential restitution too, unless β = ±1.
+    let rough_elastic =
+        !law.is_rough() || (law.friction.is_none() && law.tangential_restitution.abs() == 1.0);
     law.restitution == 1.0
+        && rough_elastic
         && (!walls || (law.wall_restitution == 1.0 && law.wall_tangential_restitution == 1.0))
 }
 
@@ -450,8 +459,11 @@ fn grains_cost(sc: &Scenario, g: &Gas) -> Cost {
     let e = sc.collisions().restitution;
     // A driven gas (`[driving]`) does not cool: its clock runs at the initial
     // temperature (the rescaled one's exactly, the heated one's near its steady value).
-    let cooling =
-        e < 1.0 && !gravity && sc.collisions().contact_duration == 0.0 && sc.driving().is_none();
+    let law = sc.collisions().law();
+    let cooling = (e < 1.0 || law.is_rough())
+        && !gravity
+        && sc.collisions().contact_duration == 0.0
+        && sc.driving().is_none();
     let clock = Clock {
         omega: g.omega,
         haff: if cooling { g.haff } else { f64::INFINITY },

@@ -3,7 +3,8 @@
 //! `packing_fraction`), masses and volumes, the number density and packing fraction, the
 //! contact value `χ` of the collision rate, the initial temperature, the collision
 //! frequency, mean free time and path, Haff's time with its Sonine factor and the HCS `a2`,
-//! the DSMC time step and cell size, and the steady state of `[driving]`.
+//! the DSMC time step and cell size, the steady state of `[driving]`, and for rough grains
+//! their reduced moments of inertia and the cooling rate of their homogeneous cooling state.
 //!
 //! [`Scenario::resolve`] resolves a scenario at the initial temperature its velocities
 //! describe (`granular check`, the pre-flight estimate); the simulation built from it
@@ -12,9 +13,11 @@
 //! steady-state output and the report read. Nobody else recomputes these numbers.
 
 use super::{Scenario, VelocitySpec};
+use crate::collision_law::rough::uniform_inertia;
 use crate::driving::{Driving, GasTheory};
 use crate::dsmc::cells::cells_along;
 use crate::dsmc::config::{AT_REST_TIME_STEP, automatic_time_step, default_cell_size};
+use crate::theory::rough::RoughGas;
 use crate::theory::{haff, kinetic, sonine};
 
 /// One species, resolved.
@@ -35,7 +38,7 @@ pub struct SpeciesResolved {
     pub temperature: f64,
 }
 
-/// Haff's law for a gas that cools (`collisions.restitution < 1`).
+/// Haff's law for a gas of smooth grains that cools (`collisions.restitution < 1`).
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Cooling {
     /// `1 + 3 a2 / 16` with the first estimate: the Sonine factor of the cooling rate (KT-8).
@@ -82,6 +85,43 @@ pub struct DrivingResolved {
     pub temperature: f64,
 }
 
+/// Rough grains (`collisions.tangential_restitution` above -1), resolved.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct RoughResolved {
+    /// Tangential restitution β of a pair collision (RS-1); with `collisions.friction`
+    /// the sticking value β₀ of Walton's rule (RS-7).
+    pub tangential_restitution: f64,
+    /// Coulomb friction coefficient μ of Walton's rule, if any.
+    pub friction: Option<f64>,
+    /// The reduced moment of inertia `κ = 4I/(mσ²)` of each species, in the scenario's
+    /// order: `species[i].inertia`, or the uniform grain's
+    /// ([`crate::collision_law::rough::uniform_inertia`]).
+    pub inertia: Vec<f64>,
+    /// The cooling rate `ζ / ν` of the homogeneous cooling state of the first species
+    /// in the Maxwellian approximation (RS-4, RS-5; Walton's rule read as its β₀).
+    pub cooling_rate: f64,
+    /// `2 / (ζ ω₀)` with the dilute collision frequency ω₀ at the initial temperature,
+    /// the pre-flight estimate's clock (infinite when the gas does not cool).
+    pub dilute_haff_time: f64,
+}
+
+impl RoughResolved {
+    /// The kinetic theory of the first species ([`crate::theory::rough`]) at normal
+    /// restitution `restitution`.
+    pub fn gas(&self, dimension: usize, restitution: f64) -> RoughGas {
+        RoughGas {
+            dimension,
+            normal_restitution: restitution,
+            tangential_restitution: self.tangential_restitution,
+            inertia: self
+                .inertia
+                .first()
+                .copied()
+                .unwrap_or(uniform_inertia(dimension)),
+        }
+    }
+}
+
 /// The many-grain engines' resolved quantities.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Grains {
@@ -124,8 +164,11 @@ pub struct Grains {
     pub mean_free_path: f64,
     /// The dilute (Boltzmann, `χ = 1`) collision frequency, the pre-flight estimate's.
     pub dilute_collision_frequency: f64,
-    /// Haff's law, for `e < 1`.
+    /// Haff's law, for smooth grains with `e < 1` (rough grains cool at RS-5: [`Grains::rough`]).
     pub cooling: Option<Cooling>,
+    /// Rough grains: their inertia and cooling (`None` for smooth grains).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rough: Option<RoughResolved>,
     /// `engine = "dsmc"`: its step and cells.
     pub dsmc: Option<DsmcResolved>,
     /// `[driving]`: its steady state.
@@ -213,6 +256,18 @@ impl Grains {
         );
         let contact_value = kinetic::contact_value(d, packing_fraction);
         let enskog = sc.dsmc().is_none_or(|d| d.enskog);
+        let law = sc.collisions().law();
+        let rough = law.is_rough().then(|| RoughResolved {
+            tangential_restitution: law.tangential_restitution,
+            friction: law.friction,
+            inertia: sc
+                .species()
+                .iter()
+                .map(|sp| sp.inertia.unwrap_or(uniform_inertia(d)))
+                .collect(),
+            cooling_rate: f64::NAN,
+            dilute_haff_time: f64::INFINITY,
+        });
         let mut g = Grains {
             species,
             volume,
@@ -235,6 +290,7 @@ impl Grains {
             mean_free_path: f64::NAN,
             dilute_collision_frequency: f64::NAN,
             cooling: None,
+            rough,
             dsmc: None,
             driving: None,
         };
@@ -258,7 +314,16 @@ impl Grains {
         self.mean_free_path = kinetic::mean_free_path(d, n, r, chi);
         self.dilute_collision_frequency = kinetic::collision_frequency(d, n, r, t, m, 1.0);
         let first = self.hcs_a2[0];
-        self.cooling = (e < 1.0).then(|| Cooling {
+        if let Some(rough) = self.rough.as_mut() {
+            let zeta = rough.gas(d, e).cooling_rate();
+            rough.cooling_rate = zeta;
+            rough.dilute_haff_time = if zeta > 0.0 {
+                2.0 / (zeta * self.dilute_collision_frequency)
+            } else {
+                f64::INFINITY
+            };
+        }
+        self.cooling = (e < 1.0 && self.rough.is_none()).then(|| Cooling {
             sonine_factor: 1.0 + 3.0 * first / 16.0,
             haff_time: haff::haff_time(d, n, r, t, m, e, chi, true),
             dilute_haff_time: haff::haff_time(d, n, r, t, m, e, 1.0, false),

@@ -23,6 +23,24 @@ pub mod sonine;
 
 pub use sonine::SonineState;
 
+/// A homogeneous state of a rough gas with a fixed temperature ratio.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RoughState {
+    /// The homogeneous cooling state (free, or held by rescaling): RS-4, RS-5, RS-8.
+    Cooling,
+    /// The gas heated by white noise on the translational velocities: RS-6, RS-9.
+    WhiteNoise,
+}
+
+/// The approximation of the velocity distribution a theory value is taken in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Approximation {
+    /// Both distributions Maxwellian (RS-4 to RS-6).
+    Maxwell,
+    /// The first Sonine approximation (RS-8, RS-9).
+    Sonine,
+}
+
 /// One species of rough grains in `dimension` dimensions.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RoughGas {
@@ -152,6 +170,51 @@ impl RoughGas {
         let heating = mass * strength * (1.0 - 1.0 / particles as f64);
         let rate = self.translational_cooling_rate(self.white_noise_temperature_ratio());
         (heating / (collision_frequency_at_unit_temperature * rate)).powf(2.0 / 3.0)
+    }
+
+    /// The temperature ratio `θ = T_r / T_t` of `state` in `approximation`: RS-4 or RS-6
+    /// (Maxwellian), RS-8 or RS-9 (Sonine). `None` for smooth grains in the cooling state
+    /// or where the Sonine equations have no solution.
+    pub fn temperature_ratio(
+        &self,
+        state: RoughState,
+        approximation: Approximation,
+    ) -> Option<f64> {
+        match approximation {
+            Approximation::Maxwell => match state {
+                RoughState::Cooling => self.cooling_temperature_ratio(),
+                RoughState::WhiteNoise => Some(self.white_noise_temperature_ratio()),
+            },
+            Approximation::Sonine => self.sonine_state(state).map(|s| s.temperature_ratio),
+        }
+    }
+
+    /// The cooling rate of the total energy per collision of a grain, `ζ/ν`, in `state`:
+    /// Maxwellian, `total_cooling_rate` at RS-4 (= RS-5) or at RS-6 (`d_t ζ_t/(d_t + d_r θ)`,
+    /// the rotational loss vanishing); Sonine, the same with the cumulants of RS-8/RS-9,
+    /// divided by the Sonine collision frequency over the Maxwellian one (`1 - a20/16`), as
+    /// a rate measured per collision is. `None` where [`Self::temperature_ratio`] is.
+    pub fn reduced_cooling_rate(
+        &self,
+        state: RoughState,
+        approximation: Approximation,
+    ) -> Option<f64> {
+        match approximation {
+            Approximation::Maxwell => self
+                .temperature_ratio(state, approximation)
+                .map(|theta| self.total_cooling_rate(theta)),
+            Approximation::Sonine => self
+                .sonine_state(state)
+                .map(|s| s.total_cooling_rate / s.collision_frequency_factor),
+        }
+    }
+
+    /// RS-8 or RS-9.
+    pub fn sonine_state(&self, state: RoughState) -> Option<SonineState> {
+        match state {
+            RoughState::Cooling => self.sonine_cooling_state(),
+            RoughState::WhiteNoise => self.sonine_white_noise_state(),
+        }
     }
 
     /// The two temperatures of a freely cooling gas at the `times` (ascending, from 0),

@@ -315,6 +315,7 @@ pub(crate) mod test_frame {
             masses: vec![1.0, 4.0],
             species: vec![0, 1],
             species_names: vec!["bath".into(), "intruder".into()],
+            ..Default::default()
         };
         let cell = Cell {
             lengths: vec![1.0, 0.5],

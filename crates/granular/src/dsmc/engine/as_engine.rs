@@ -101,6 +101,8 @@ impl<const D: usize> Engine for DsmcEngine<D> {
                 .as_ref()
                 .map(|s| vec![("injected_energy".to_string(), s.injected_energy)])
                 .unwrap_or_default(),
+            rotational_energy: None,
+            rotational_temperature: None,
         }
     }
 
@@ -138,6 +140,7 @@ impl<const D: usize> Engine for DsmcEngine<D> {
             masses: vec![self.mass; n],
             species: (0..n as u32).map(|id| self.species.of(id)).collect(),
             species_names: self.species.names.clone(),
+            ..Default::default()
         })
     }
 }

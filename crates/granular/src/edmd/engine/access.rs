@@ -6,7 +6,7 @@ use super::Edmd;
 use super::Totals;
 use super::collide::CollisionRecord;
 use crate::boundary::SimulationBox;
-use crate::collision_law::CollisionLaw;
+use crate::collision_law::{CollisionLaw, Spin, rough};
 use crate::particles::ParticleSet;
 use crate::stats::Histogram;
 use crate::vector::Vector;
@@ -22,12 +22,61 @@ impl<const D: usize> Edmd<D> {
         &self.law
     }
 
-    /// Replaces the collision law (takes effect from the next collision).
+    /// Replaces the collision law (takes effect from the next collision). A law that makes
+    /// smooth grains rough starts them without spin, each species uniform.
     pub fn set_collision_law(&mut self, law: CollisionLaw) {
         if law.contact_duration > 0.0 && self.last_collision.is_empty() {
             self.last_collision = vec![f64::NEG_INFINITY; self.len()];
         }
+        if law.is_rough() && self.spin.is_empty() {
+            self.kind_inertia = vec![rough::uniform_inertia(D); self.kind_species.len()];
+            self.spin = vec![0.0; rough::rotational_dof(D) * self.len()];
+        }
         self.law = law;
+    }
+
+    /// Whether the grains are rough (they carry angular velocities).
+    pub fn is_rough(&self) -> bool {
+        !self.spin.is_empty()
+    }
+
+    /// Angular velocity of grain `id` (radians per time unit; `[0, 0, ω_z]` for a disk);
+    /// zero for smooth grains.
+    pub fn angular_velocity(&self, id: usize) -> Spin {
+        if self.spin.is_empty() {
+            return [0.0; 3];
+        }
+        rough::spin_at::<D>(&self.spin, self.slot_of(id))
+    }
+
+    /// Angular velocities of rough grains by id, `d_r` values per grain (`ω_z` in 2D);
+    /// empty for smooth grains.
+    pub fn angular_velocities(&self) -> Vec<f64> {
+        if self.spin.is_empty() {
+            return Vec::new();
+        }
+        let r = rough::rotational_dof(D);
+        let mut out = Vec::with_capacity(r * self.len());
+        for &s in self.slots() {
+            let s = s as usize;
+            out.extend_from_slice(&self.spin[r * s..r * s + r]);
+        }
+        out
+    }
+
+    /// The reduced moment of inertia κ of each species of rough grains (empty for smooth
+    /// grains).
+    pub fn species_inertia(&self) -> Vec<f64> {
+        if self.kind_inertia.is_empty() {
+            return Vec::new();
+        }
+        let mut out = vec![rough::uniform_inertia(D); self.species_names.len().max(1)];
+        for (k, &s) in self.kind_species.iter().enumerate() {
+            if let Some(x) = out.get_mut(s as usize) {
+                *x = self.kind_inertia[k];
+            }
+        }
+        out
     }
 
     /// Running totals (collision counts, virial, dissipated energy).
@@ -195,6 +244,8 @@ impl<const D: usize> Edmd<D> {
             masses: self.masses(),
             species: self.species(),
             species_names: self.species_names.clone(),
+            angular_velocities: self.angular_velocities(),
+            inertia: self.species_inertia(),
         }
     }
 }

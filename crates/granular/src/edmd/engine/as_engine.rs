@@ -41,6 +41,7 @@ impl<const D: usize> Engine for Edmd<D> {
         let n = self.len();
         let volume = self.bx.volume();
         let kinetic = self.kinetic_energy_now();
+        let rotation = self.rotational_energy_now();
         let (a2, species_a2) = self.a2_by_species();
         let species = if self.species_names.len() > 1 {
             self.species_kinetic_energy()
@@ -75,6 +76,10 @@ impl<const D: usize> Engine for Edmd<D> {
             kinetic_energy: kinetic,
             temperature: 2.0 * kinetic / (D as f64 * n as f64),
             species,
+            rotational_energy: rotation,
+            rotational_temperature: rotation.map(|e| {
+                2.0 * e / (crate::collision_law::rough::rotational_dof(D) as f64 * n as f64)
+            }),
             wall_collisions: Some(self.totals.wall_collisions),
             dissipated_energy: Some(self.totals.dissipated_energy),
             tc_elastic_collisions: Some(self.totals.tc_elastic_collisions),
@@ -92,8 +97,12 @@ impl<const D: usize> Engine for Edmd<D> {
         }
     }
 
+    /// Translational plus (rough grains) rotational kinetic energy.
     fn kinetic_energy(&self) -> f64 {
-        self.kinetic_energy_now()
+        match self.rotational_energy_now() {
+            Some(e) => self.kinetic_energy_now() + e,
+            None => self.kinetic_energy_now(),
+        }
     }
 
     fn impact_histogram(&self) -> Option<crate::stats::Histogram> {
@@ -139,6 +148,7 @@ impl<const D: usize> Engine for Edmd<D> {
             masses: self.masses(),
             species: self.species(),
             species_names: self.species_names.clone(),
+            angular_velocities: self.angular_velocities(),
         })
     }
 }

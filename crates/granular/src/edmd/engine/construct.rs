@@ -5,7 +5,7 @@ use super::collapse::CollapseWatch;
 use super::events::{FIRST_SPECIAL, Scheduled};
 use super::{Edmd, EdmdOptions, RECORD_ALIGN, Records, Totals};
 use crate::boundary::SimulationBox;
-use crate::collision_law::CollisionLaw;
+use crate::collision_law::{CollisionLaw, rough};
 use crate::edmd::candidates::Grain;
 use crate::edmd::queue::EventQueue;
 use crate::neighbours::{Candidates, CellGrid, NONE};
@@ -85,6 +85,11 @@ impl<const D: usize> Edmd<D> {
         } else {
             Vec::new()
         };
+        let (kind_inertia, spin) = if law.is_rough() {
+            rotation::<D>(&particles, &kind_species)
+        } else {
+            (Vec::new(), Vec::new())
+        };
         let mut engine = Self {
             law,
             gravity,
@@ -100,6 +105,8 @@ impl<const D: usize> Edmd<D> {
             kind_radius,
             kind_mass,
             kind_species,
+            kind_inertia,
+            spin,
             queue: EventQueue::new(n),
             cells,
             species_names: particles.species_names,
@@ -128,4 +135,29 @@ impl<const D: usize> Edmd<D> {
         engine.queue.rebuild(engine.now);
         engine
     }
+}
+
+/// The rotation of rough grains: κ of each kind (from its species, or that of a uniform
+/// grain) and the angular velocities in input order (zero when the set has none).
+pub(super) fn rotation<const D: usize>(
+    particles: &ParticleSet<D>,
+    kind_species: &[u32],
+) -> (Vec<f64>, Vec<f64>) {
+    let inertia = kind_species
+        .iter()
+        .map(|&s| {
+            particles
+                .inertia
+                .get(s as usize)
+                .copied()
+                .unwrap_or(rough::uniform_inertia(D))
+        })
+        .collect();
+    let values = rough::rotational_dof(D) * particles.len();
+    let spin = if particles.angular_velocities.len() == values {
+        particles.angular_velocities.clone()
+    } else {
+        vec![0.0; values]
+    };
+    (inertia, spin)
 }

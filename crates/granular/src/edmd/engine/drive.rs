@@ -30,14 +30,40 @@ impl<const D: usize> Edmd<D> {
             self.driving = None;
             return;
         };
-        self.driving = Some(EdmdDriving::new(
-            driving,
-            &self.gas_theory(),
-            self.kinetic_energy_now(),
+        let theory = self.gas_theory();
+        let energy = self.kinetic_energy_now() + self.rotational_energy_now().unwrap_or(0.0);
+        let mut attached = EdmdDriving::new(
+            driving.clone(),
+            &theory,
+            energy,
             seed,
             self.time(),
             fraction,
-        ));
+        );
+        if let (Driving::WhiteNoise { strength }, true) = (driving, self.is_rough()) {
+            // Rough grains: the mean free time at the Maxwellian balance with the
+            // translational loss at the steady temperature ratio (RS-6).
+            let law = self.collision_law();
+            let gas = crate::theory::rough::RoughGas {
+                dimension: D,
+                normal_restitution: law.restitution,
+                tangential_restitution: law.tangential_restitution,
+                inertia: self.species_inertia()[0],
+            };
+            let nu = |t: f64| {
+                haff::collision_frequency(
+                    D,
+                    theory.number_density,
+                    theory.radius,
+                    t,
+                    theory.mass,
+                    theory.chi,
+                )
+            };
+            let t = gas.white_noise_temperature(strength, theory.mass, theory.particles, nu(1.0));
+            attached.interval = fraction / nu(t);
+        }
+        self.driving = Some(attached);
     }
 
     /// The driving and its tally, if any.
@@ -102,6 +128,7 @@ impl<const D: usize> Edmd<D> {
             return;
         };
         let before = self.kinetic_energy_now();
+        let spin_before = self.rotational_energy_now();
         let n = self.particle_count();
         let total_mass: f64 = (0..n).map(|i| self.mass_of(i)).sum();
         let u = self.momentum() * (1.0 / total_mass);
@@ -112,6 +139,9 @@ impl<const D: usize> Edmd<D> {
                 let t = 2.0 * peculiar / (D as f64 * n as f64);
                 let lambda = rescale_factor(temperature, t);
                 self.change_velocities(|_, v| u + (v - u) * lambda);
+                // Rough grains: the spins by the same factor, so the temperature ratio
+                // is left to the collisions.
+                self.scale_spins(lambda);
             }
             Driving::WhiteNoise { strength } => {
                 let kick = |id: u32| d.kick::<D>(strength, id);
@@ -122,9 +152,13 @@ impl<const D: usize> Edmd<D> {
             }
         }
         let after = self.kinetic_energy_now();
+        let injected = match (spin_before, self.rotational_energy_now()) {
+            (Some(b), Some(a)) => (after + a) - (before + b),
+            _ => after - before,
+        };
         if let Some(d) = self.driving.as_mut() {
             d.state.applications += 1;
-            d.state.injected_energy += after - before;
+            d.state.injected_energy += injected;
         }
     }
 }

@@ -80,6 +80,17 @@ impl<const D: usize> Edmd<D> {
                 .collect();
             self.last_collision = lc;
         }
+        if !self.spin.is_empty() {
+            let r = crate::collision_law::rough::rotational_dof(D);
+            let spin = order
+                .iter()
+                .flat_map(|&o| {
+                    let o = o as usize;
+                    self.spin[r * o..r * o + r].iter().copied()
+                })
+                .collect();
+            self.spin = spin;
+        }
         self.id = order.iter().map(|&o| self.id[o as usize]).collect();
         self.slot = std::sync::OnceLock::new();
         self.queue.relabel(&new_of_old, self.now);

@@ -12,6 +12,27 @@ impl<const D: usize> Edmd<D> {
             .sum()
     }
 
+    /// Rotational kinetic energy `Σ I |ω|² / 2` of rough grains (`None` for smooth ones).
+    pub fn rotational_energy_now(&self) -> Option<f64> {
+        if self.spin.is_empty() {
+            return None;
+        }
+        Some(
+            (0..self.len())
+                .map(|s| {
+                    let w = crate::collision_law::rough::spin_at::<D>(&self.spin, s);
+                    let kind = self.grains[s].kind as usize;
+                    let body = crate::collision_law::rough::Body {
+                        mass: self.kind_mass[kind],
+                        radius: self.kind_radius[kind],
+                        inertia: self.kind_inertia[kind],
+                    };
+                    crate::collision_law::rough::rotational_energy(&body, &w)
+                })
+                .sum(),
+        )
+    }
+
     /// Total momentum.
     pub fn momentum(&self) -> Vector<D> {
         let mut p = Vector::zero();

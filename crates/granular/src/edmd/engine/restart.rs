@@ -39,6 +39,9 @@ impl<const D: usize> Edmd<D> {
             masses: self.masses(),
             species: self.species(),
             species_names: self.species_names.clone(),
+            // Rough grains keep their spins and κ: only positions and velocities are set.
+            angular_velocities: self.angular_velocities(),
+            inertia: self.species_inertia(),
         };
         let mut fresh = Self::new(
             self.bx.clone(),

@@ -10,6 +10,14 @@ impl<const D: usize> Edmd<D> {
         self.change_velocities(|_, v| v * factor);
     }
 
+    /// Multiplies every angular velocity of rough grains by `factor` (free flight does not
+    /// change spins, so no prediction changes).
+    pub(crate) fn scale_spins(&mut self, factor: f64) {
+        for w in &mut self.spin {
+            *w *= factor;
+        }
+    }
+
     /// Replaces every grain's velocity `v` by `f(id, v)` at the current time, then
     /// predicts every grain's next event again and rebuilds the calendar (no event is
     /// skipped: the positions do not move, only the future changes). Without gravity.

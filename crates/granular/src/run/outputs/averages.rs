@@ -26,7 +26,16 @@ const POWER_LAW_NOTE: &str = "the power-law bath's v^2 has infinite variance: no
 /// Columns of the many-grain engines averaged (and `temperature.*`, `a2.*`), besides the
 /// rates of the window. Counters and `mean_free_time` (the mean of `1/ν` is not `1/⟨ν⟩`)
 /// are left out.
-const COLUMNS: [&str; 3] = ["kinetic_energy", "temperature", "a2"];
+const COLUMNS: [&str; 7] = [
+    "kinetic_energy",
+    "temperature",
+    "a2",
+    // Rough grains only (`docs/rough.md`).
+    "rotational_temperature",
+    "temperature_ratio",
+    "reduced_cooling_rate",
+    "rotational_energy",
+];
 /// The rate columns of a driven gas ([`crate::driving`]); NaN (skipped) outside the
 /// equilibrated windows.
 const DRIVEN: [&str; 3] = ["driving_power", "dissipation_rate", "cooling_rate"];
@@ -187,6 +196,7 @@ impl Output for Averages {
             observables,
         };
         summary.steady_state = super::steady::summary(simulation, &averages);
+        summary.rough = super::rough::summary(simulation, &averages);
         summary.averages = Some(averages);
         Ok(())
     }

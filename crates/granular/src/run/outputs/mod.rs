@@ -24,6 +24,7 @@ mod crater;
 mod impact;
 mod intruder;
 mod pair_correlation;
+mod rough;
 mod scaled_speeds;
 mod snapshots;
 mod spatial;

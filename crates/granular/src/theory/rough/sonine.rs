@@ -24,14 +24,14 @@
 //! the root of a one-dimensional equation. Derivation in `docs/rough.md`.
 
 use super::RoughGas;
-use std::collections::HashMap;
+use std::collections::BTreeMap;
 
 /// A monomial: four bits of exponent per variable (at most 12 variables, total degree 8).
 type Key = u64;
 
 /// A polynomial in the pair's variables.
 #[derive(Clone, Debug, Default)]
-struct Poly(HashMap<Key, f64>);
+struct Poly(BTreeMap<Key, f64>);
 
 impl Poly {
     fn var(index: usize) -> Poly {
@@ -62,7 +62,7 @@ impl Poly {
     }
 
     fn mul(&self, o: &Poly) -> Poly {
-        let mut out: HashMap<Key, f64> = HashMap::new();
+        let mut out: BTreeMap<Key, f64> = BTreeMap::new();
         for (ka, ca) in &self.0 {
             for (kb, cb) in &o.0 {
                 *out.entry(ka + kb).or_insert(0.0) += ca * cb;
@@ -124,7 +124,9 @@ impl Series {
 /// Maxwellian pairs of `(g_0)⁺ Δψ` times the term's Sonine polynomial (summed over both
 /// grains of the pair), as a series in `r`.
 struct Rates {
-    rates: [[Series; 4]; 5],
+    /// Rows `c²`, `w²`, `c⁴`, `w⁴`, `c² w²`, and last the collision rate itself (`Δψ`
+    /// replaced by 1).
+    rates: [[Series; 4]; 6],
     dt: f64,
     dr: f64,
     inertia: f64,
@@ -184,7 +186,7 @@ impl Rates {
                 c2.mul(&w2),
             ]
         };
-        let q = [0, 2, 0, 4, 2];
+        let q = [0, 2, 0, 4, 2, 0];
         let (bi, bj, ai, aj) = (
             moments(&ci, &wi),
             moments(&cj, &wj),
@@ -254,21 +256,25 @@ impl Rates {
             p
         };
         let u_degree = |k: Key| -> i32 { (2 * d..nvars).map(|v| exponent(k, v) as i32).sum() };
-        let grouped: Vec<HashMap<u32, Vec<(Key, f64)>>> = terms
+        let grouped: Vec<BTreeMap<u32, Vec<(Key, f64)>>> = terms
             .iter()
             .map(|t| {
-                let mut m: HashMap<u32, Vec<(Key, f64)>> = HashMap::new();
+                let mut m: BTreeMap<u32, Vec<(Key, f64)>> = BTreeMap::new();
                 for (k, c) in &t.0 {
                     m.entry(parity(*k)).or_default().push((*k, *c));
                 }
                 m
             })
             .collect();
-        let mut rates: [[Series; 4]; 5] = Default::default();
+        let mut rates: [[Series; 4]; 6] = Default::default();
         for (p, row) in rates.iter_mut().enumerate() {
-            let delta = ai[p].add(&aj[p], 1.0).add(&bi[p], -1.0).add(&bj[p], -1.0);
+            let delta = if p == 5 {
+                Poly::constant(1.0)
+            } else {
+                ai[p].add(&aj[p], 1.0).add(&bi[p], -1.0).add(&bj[p], -1.0)
+            };
             for (t, series) in row.iter_mut().enumerate() {
-                let mut by_power: HashMap<i32, f64> = HashMap::new();
+                let mut by_power: BTreeMap<i32, f64> = BTreeMap::new();
                 for (ka, ca) in &delta.0 {
                     let Some(partners) = grouped[t].get(&parity(*ka)) else {
                         continue;
@@ -357,6 +363,12 @@ pub struct SonineState {
     /// The translational cooling rate `ζ_t / ν` (RS-2 with the cumulants): in the
     /// homogeneous cooling state the cooling rate of every temperature.
     pub cooling_rate: f64,
+    /// The cooling rate of the total energy over `ν` (equal to `cooling_rate` in the
+    /// homogeneous cooling state; `d_t ζ_t / (d_t + d_r θ)` in the white-noise state).
+    pub total_cooling_rate: f64,
+    /// The collision frequency over the Maxwellian one, `1 + a20 E[g_n⁺ S2 terms]/E[g_n⁺]`
+    /// (`1 - a20/16`): what a measured collision rate has to be divided by.
+    pub collision_frequency_factor: f64,
 }
 
 /// Which steady state.
@@ -459,13 +471,16 @@ fn steady_state(rates: &Rates, state: State, guess: f64) -> Option<SonineState> 
 /// The state at the temperature ratio `theta`.
 fn finish(rates: &Rates, state: State, theta: f64) -> Option<SonineState> {
     let a = cumulants(rates, state, theta)?;
-    let (zt, _) = rates.cooling_rates(theta, &a);
+    let (zt, zr) = rates.cooling_rates(theta, &a);
+    let total = (rates.dt * zt + rates.dr * theta * zr) / (rates.dt + rates.dr * theta);
     Some(SonineState {
         temperature_ratio: theta,
         a20: a[0],
         a02: a[1],
         a11: a[2],
         cooling_rate: zt,
+        total_cooling_rate: total,
+        collision_frequency_factor: rates.rate(5, theta, &a) / MEAN_FLUX,
     })
 }
 
@@ -656,5 +671,18 @@ mod tests {
     fn exact_rates_match_a_monte_carlo_average_of_the_rule() {
         monte_carlo::<2>(0.8, 0.3, 0.5, 0.7);
         monte_carlo::<3>(0.7, -0.2, 0.4, 1.6);
+    }
+
+    /// The collision frequency of the Sonine distribution is `ν_M (1 - a20/16)` in both
+    /// dimensions (the classical factor of smooth hard grains: only the translational
+    /// distribution enters the collision rate).
+    #[test]
+    fn collision_frequency_factor_is_one_minus_a20_over_16() {
+        for d in [2, 3] {
+            let g = gas(d, 0.8, 0.2, 0.4);
+            let rates = Rates::new(&g);
+            let factor = rates.rate(5, 0.7, &[0.1, 0.3, -0.2]) / MEAN_FLUX;
+            assert!((factor - (1.0 - 0.1 / 16.0)).abs() < 1e-14, "{d}: {factor}");
+        }
     }
 }
