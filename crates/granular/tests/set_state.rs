@@ -387,3 +387,66 @@ fn refused_changes_change_nothing() {
 fn scenario_free() -> Scenario {
     scenario("edmd", 2, false, false)
 }
+
+/// Rough grains: `set_state` sets positions and velocities only, every grain keeps its
+/// angular velocity (bit for bit), and the rough dynamics goes on (spins change again).
+#[test]
+fn set_state_keeps_the_spins_of_rough_grains() {
+    for dimension in [2, 3] {
+        let text = format!(
+            r#"
+engine = "edmd"
+dimension = {dimension}
+seed = 9
+box = {{ boundary = "periodic" }}
+[collisions]
+restitution = 0.9
+tangential_restitution = 0.0
+[[species]]
+name = "grain"
+count = 300
+packing_fraction = 0.1
+velocity = {{ distribution = "maxwell_boltzmann", temperature = 1.0 }}
+angular_velocity = {{ distribution = "maxwell_boltzmann", temperature = 1.0 }}
+[stop]
+time = 1.0
+[output]
+interval = 0.1
+"#
+        );
+        let sc = Scenario::from_toml(&text, &[]).expect("valid rough scenario");
+        let mut sim = Simulation::new(sc).expect("build");
+        sim.advance(0.2).expect("advance");
+        let spins = |sim: &Simulation| sim.snapshot().expect("grains").angular_velocities;
+        let before = spins(&sim);
+        assert_eq!(before.len(), 300 * if dimension == 2 { 1 } else { 3 });
+        let (x, mut v) = state(&sim);
+        v.iter_mut().for_each(|u| *u *= 0.5);
+        sim.set_state(GrainState {
+            positions: Some(&x),
+            velocities: Some(&v),
+        })
+        .expect("set_state");
+        assert_eq!(
+            bits(&spins(&sim)),
+            bits(&before),
+            "{dimension}D: spins kept"
+        );
+        assert_eq!(
+            bits(&state(&sim).1),
+            bits(&v),
+            "{dimension}D: velocities set"
+        );
+        let collisions = sim.collisions();
+        sim.advance(0.4).expect("advance");
+        assert!(
+            sim.collisions() > collisions + 100,
+            "{dimension}D: collisions go on"
+        );
+        assert_ne!(
+            bits(&spins(&sim)),
+            bits(&before),
+            "{dimension}D: spins evolve"
+        );
+    }
+}
