@@ -3,8 +3,9 @@
 //! `DIR/figures/` as PNG and SVG.
 
 use crate::plot::{
-    Animation, ColourBy, HistogramPlot, LinePlot, PictureStyle, PlotError, Series, SnapshotPicture,
+    Animation, ColourBy, HistogramPlot, LinePlot, PictureStyle, Series, SnapshotPicture,
 };
+use crate::run_files::save_both;
 use crate::table::{column, column_of, read_run_csv, snapshot_files};
 use granular::boundary::AxisKind;
 use granular::run::{RunDir, RunFile, Summary};
@@ -13,16 +14,6 @@ use granular::stats::{ChiSquare, Histogram, chi_square_test};
 use granular::theory::equilibrium;
 use granular::theory::haff;
 use std::path::{Path, PathBuf};
-
-pub(crate) fn save_both(
-    stem: &Path,
-    r: Result<[PathBuf; 2], PlotError>,
-    made: &mut Vec<PathBuf>,
-) -> Result<(), String> {
-    let files = r.map_err(|e| format!("{}: {e}", stem.display()))?;
-    made.extend(files);
-    Ok(())
-}
 
 fn picture_style(scenario: &Scenario, species: usize) -> PictureStyle {
     let l = scenario.lengths();

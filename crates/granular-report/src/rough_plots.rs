@@ -8,8 +8,8 @@
 //! lines start at the measured temperatures where the averages start (the end of the
 //! transient) and fall at the theory's `ζ/ν`; the ratio is a constant.
 
-use crate::figures::save_both;
 use crate::plot::{LinePlot, Panels, Series};
+use crate::run_files::save_both;
 use crate::table::{column, read_run_csv};
 use granular::run::{RunFile, Summary};
 use granular::scenario::Scenario;

@@ -148,12 +148,20 @@ pub(crate) fn haff_model(run: &RunFiles) -> &'static str {
     }
 }
 
-pub(crate) fn save(plot: &LinePlot, stem: PathBuf, made: &mut Vec<PathBuf>) -> Result<(), String> {
-    let files = plot
-        .save_png_and_svg(&stem)
-        .map_err(|e| format!("{}: {e}", stem.display()))?;
+/// Records the two files of a figure saved as PNG and SVG (`stem`: for the error message).
+pub(crate) fn save_both(
+    stem: &Path,
+    r: Result<[PathBuf; 2], crate::plot::PlotError>,
+    made: &mut Vec<PathBuf>,
+) -> Result<(), String> {
+    let files = r.map_err(|e| format!("{}: {e}", stem.display()))?;
     made.extend(files);
     Ok(())
+}
+
+/// Saves a line plot as PNG and SVG at `stem` and records the files.
+pub(crate) fn save(plot: &LinePlot, stem: PathBuf, made: &mut Vec<PathBuf>) -> Result<(), String> {
+    save_both(&stem, plot.save_png_and_svg(&stem), made)
 }
 
 /// A file-name-safe tag of a run.

@@ -5,8 +5,8 @@
 //! counters) are not drawn. Axes are labelled from the meaning of the swept key
 //! ([`key_label`]), not the raw key.
 
-use crate::figures::save_both;
 use crate::plot::{LinePlot, PALETTE, Series};
+use crate::run_files::save_both;
 use crate::table::{Table, column, read_run_csv};
 use granular::run::sweep::SweepTable as LibSweepTable;
 use granular::run::{RunDir, RunFile};

@@ -92,7 +92,7 @@ impl<'de> Deserialize<'de> for AngularVelocitySpec {
 
 /// `collisions.wall_tangential_restitution` of rough grains: a factor in [-1, 1] on the
 /// tangential velocity of the contact point (`β_w = -e_t`; 1 smooth, -1 perfectly rough).
-pub(super) fn wall_tangential(w: f64) -> Result<(), ScenarioError> {
+fn wall_tangential(w: f64) -> Result<(), ScenarioError> {
     if (-1.0..=1.0).contains(&w) {
         Ok(())
     } else {
@@ -110,6 +110,11 @@ pub(super) fn wall_tangential(w: f64) -> Result<(), ScenarioError> {
 /// rough grains, with one value per rotational degree of freedom.
 pub(super) fn validate(sc: &Scenario) -> Result<(), ScenarioError> {
     let c = sc.collisions();
+    if let Some(w) = c.wall_tangential_restitution
+        && c.law().is_rough()
+    {
+        wall_tangential(w)?;
+    }
     if let Some(beta) = c.tangential_restitution
         && !(-1.0..=1.0).contains(&beta)
     {

@@ -134,14 +134,12 @@ pub(super) fn collisions(sc: &Scenario) -> Result<(), ScenarioError> {
     if let Some(w) = c.wall_restitution {
         unit_interval("collisions.wall_restitution", w)?;
     }
-    if let Some(w) = c.wall_tangential_restitution {
-        if c.law().is_rough() {
-            // Rough grains: a factor on the contact point's tangential velocity, -1 for a
-            // perfectly rough wall (scenario::rough).
-            super::rough::wall_tangential(w)?;
-        } else {
-            unit_interval("collisions.wall_tangential_restitution", w)?;
-        }
+    // Rough grains: a factor on the contact point's tangential velocity, checked with the
+    // other rough keys (scenario::rough).
+    if let Some(w) = c.wall_tangential_restitution
+        && !c.law().is_rough()
+    {
+        unit_interval("collisions.wall_tangential_restitution", w)?;
     }
     non_negative(
         "collisions.contact_duration",
