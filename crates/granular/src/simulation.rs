@@ -8,7 +8,7 @@ use crate::engine::{Engine, EngineError, Progress, Snapshot};
 use crate::grain_state::{self, GrainState, StateError};
 use crate::in_flight::Change;
 use crate::observation::Observation;
-use crate::scenario::{Resolved, Scenario, ScenarioError, StopSpec};
+use crate::scenario::{Resolved, Scenario, ScenarioError, ScheduledChange, StopSpec};
 use crate::stats::Histogram;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
@@ -99,9 +99,12 @@ pub(crate) struct SimulationState {
     pub initial_temperature: Option<f64>,
     pub outputs_done: u64,
     pub wall_seconds: f64,
-    /// Parameters changed in flight so far ([`Simulation::set`]).
+    /// Parameters changed in flight so far ([`Simulation::set`] and `[[schedule]]`).
     #[serde(default)]
     pub changes: Vec<Change>,
+    /// Entries of the scenario's `[[schedule]]` applied so far.
+    #[serde(default)]
+    pub schedule_done: usize,
 }
 
 /// A simulation of any engine, in memory.
@@ -149,8 +152,14 @@ pub struct Simulation {
     /// Turns this process's `stop.wall_seconds` verdict into the one every rank of a
     /// decomposed run takes ([`Simulation::decide_wall_clock_with`]).
     wall_clock: Option<WallClock>,
-    /// Parameters changed in flight so far, in order ([`Simulation::set`]).
+    /// Parameters changed in flight so far, in order ([`Simulation::set`] and the
+    /// scenario's `[[schedule]]`).
     changes: Vec<Change>,
+    /// The scenario as it was before the first change in flight (`None` while there was
+    /// none): checkpoints hold it, and restoring one makes the changes again.
+    started_as: Option<Box<Scenario>>,
+    /// Entries of the scenario's `[[schedule]]` applied so far.
+    schedule_done: usize,
 }
 
 /// `decide(local)`: the `stop.wall_seconds` verdict of all ranks from this rank's own
@@ -195,6 +204,8 @@ impl Simulation {
             session_events_start: 0,
             wall_clock: None,
             changes: Vec::new(),
+            started_as: None,
+            schedule_done: 0,
         }
     }
 
@@ -261,13 +272,52 @@ impl Simulation {
     /// again from the changed scenario at the same initial temperature (Haff's time and the
     /// driving's steady state follow the new values). A refused change changes nothing.
     pub fn set(&mut self, key: &str, value: &str) -> Result<&Change, ScenarioError> {
-        let time = self.time();
-        let (scenario, change) =
-            crate::in_flight::apply(&self.scenario, &mut self.engine, time, key, value)?;
-        self.resolved = resolve_at(&scenario, self.initial_temperature());
-        self.scenario = scenario;
-        self.changes.push(change);
+        self.change(&[(key.to_string(), value.to_string())])?;
         Ok(&self.changes[self.changes.len() - 1])
+    }
+
+    /// Makes the changes `assignments` together at the current time (see
+    /// [`Simulation::set`]).
+    fn change(&mut self, assignments: &[(String, String)]) -> Result<(), ScenarioError> {
+        let time = self.time();
+        let (scenario, changes) =
+            crate::in_flight::apply(&self.scenario, &mut self.engine, time, assignments)?;
+        self.resolved = resolve_at(&scenario, self.initial_temperature());
+        let before = std::mem::replace(&mut self.scenario, scenario);
+        self.started_as.get_or_insert_with(|| Box::new(before));
+        self.changes.extend(changes);
+        Ok(())
+    }
+
+    /// The scenario's `[[schedule]]`.
+    fn schedule(&self) -> &[ScheduledChange] {
+        self.scenario.grains().map_or(&[], |g| &g.schedule)
+    }
+
+    /// The time of the next entry of the scenario's `[[schedule]]` not applied yet.
+    pub fn next_scheduled_time(&self) -> Option<f64> {
+        self.schedule().get(self.schedule_done).map(|e| e.time)
+    }
+
+    /// Applies the entries of the scenario's `[[schedule]]` whose time has come (at the
+    /// current time; a simulation started from a state at a later time applies those it
+    /// skipped at its start).
+    fn apply_due_schedule(&mut self) -> Result<(), EngineError> {
+        while let Some(entry) = self.schedule().get(self.schedule_done) {
+            if entry.time > self.time() {
+                break;
+            }
+            let assignments = entry.assignments();
+            self.change(&assignments).map_err(|e| {
+                EngineError::Numerical(format!(
+                    "schedule[{}] could not be applied at t = {}: {e}",
+                    self.schedule_done,
+                    self.time()
+                ))
+            })?;
+            self.schedule_done += 1;
+        }
+        Ok(())
     }
 
     /// The parameters changed in flight so far, in order.
@@ -279,17 +329,20 @@ impl Simulation {
     pub(crate) fn restore(scenario: Scenario, state: SimulationState) -> Simulation {
         let events = state.engine.events();
         // The checkpoint holds the scenario the run started with: the changes made in
-        // flight since are applied to it again (the engine has them already), and the
+        // flight since are made to it again (the engine has them already), and the
         // scenario so changed is resolved at the initial temperature (as `set` does).
+        let started_as = (!state.changes.is_empty()).then(|| Box::new(scenario.clone()));
         let mut scenario = scenario;
         for change in &state.changes {
-            let set = [format!("{}={}", change.key, change.new)];
-            if let Ok(s) = Scenario::from_toml_insisting(&scenario.to_toml(), &set) {
+            let set = [(change.key.clone(), change.new.clone())];
+            if let Ok(s) = crate::scenario::changed(&scenario, &set) {
                 scenario = s;
             }
         }
         let resolved = resolve_at(&scenario, state.initial_temperature);
         Simulation {
+            started_as,
+            schedule_done: state.schedule_done,
             scenario,
             resolved,
             engine: state.engine,
@@ -346,6 +399,7 @@ impl Simulation {
             outputs_done: self.outputs_done,
             wall_seconds: self.wall_seconds(),
             changes: self.changes.clone(),
+            schedule_done: self.schedule_done,
         }
     }
 
@@ -359,12 +413,20 @@ impl Simulation {
             outputs_done: self.outputs_done,
             wall_seconds: self.wall_seconds(),
             changes: self.changes.clone(),
+            schedule_done: self.schedule_done,
         }
     }
 
-    /// The scenario (validated, with every default filled in).
+    /// The scenario (validated, with every default filled in), with the changes made in
+    /// flight so far.
     pub fn scenario(&self) -> &Scenario {
         &self.scenario
+    }
+
+    /// The scenario as the simulation started, before any change in flight (what a
+    /// checkpoint stores).
+    pub fn initial_scenario(&self) -> &Scenario {
+        self.started_as.as_deref().unwrap_or(&self.scenario)
     }
 
     /// Every quantity derived from the scenario (radii, packing fraction, contact value,
@@ -496,12 +558,29 @@ impl Simulation {
     }
 
     /// Advances towards `until`, processing at most `max_events` events: the step of a
-    /// loop that does something between chunks (report progress, check for Ctrl-C).
+    /// loop that does something between chunks (report progress, check for Ctrl-C). It
+    /// also returns (with [`Progress::BudgetExhausted`]: call again) at the time of an entry
+    /// of the scenario's `[[schedule]]`, after making its changes.
     pub fn advance_chunk(&mut self, until: f64, max_events: u64) -> Result<Progress, EngineError> {
-        self.engine
-            .as_engine()
-            .advance(until, max_events.max(1))
+        self.step_towards(until, max_events)
             .map_err(in_scenario_words)
+    }
+
+    /// [`Simulation::advance_chunk`] with the engine's own errors: the `[[schedule]]`
+    /// entries due at the current time are applied first, and the engine stops at the
+    /// next one (it acts from its time on).
+    fn step_towards(&mut self, until: f64, max_events: u64) -> Result<Progress, EngineError> {
+        self.apply_due_schedule()?;
+        let target = match self.next_scheduled_time() {
+            Some(t) if t < until => t,
+            _ => until,
+        };
+        let progress = self.engine.as_engine().advance(target, max_events.max(1))?;
+        if progress == Progress::Reached && target < until {
+            self.apply_due_schedule()?;
+            return Ok(Progress::BudgetExhausted);
+        }
+        Ok(progress)
     }
 
     /// The next time of the output grid (`(k + 1) × output.interval`, or its logarithmic
@@ -538,7 +617,7 @@ impl Simulation {
                     Some(e) => CHUNK_EVENTS.min(e.saturating_sub(self.events())).max(1),
                     None => CHUNK_EVENTS,
                 };
-                let progress = match self.engine.as_engine().advance(next, budget) {
+                let progress = match self.step_towards(next, budget) {
                     Ok(p) => p,
                     Err(e) => {
                         let e = in_scenario_words(e);

@@ -18,6 +18,7 @@ mod problems;
 mod resolved;
 mod rough;
 mod scenario_errors;
+mod schedule;
 mod set_state;
 mod simulation;
 mod spine;

@@ -43,8 +43,9 @@ use std::time::Instant;
 /// table instead of one species name; 12: the DSMC record's positions as lattice words
 /// carrying the identities; 13: the initial temperature the scenario's derived values are
 /// resolved at; 14: the parameters changed in flight and the random streams of a state set
-/// from outside).
-pub const CHECKPOINT_FORMAT: u32 = 14;
+/// from outside; 15: the `[[schedule]]` entries applied, and the scenario as it started
+/// rather than as changed in flight).
+pub const CHECKPOINT_FORMAT: u32 = 15;
 
 /// Why a run failed.
 #[derive(Debug, thiserror::Error)]
@@ -181,6 +182,8 @@ struct Recorder {
     shared: Option<PathBuf>,
     /// The number of the last checkpoint written in parts.
     generation: u64,
+    /// Changes in flight written to `log.txt` so far.
+    logged_changes: usize,
 }
 
 /// A run in progress in a run directory.
@@ -276,9 +279,11 @@ impl Run {
     }
 
     /// Records `simulation` (built in memory, perhaps advanced) into `dir`; the outputs
-    /// start at its current time.
+    /// start at its current time. `scenario.toml` is the scenario as the simulation
+    /// started (as in its checkpoints); the changes made in flight so far go to `log.txt`
+    /// and the summary.
     pub fn from_simulation(dir: &Path, simulation: Simulation) -> Result<Run, RunError> {
-        let (log, lock) = Recorder::prepare(dir, simulation.scenario())?;
+        let (log, lock) = Recorder::prepare(dir, simulation.initial_scenario())?;
         Ok(Run::with_log(dir, simulation, log, lock))
     }
 
@@ -299,6 +304,7 @@ impl Run {
             warnings,
             shared: None,
             generation: 0,
+            logged_changes: 0,
         };
         if let Some(note) = note {
             recorder.log(0.0, &note);
@@ -453,6 +459,8 @@ impl Run {
             warnings: set_up_warnings(&simulation),
             shared: simulation.engine().domain().is_some().then_some(shared),
             generation: cp.parts.as_ref().map_or(0, |m| m.generation),
+            // The changes before the checkpoint are in the log already.
+            logged_changes: simulation.changes().len(),
         };
         if let Some(note) = lock.1 {
             recorder.log(simulation.wall_seconds(), &note);
@@ -599,6 +607,31 @@ impl Recorder {
         let _ = writeln!(self.log, "[{wall_seconds:9.3} s] {msg}");
     }
 
+    /// Writes the changes in flight made since the last call (by `Simulation::set` or the
+    /// scenario's `[[schedule]]`) to `log.txt`.
+    fn log_changes(&mut self, simulation: &Simulation) {
+        let new = simulation
+            .changes()
+            .get(self.logged_changes..)
+            .unwrap_or(&[]);
+        let lines: Vec<String> = new
+            .iter()
+            .map(|c| {
+                format!(
+                    "set {} from {} to {} at t = {}",
+                    c.key,
+                    c.old,
+                    c.new,
+                    format_number(c.time)
+                )
+            })
+            .collect();
+        self.logged_changes += lines.len();
+        for line in lines {
+            self.log(simulation.wall_seconds(), &line);
+        }
+    }
+
     /// Sets the outputs up and records the start, once.
     fn start(&mut self, simulation: &Simulation) -> Result<(), RunError> {
         if self.started {
@@ -606,18 +639,7 @@ impl Recorder {
         }
         self.started = true;
         // Parameters changed in flight before the run was recorded.
-        for c in simulation.changes() {
-            self.log(
-                simulation.wall_seconds(),
-                &format!(
-                    "set {} from {} to {} at t = {}",
-                    c.key,
-                    c.old,
-                    c.new,
-                    format_number(c.time)
-                ),
-            );
-        }
+        self.log_changes(simulation);
         self.outputs.setup(simulation)?;
         for o in &mut self.attached {
             o.setup(simulation)?;
@@ -659,7 +681,7 @@ impl Recorder {
         }
         let cp = Checkpoint {
             format: CHECKPOINT_FORMAT,
-            scenario: simulation.scenario().to_toml(),
+            scenario: simulation.initial_scenario().to_toml(),
             simulation: simulation.state(),
             outputs: self.outputs.clone(),
             parts: None,
@@ -753,6 +775,7 @@ impl RunHooks for DirectoryHooks<'_> {
     type Error = RunError;
 
     fn after_chunk(&mut self, simulation: &Simulation) -> Result<(), RunError> {
+        self.recorder.log_changes(simulation);
         (self.on_progress)(&ProgressReport {
             fraction: simulation.fraction_done(),
             time: simulation.time(),

@@ -309,7 +309,7 @@ impl super::Recorder {
         let written = if rank == 0 {
             let cp = super::Checkpoint {
                 format: super::CHECKPOINT_FORMAT,
-                scenario: simulation.scenario().to_toml(),
+                scenario: simulation.initial_scenario().to_toml(),
                 simulation: simulation.shell_state(),
                 outputs,
                 parts: Some(manifest),

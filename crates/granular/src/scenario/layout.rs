@@ -11,8 +11,8 @@
 
 use super::{
     BoxSpec, CollisionSpec, CraterSpec, DrivingSpec, DsmcSpec, EdmdSpec, EngineKind, EngineSpec,
-    GrainsSpec, InitialSpec, IntruderSpec, OutputSpec, Scenario, ScenarioError, SpeciesSpec,
-    StopSpec, SweepSpec, de,
+    GrainsSpec, InitialSpec, IntruderSpec, OutputSpec, Scenario, ScenarioError, ScheduledChange,
+    SpeciesSpec, StopSpec, SweepSpec, de,
 };
 use serde::{Deserialize, Serialize};
 
@@ -58,6 +58,8 @@ pub(super) struct Layout {
     sweep: Option<SweepSpec>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     driving: Option<DrivingSpec>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    schedule: Vec<ScheduledChange>,
 }
 
 fn two() -> usize {
@@ -84,6 +86,7 @@ impl Layout {
             ("gravity", !self.gravity.is_empty()),
             ("crater", self.crater.is_some()),
             ("driving", self.driving.is_some()),
+            ("schedule", !self.schedule.is_empty()),
         ];
         if let Some((k, _)) = present.iter().find(|(k, p)| *p && !applies(k, kind)) {
             return Err(not_applicable(k, kind));
@@ -96,6 +99,7 @@ impl Layout {
             gravity: self.gravity,
             crater: self.crater,
             driving: self.driving,
+            schedule: self.schedule,
         };
         let engine = match kind {
             EngineKind::Edmd => EngineSpec::Edmd {
@@ -148,6 +152,7 @@ impl Layout {
             crater: None,
             sweep: sc.sweep.clone(),
             driving: None,
+            schedule: Vec::new(),
         };
         if let Some(g) = sc.grains() {
             out.simulation_box = (!g.simulation_box.is_default()).then(|| g.simulation_box.clone());
@@ -157,6 +162,7 @@ impl Layout {
             out.gravity = g.gravity.clone();
             out.crater = g.crater.clone();
             out.driving = g.driving.clone();
+            out.schedule = g.schedule.clone();
         }
         out
     }
@@ -181,6 +187,7 @@ const GRAINS: &[&str] = &[
     "gravity",
     "crater",
     "driving",
+    "schedule",
 ];
 
 fn engine_name(e: EngineKind) -> &'static str {
@@ -219,6 +226,7 @@ pub(super) fn not_applicable(key: &str, engine: EngineKind) -> ScenarioError {
     let what = match key {
         "gravity" => "key gravity".to_string(),
         "species" => "table [[species]]".to_string(),
+        "schedule" => "table [[schedule]]".to_string(),
         k => format!("table [{k}]"),
     };
     ScenarioError::new(

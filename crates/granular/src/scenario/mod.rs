@@ -19,6 +19,7 @@ mod overrides;
 mod preflight;
 mod resolve;
 mod rough;
+mod schedule;
 mod spans;
 mod species;
 mod sweep;
@@ -39,6 +40,7 @@ pub use resolve::{
     Cooling, DrivingResolved, DsmcResolved, Grains, Resolved, RoughResolved, SpeciesResolved,
 };
 pub use rough::AngularVelocitySpec;
+pub use schedule::{IN_FLIGHT_KEYS, MAX_SCHEDULE_ENTRIES, ScheduledChange, changed};
 pub use spans::locate;
 pub use species::MAX_NAME_LEN;
 pub(crate) use sweep::sweep_member;
@@ -150,6 +152,8 @@ pub struct GrainsSpec {
     pub crater: Option<CraterSpec>,
     /// `[driving]`: a steady state of the gas (velocity rescaling or white noise).
     pub driving: Option<DrivingSpec>,
+    /// `[[schedule]]`: parameters changed at given times, in time order.
+    pub schedule: Vec<ScheduledChange>,
 }
 
 /// The grains' tables of an intruder scenario: none (every list empty, every table at its
@@ -887,6 +891,7 @@ impl Scenario {
             validate::edmd(self)?;
             validate::crater(self)?;
             driving::validate(self)?;
+            schedule::validate(self)?;
         }
         validate::stop(self)?;
         validate::output(self)?;
