@@ -12,6 +12,7 @@ mod golden;
 mod intruder;
 mod intruder_ball;
 mod intruder_scenario;
+mod memory_effects;
 mod observables;
 mod preflight;
 mod problems;

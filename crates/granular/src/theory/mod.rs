@@ -10,6 +10,7 @@ pub mod haff;
 pub mod hard_wall;
 pub mod intruder;
 pub mod kinetic;
+pub mod relaxation;
 pub mod rough;
 pub mod sonine;
 pub mod stability;
