@@ -17,6 +17,7 @@ mod preflight;
 mod problems;
 mod resolved;
 mod rough;
+mod rough_dsmc;
 mod scenario_errors;
 mod set_state;
 mod simulation;
