@@ -119,14 +119,22 @@ fn run<const D: usize>(
     pool.install(|| {
         let mut e = setup::<D>(n, 1)?;
         if tangential_restitution != -1.0 {
-            // Rough grains (uniform disks or spheres), not spinning at first.
+            // Rough grains (uniform disks or spheres) spinning at the rotational
+            // temperature T_r = T_t = 1 (equipartition: with β = 1 no energy moves between
+            // translation and rotation and the collision rate stays that of the smooth
+            // case); each component Gaussian with variance T_r / I, I = κ m R².
             let law = crate::collision_law::CollisionLaw {
                 tangential_restitution,
                 ..e.config().law.clone()
             };
             let r = crate::collision_law::rough::rotational_dof(D);
             let kappa = crate::collision_law::rough::uniform_inertia(D);
-            e.make_rough(law, kappa, &vec![0.0; r * n])?;
+            let width = (1.0 / (kappa * e.mass() * e.radius() * e.radius())).sqrt();
+            let mut rng = crate::random::stream(1, &[crate::random::INITIAL_STATE, 1]);
+            let spins: Vec<f64> = (0..r * n)
+                .map(|_| width * crate::random::std_normal(&mut rng))
+                .collect();
+            e.make_rough(law, kappa, &spins)?;
         }
         let tau = e.time_step();
         for _ in 0..2 {
@@ -207,8 +215,8 @@ pub fn measure(dimension: usize, n: usize, threads: usize) -> Result<BenchResult
 }
 
 /// [`measure`] with rough grains of tangential restitution `tangential_restitution` (β in
-/// `[-1, 1]`; -1: smooth grains, as [`measure`]): uniform disks or spheres starting
-/// without spin, the collisions elastic in the normal direction.
+/// `[-1, 1]`; -1: smooth grains, as [`measure`]): uniform disks or spheres spinning at
+/// `T_r = T_t = 1`, the collisions elastic in the normal direction.
 pub fn measure_rough(
     dimension: usize,
     n: usize,
