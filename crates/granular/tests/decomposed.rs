@@ -356,7 +356,7 @@ impl Communicator for Counting {
 }
 
 /// Runs `f(communicator, the most words it received)` on `k` ranks (threads).
-fn on_ranks<T: Send>(
+pub(crate) fn on_ranks<T: Send>(
     k: usize,
     f: impl Fn(Arc<dyn Communicator>, &std::sync::atomic::AtomicUsize) -> T + Sync,
 ) -> Vec<T> {
@@ -422,7 +422,7 @@ fn run_scenario() -> granular::scenario::Scenario {
 
 /// This rank's directory: the shared run directory on rank 0, `own` elsewhere (with a
 /// copy of the shared directory's files when `copy`, as the command line's ranks do).
-fn rank_dir(
+pub(crate) fn rank_dir(
     rank: usize,
     shared: &std::path::Path,
     own: &std::path::Path,
@@ -601,7 +601,7 @@ fn outputs_scenario() -> granular::scenario::Scenario {
 }
 
 /// `summary.json` without its wall-clock fields.
-fn summary_without_clock(dir: &std::path::Path) -> serde_json::Value {
+pub(crate) fn summary_without_clock(dir: &std::path::Path) -> serde_json::Value {
     let text = std::fs::read_to_string(dir.join("summary.json")).expect("summary.json");
     let mut v: serde_json::Value = serde_json::from_str(&text).expect("JSON");
     if let Some(o) = v.as_object_mut() {

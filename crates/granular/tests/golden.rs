@@ -80,6 +80,7 @@ golden! {
     intruder_disk: "intruder-disk", &[];
     intruder_sphere: "intruder-sphere", &[];
     rough_hcs_edmd: "rough-hcs-edmd", &[];
+    rough_hcs_dsmc: "rough-hcs-dsmc", &[];
 }
 
 /// Runs the bundled scenario `name` with `overrides` and compares its run directory with

@@ -18,6 +18,7 @@ mod preflight;
 mod problems;
 mod resolved;
 mod rough;
+mod rough_dsmc;
 mod scenario_errors;
 mod schedule;
 mod set_state;

@@ -223,11 +223,11 @@ fn pair_collisions_conserve_angular_momentum() {
     conserves_angular_momentum::<3>(&law);
 }
 
-fn scenario(text: &str, over: &[String]) -> Scenario {
+pub(crate) fn scenario(text: &str, over: &[String]) -> Scenario {
     Scenario::from_toml(text, over).expect("valid scenario")
 }
 
-fn dimension_keys(d: usize) -> Vec<String> {
+pub(crate) fn dimension_keys(d: usize) -> Vec<String> {
     vec![
         format!("dimension={d}"),
         format!(
@@ -294,7 +294,7 @@ interval = 0.05
 /// 0.0025) and the 3D one about 3 (0.01), small enough that the shear instability of the
 /// cooling state does not grow; the theory is that of the Boltzmann equation, and the
 /// density enters θ and ζ/ν only through the collision frequency, which both divide out.
-const EDMD_HCS: &str = r#"
+pub(crate) const EDMD_HCS: &str = r#"
 engine = "edmd"
 dimension = 2
 seed = 3
@@ -325,14 +325,14 @@ equilibration_collisions_per_particle = 20.0
 /// Relative error allowed the Maxwellian approximation of θ (RS-4, RS-6) where the Sonine
 /// cumulants are small (|a| ≲ 0.2): its Sonine correction (RS-8, RS-9) moves θ by 1-5 %
 /// at the four (α, β) tested (`docs/rough.md`).
-const MAXWELL_RATIO: f64 = 0.05;
+pub(crate) const MAXWELL_RATIO: f64 = 0.05;
 /// The same for the Maxwellian ζ/ν (RS-5): the Sonine correction moves it by less than 2 %.
-const MAXWELL_RATE: f64 = 0.02;
+pub(crate) const MAXWELL_RATE: f64 = 0.02;
 /// Relative error allowed the first Sonine approximation (RS-8, RS-9), of θ and of ζ/ν:
 /// the products of two cumulants it drops, `|a|² ≲ 0.02` for |a| ≲ 0.15.
-const SONINE: f64 = 0.02;
+pub(crate) const SONINE: f64 = 0.02;
 
-fn hcs_overrides(d: usize, alpha: f64, beta: f64) -> Vec<String> {
+pub(crate) fn hcs_overrides(d: usize, alpha: f64, beta: f64) -> Vec<String> {
     let mut over = dimension_keys(d);
     if d == 3 {
         over.push("species[0].packing_fraction=0.01".into());
@@ -344,7 +344,12 @@ fn hcs_overrides(d: usize, alpha: f64, beta: f64) -> Vec<String> {
 
 /// `measured = (mean, standard error)` within `STANDARD_ERRORS` errors plus the relative
 /// `allowance` of `theory`.
-fn agrees(what: &str, measured: (f64, f64), theory: f64, allowance: f64) -> Result<(), String> {
+pub(crate) fn agrees(
+    what: &str,
+    measured: (f64, f64),
+    theory: f64,
+    allowance: f64,
+) -> Result<(), String> {
     let (mean, err) = measured;
     let tol = STANDARD_ERRORS * err + allowance * theory.abs();
     if (mean - theory).abs() <= tol {
@@ -359,7 +364,7 @@ fn agrees(what: &str, measured: (f64, f64), theory: f64, allowance: f64) -> Resu
 /// The measured θ and ζ/ν of a run after 20 collisions per grain: means and standard
 /// errors of 10 batch means of the time series (the ratio at each output, the reduced
 /// cooling rate over each output interval).
-fn measured(scenario: Scenario) -> ((f64, f64), (f64, f64)) {
+pub(crate) fn measured(scenario: Scenario) -> ((f64, f64), (f64, f64)) {
     let obs = observations(scenario);
     let late: Vec<usize> = (1..obs.len())
         .filter(|&k| obs[k - 1].collisions_per_particle >= 20.0)
@@ -378,7 +383,7 @@ fn measured(scenario: Scenario) -> ((f64, f64), (f64, f64)) {
     )
 }
 
-fn uniform_gas(d: usize, alpha: f64, beta: f64) -> RoughGas {
+pub(crate) fn uniform_gas(d: usize, alpha: f64, beta: f64) -> RoughGas {
     RoughGas {
         dimension: d,
         normal_restitution: alpha,
@@ -395,9 +400,21 @@ fn uniform_gas(d: usize, alpha: f64, beta: f64) -> RoughGas {
 /// than tens of per cent (Santos, Kremer and dos Santos 2011 for the quasi-smooth limit):
 /// there the measured θ is checked to lie between the two approximations.
 fn hcs_matches_theory(d: usize) {
+    hcs_of_engine_matches_theory(d, "", |alpha, beta| {
+        scenario(EDMD_HCS, &hcs_overrides(d, alpha, beta))
+    });
+}
+
+/// [`hcs_matches_theory`] for the runs `run(α, β)` of an engine (`engine` in the
+/// messages).
+pub(crate) fn hcs_of_engine_matches_theory(
+    d: usize,
+    engine: &str,
+    run: impl Fn(f64, f64) -> Scenario,
+) {
     let mut failures = Vec::new();
     for (alpha, beta) in [(0.9, 0.0), (0.9, 0.5), (0.7, -0.5), (0.5, 1.0)] {
-        let (theta, zeta) = measured(scenario(EDMD_HCS, &hcs_overrides(d, alpha, beta)));
+        let (theta, zeta) = measured(run(alpha, beta));
         let gas = uniform_gas(d, alpha, beta);
         let (cooling, maxwell, sonine) = (
             RoughState::Cooling,
@@ -416,11 +433,11 @@ fn hcs_matches_theory(d: usize) {
             gas.reduced_cooling_rate(cooling, sonine),
         );
         eprintln!(
-            "{d}D α = {alpha} β = {beta}: θ = {:.4} ± {:.4} (Maxwell {tm:.4}, Sonine {ts:.4?}); ζ/ν = {:.4} ± {:.4} (Maxwell {zm:.4}, Sonine {zs:.4?})",
+            "{engine}{d}D α = {alpha} β = {beta}: θ = {:.4} ± {:.4} (Maxwell {tm:.4}, Sonine {ts:.4?}); ζ/ν = {:.4} ± {:.4} (Maxwell {zm:.4}, Sonine {zs:.4?})",
             theta.0, theta.1, zeta.0, zeta.1,
         );
         let small = state.is_some_and(|s| [s.a20, s.a02, s.a11].iter().all(|x| x.abs() < 0.5));
-        let label = format!("{d}D α = {alpha} β = {beta}");
+        let label = format!("{engine}{d}D α = {alpha} β = {beta}");
         let checks = if small {
             let (ts, zs) = (ts.expect("Sonine θ"), zs.expect("Sonine ζ"));
             vec![
@@ -462,13 +479,24 @@ fn homogeneous_cooling_state_of_rough_spheres_matches_theory() {
 /// two (allowances [`MAXWELL_RATE`] and [`SONINE`]).
 #[test]
 fn white_noise_state_of_rough_grains_matches_theory() {
-    let mut failures = Vec::new();
-    for (d, alpha, beta) in [(2, 0.9, 0.0), (3, 0.7, 0.5)] {
+    white_noise_of_engine_matches_theory("", |d, alpha, beta| {
         let mut over = hcs_overrides(d, alpha, beta);
         over.push("driving.kind=\"white_noise\"".into());
         over.push("driving.strength=1.0".into());
         let text = EDMD_HCS.replace("temperature = 1.0\n[stop]", "[stop]");
-        let (theta, zeta) = measured(scenario(&text, &over));
+        scenario(&text, &over)
+    });
+}
+
+/// The white-noise check above for the runs `run(d, α, β)` of an engine (`engine` in the
+/// messages), at (d, α, β) = (2, 0.9, 0) and (3, 0.7, 0.5).
+pub(crate) fn white_noise_of_engine_matches_theory(
+    engine: &str,
+    run: impl Fn(usize, f64, f64) -> Scenario,
+) {
+    let mut failures = Vec::new();
+    for (d, alpha, beta) in [(2, 0.9, 0.0), (3, 0.7, 0.5)] {
+        let (theta, zeta) = measured(run(d, alpha, beta));
         let gas = uniform_gas(d, alpha, beta);
         let (noise, maxwell, sonine) = (
             RoughState::WhiteNoise,
@@ -484,10 +512,10 @@ fn white_noise_state_of_rough_grains_matches_theory() {
             gas.reduced_cooling_rate(noise, sonine).expect("ζ"),
         );
         eprintln!(
-            "{d}D white noise α = {alpha} β = {beta}: θ = {:.4} ± {:.4} (Maxwell {tm:.4}, Sonine {ts:.4}); ζ/ν = {:.4} ± {:.4} (Maxwell {zm:.4}, Sonine {zs:.4})",
+            "{engine}{d}D white noise α = {alpha} β = {beta}: θ = {:.4} ± {:.4} (Maxwell {tm:.4}, Sonine {ts:.4}); ζ/ν = {:.4} ± {:.4} (Maxwell {zm:.4}, Sonine {zs:.4})",
             theta.0, theta.1, zeta.0, zeta.1
         );
-        let label = format!("{d}D white noise α = {alpha} β = {beta}");
+        let label = format!("{engine}{d}D white noise α = {alpha} β = {beta}");
         failures.extend(
             [
                 agrees(&format!("{label} θ vs Maxwell"), theta, tm, 0.03),

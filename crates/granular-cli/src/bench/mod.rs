@@ -34,6 +34,10 @@ pub enum BenchCommand {
         /// Only this number of threads (1 to four times the cores).
         #[arg(long, allow_hyphen_values = true, value_parser = crate::args::threads)]
         threads: Option<usize>,
+        /// Tangential restitution of pair collisions, in [-1, 1]: above -1 the grains are
+        /// rough and spin (docs/rough.md); -1 smooth.
+        #[arg(long, default_value_t = -1.0, allow_hyphen_values = true, value_parser = crate::args::number)]
+        tangential_restitution: f64,
         /// One JSON object per case on standard output.
         #[arg(long)]
         json: bool,
@@ -193,8 +197,14 @@ pub fn run(cmd: BenchCommand) -> Result<(), String> {
             dimension,
             n,
             threads,
+            tangential_restitution,
             json,
         } => {
+            if !(-1.0..=1.0).contains(&tangential_restitution) {
+                return Err(format!(
+                    "--tangential-restitution {tangential_restitution}: give β in [-1, 1] (-1: smooth grains)"
+                ));
+            }
             if let Some(d) = dimension
                 && d != 2
                 && d != 3
@@ -220,7 +230,8 @@ pub fn run(cmd: BenchCommand) -> Result<(), String> {
                 ));
             }
             for (d, n, t) in lib::dsmc::cases(dimension, n, threads) {
-                let r = lib::dsmc::measure(d, n, t).map_err(|e| e.to_string())?;
+                let r = lib::dsmc::measure_rough(d, n, t, tangential_restitution)
+                    .map_err(|e| e.to_string())?;
                 if json {
                     println!("{}", serde_json::to_string(&r).unwrap_or_default());
                 } else {

@@ -7,7 +7,7 @@ use super::{granular, scenarios, tmp};
 use std::path::{Path, PathBuf};
 
 /// Each bundled scenario with the overrides that make it a few seconds long.
-const SHORT: [(&str, &[&str]); 16] = [
+const SHORT: [(&str, &[&str]); 17] = [
     (
         "maxwell-boltzmann",
         &["species.0.count=2000", "stop.collisions_per_particle=150"],
@@ -32,6 +32,7 @@ const SHORT: [(&str, &[&str]); 16] = [
     ("intruder-disk", &[]),
     ("intruder-sphere", &[]),
     ("rough-hcs-edmd", &[]),
+    ("rough-hcs-dsmc", &[]),
     (
         "section32-edmd",
         &[

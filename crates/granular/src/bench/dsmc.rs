@@ -108,12 +108,34 @@ fn case_at<const D: usize>(n: usize, phi: f64) -> (DsmcConfig, SimulationBox<D>,
     (config, bx, gas)
 }
 
-fn run<const D: usize>(n: usize, threads: usize) -> Result<BenchResult, BenchError> {
+fn run<const D: usize>(
+    n: usize,
+    threads: usize,
+    tangential_restitution: f64,
+) -> Result<BenchResult, BenchError> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()?;
     pool.install(|| {
         let mut e = setup::<D>(n, 1)?;
+        if tangential_restitution != -1.0 {
+            // Rough grains (uniform disks or spheres) spinning at the rotational
+            // temperature T_r = T_t = 1 (equipartition: with β = 1 no energy moves between
+            // translation and rotation and the collision rate stays that of the smooth
+            // case); each component Gaussian with variance T_r / I, I = κ m R².
+            let law = crate::collision_law::CollisionLaw {
+                tangential_restitution,
+                ..e.config().law.clone()
+            };
+            let r = crate::collision_law::rough::rotational_dof(D);
+            let kappa = crate::collision_law::rough::uniform_inertia(D);
+            let width = (1.0 / (kappa * e.mass() * e.radius() * e.radius())).sqrt();
+            let mut rng = crate::random::stream(1, &[crate::random::INITIAL_STATE, 1]);
+            let spins: Vec<f64> = (0..r * n)
+                .map(|_| width * crate::random::std_normal(&mut rng))
+                .collect();
+            e.make_rough(law, kappa, &spins)?;
+        }
         let tau = e.time_step();
         for _ in 0..2 {
             e.step(tau);
@@ -189,9 +211,21 @@ pub fn cases(
 /// threads (its own rayon pool): 2 warm-up steps, then three segments of about `1e7`
 /// particle-steps each; the fastest segment is reported.
 pub fn measure(dimension: usize, n: usize, threads: usize) -> Result<BenchResult, BenchError> {
+    measure_rough(dimension, n, threads, -1.0)
+}
+
+/// [`measure`] with rough grains of tangential restitution `tangential_restitution` (β in
+/// `[-1, 1]`; -1: smooth grains, as [`measure`]): uniform disks or spheres spinning at
+/// `T_r = T_t = 1`, the collisions elastic in the normal direction.
+pub fn measure_rough(
+    dimension: usize,
+    n: usize,
+    threads: usize,
+    tangential_restitution: f64,
+) -> Result<BenchResult, BenchError> {
     match dimension {
-        2 => run::<2>(n, threads),
-        3 => run::<3>(n, threads),
+        2 => run::<2>(n, threads, tangential_restitution),
+        3 => run::<3>(n, threads, tangential_restitution),
         d => Err(BenchError::Dimension(d)),
     }
 }

@@ -13,7 +13,9 @@ use crate::edmd::{Edmd, EdmdOptions};
 use crate::engine::{Engine, EngineError, Observation, Progress, Snapshot};
 use crate::particles::ParticleSet;
 use crate::random::{self, stream};
-use crate::scenario::{EngineSpec, Placement, Resolved, Scenario, ScenarioError, VelocitySpec};
+use crate::scenario::{
+    AngularVelocitySpec, EngineSpec, Placement, Resolved, Scenario, ScenarioError, VelocitySpec,
+};
 use crate::setup::{self, InitError, Region};
 use crate::vector::Vector;
 use serde::{Deserialize, Serialize};
@@ -621,11 +623,25 @@ pub fn dsmc_setup<const D: usize>(
                 std::sync::Arc::new(velocities.iter().map(|v| vector::<D>(v)).collect()),
             ),
         };
+        let angular_velocity = match &sp.angular_velocity {
+            None | Some(AngularVelocitySpec::Zero) => crate::dsmc::InitialSpin::Zero,
+            Some(AngularVelocitySpec::MaxwellBoltzmann { temperature }) => {
+                crate::dsmc::InitialSpin::MaxwellBoltzmann(*temperature)
+            }
+            Some(AngularVelocitySpec::Given { angular_velocity }) => {
+                // `[ω_z]` of a disk, `[ω_x, ω_y, ω_z]` of a sphere (validated).
+                let mut w = [0.0; 3];
+                let r = angular_velocity.len().min(3);
+                w[3 - r..].copy_from_slice(&angular_velocity[..r]);
+                crate::dsmc::InitialSpin::Given(w)
+            }
+        };
         species.push(SpeciesSetup {
             name: sp.name.clone(),
             count: sp.count,
             placement,
             velocity,
+            angular_velocity,
         });
     }
     Ok((
@@ -634,6 +650,7 @@ pub fn dsmc_setup<const D: usize>(
             species,
             radius,
             mass,
+            inertia: rotation::inertia(scenario).and_then(|k| k.first().copied()),
             zero_momentum: scenario.initial().zero_momentum,
             seed: scenario.seed,
         },

@@ -10,19 +10,24 @@ use crate::scenario::{AngularVelocitySpec, Scenario};
 /// positions and velocities as the smooth one with the same seed.
 const ROTATION: u64 = 1;
 
-/// κ of each species (as the scenario resolves it, [`crate::scenario::RoughResolved`]) and
-/// the angular velocities of every grain in scenario order (`d_r` values per grain;
-/// radians per time unit), for a rough scenario; two empty lists for a smooth one. A Maxwell-Boltzmann spin has components of variance `T_r / I`,
-/// `I = κ m R²`.
-pub(super) fn rotation(scenario: &Scenario) -> (Vec<f64>, Vec<f64>) {
-    let Some(inertia) = scenario
+/// κ of each species of rough grains as the scenario resolves it
+/// ([`crate::scenario::RoughResolved`]); `None` for smooth grains.
+pub(super) fn inertia(scenario: &Scenario) -> Option<Vec<f64>> {
+    scenario
         .collisions()
         .law()
         .is_rough()
         .then(|| scenario.resolve().grains.and_then(|g| g.rough))
         .flatten()
         .map(|r| r.inertia)
-    else {
+}
+
+/// κ of each species (as the scenario resolves it, [`crate::scenario::RoughResolved`]) and
+/// the angular velocities of every grain in scenario order (`d_r` values per grain;
+/// radians per time unit), for a rough scenario; two empty lists for a smooth one. A Maxwell-Boltzmann spin has components of variance `T_r / I`,
+/// `I = κ m R²`.
+pub(super) fn rotation(scenario: &Scenario) -> (Vec<f64>, Vec<f64>) {
+    let Some(inertia) = inertia(scenario) else {
         return (Vec::new(), Vec::new());
     };
     let r = rotational_dof(scenario.dimension);

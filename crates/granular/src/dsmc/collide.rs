@@ -1,6 +1,9 @@
 //! The collision stage: candidate pairs per cell (DSMC-1), acceptance (DSMC-2), random
 //! impact parameter and the shared collision law (HD-11 with normal restitution, the TC
-//! rule with its counter: [`crate::collision_law`]).
+//! rule with its counter: [`crate::collision_law`]). Rough grains take the same candidates,
+//! acceptance and impact direction (their cross-section is that of smooth spheres: the
+//! acceptance uses the relative velocity of the centres) and then RS-1 on their velocities
+//! and angular velocities ([`crate::collision_law::rough::collide_pair`]).
 //!
 //! # Each cell's random stream
 //!
@@ -22,7 +25,7 @@
 use super::config::VmaxMode;
 use super::grains::Columns;
 use super::lattice::Lattice;
-use crate::collision_law::{CollisionLaw, normal_velocity_change};
+use crate::collision_law::{Body, CollisionLaw, normal_velocity_change};
 use crate::random::{DYNAMICS, derive_key, unit_f64};
 use crate::vector::Vector;
 use rand::{Rng, SeedableRng};
@@ -42,6 +45,8 @@ pub(crate) struct StepParams {
     pub cell_volume: f64,
     /// The collision law (pair restitution and TC rule).
     pub law: CollisionLaw,
+    /// The grains as a rough collision sees them (mass, radius, κ; rough grains only).
+    pub body: Body,
     pub vmax_mode: VmaxMode,
     pub global_vmax: f64,
     /// `Some(chi)` with a global packing fraction, `None` with the cell's own.
@@ -259,25 +264,29 @@ fn collide_cell<const D: usize>(
         let ghat = g * (1.0 / gm);
         // Impact parameter b / d uniform on the (D-1)-ball of radius 1.
         let (r2, normal) = impact(rng, &ghat);
-        let gn = gm * (1.0 - r2).max(0.0).sqrt();
-        // The TC rule (`last` is empty without it), then HD-11 with equal masses: the
-        // normal relative velocity g.n changes by du, each grain takes half of it.
-        let e = if cols.last.is_empty() {
-            p.law.pair_restitution(p.time, &[], &mut tally.tc_elastic)
+        if cols.spin.is_some() {
+            rough_pair(p, cols, i, j, &normal, tally);
         } else {
-            let last = &mut cols.last;
-            let e = p
-                .law
-                .pair_restitution(p.time, &[last[i], last[j]], &mut tally.tc_elastic);
-            last[i] = p.time;
-            last[j] = p.time;
-            e
-        };
-        let half = 0.5 * normal_velocity_change(e, gn);
-        for k in 0..D {
-            let dv = normal[k] * half;
-            vel[k][i] += dv;
-            vel[k][j] -= dv;
+            let gn = gm * (1.0 - r2).max(0.0).sqrt();
+            // The TC rule (`last` is empty without it), then HD-11 with equal masses: the
+            // normal relative velocity g.n changes by du, each grain takes half of it.
+            let e = if cols.last.is_empty() {
+                p.law.pair_restitution(p.time, &[], &mut tally.tc_elastic)
+            } else {
+                let last = &mut cols.last;
+                let e = p
+                    .law
+                    .pair_restitution(p.time, &[last[i], last[j]], &mut tally.tc_elastic);
+                last[i] = p.time;
+                last[j] = p.time;
+                e
+            };
+            let half = 0.5 * normal_velocity_change(e, gn);
+            for k in 0..D {
+                let dv = normal[k] * half;
+                vel[k][i] += dv;
+                vel[k][j] -= dv;
+            }
         }
         tally.collisions += 1;
         if !tally.impact.is_empty() {
@@ -292,6 +301,48 @@ fn collide_cell<const D: usize>(
             displace(p, lattice, cols, j, &(normal * d));
         }
     }
+}
+
+/// A pair collision of rough grains `i` and `j` along the contact normal `normal` (from
+/// `i` to `j`, which approach along it): the TC rule for both restitutions
+/// ([`CollisionLaw::rough_pair_now`]), then RS-1 on the velocities and angular velocities.
+/// Out of line, so that the smooth kernel stays as it was.
+#[inline(never)]
+fn rough_pair<const D: usize>(
+    p: &StepParams,
+    cols: &mut Columns<'_, D>,
+    i: usize,
+    j: usize,
+    normal: &Vector<D>,
+    tally: &mut Tally,
+) {
+    let (alpha, tangential) = if cols.last.is_empty() {
+        p.law.rough_pair_now(p.time, &[], &mut tally.tc_elastic)
+    } else {
+        let last = &mut cols.last;
+        let law = p
+            .law
+            .rough_pair_now(p.time, &[last[i], last[j]], &mut tally.tc_elastic);
+        last[i] = p.time;
+        last[j] = p.time;
+        law
+    };
+    let Some(spin) = cols.spin.as_mut() else {
+        return;
+    };
+    let vel = &mut cols.vel;
+    let mut vi = Vector::<D>(std::array::from_fn(|k| vel[k][i]));
+    let mut vj = Vector::<D>(std::array::from_fn(|k| vel[k][j]));
+    let (mut wi, mut wj) = (spin.get(i), spin.get(j));
+    crate::collision_law::rough::collide_pair(
+        alpha, tangential, normal, &p.body, &p.body, &mut vi, &mut vj, &mut wi, &mut wj,
+    );
+    for k in 0..D {
+        vel[k][i] = vi[k];
+        vel[k][j] = vj[k];
+    }
+    spin.set(i, &wi);
+    spin.set(j, &wj);
 }
 
 /// The contact normal of a pair with unit relative velocity `ghat` and a random impact

@@ -195,6 +195,9 @@ impl<const D: usize> DsmcEngine<D> {
         whole.domain = None;
         let n = domain.n_global;
         whole.grains = Grains::with_capacity(*g.lattice(), n, g.has_collision_times());
+        if g.is_rough() {
+            whole.grains.set_spins(Some(&[]));
+        }
         for r in parts.iter().flat_map(|p| p.chunks_exact(w)) {
             whole.grains.push_packed(r);
         }

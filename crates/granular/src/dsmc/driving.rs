@@ -13,7 +13,7 @@ impl<const D: usize> DsmcEngine<D> {
     /// Attaches a steady-state driving from now on (replacing any earlier one); its energy
     /// tally starts at the current kinetic energy.
     pub fn set_driving(&mut self, driving: Option<Driving>) {
-        let k = self.kinetic_energy_now();
+        let k = self.kinetic_energy_now() + self.rotational_energy_now().unwrap_or(0.0);
         self.driving = driving.map(|d| DrivingState::new(d, k));
     }
 
@@ -31,17 +31,23 @@ impl<const D: usize> DsmcEngine<D> {
         self.driving.as_ref()
     }
 
-    /// Applies the driving once, after a step of length `dt` (time units).
+    /// Applies the driving once, after a step of length `dt` (time units). Rough grains:
+    /// `rescale` multiplies the angular velocities by the factor of the peculiar
+    /// velocities (the translational temperature is held, the ratio `T_r / T_t` is the
+    /// collisions'), white noise kicks the translational velocities only (as RS-6 and
+    /// RS-9 assume); the injected energy counts both kinds.
     pub(super) fn drive(&mut self, dt: f64) {
         let Some(state) = self.driving.as_ref() else {
             return;
         };
-        let before = self.kinetic_energy_now();
+        let total = |e: &Self| e.kinetic_energy_now() + e.rotational_energy_now().unwrap_or(0.0);
+        let before = total(self);
         match state.driving {
             Driving::Rescale { temperature } => {
                 let u = self.mean_velocity();
                 let lambda = rescale_factor(temperature, self.temperature());
                 self.grains.update_velocities(|_, v| u + (v - u) * lambda);
+                self.grains.scale_spins(lambda);
             }
             Driving::WhiteNoise { strength } => {
                 let width = (strength * dt).sqrt();
@@ -67,7 +73,7 @@ impl<const D: usize> DsmcEngine<D> {
                 self.grains.update_velocities(|id, v| v + kick(id) - mean);
             }
         }
-        let after = self.kinetic_energy_now();
+        let after = total(self);
         if let Some(s) = self.driving.as_mut() {
             s.applications += 1;
             s.injected_energy += after - before;

@@ -80,6 +80,21 @@ pub struct DsmcEngine<const D: usize> {
     /// ([`DsmcEngine::restart`]); `None` before any.
     #[serde(default)]
     restart: Option<restart::StreamRestart>,
+    /// The reduced moment of inertia κ = 4I/(mσ²) of rough grains (RS-1), whose records
+    /// then carry angular velocities; `None` for smooth grains.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    inertia: Option<f64>,
+}
+
+/// The rotation of rough grains at construction: κ and the angular velocities (`d_r`
+/// values per grain, in the order of the positions given with them).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Rotation {
+    /// The reduced moment of inertia κ = 4I/(mσ²), in (0, 1] for disks and (0, 2/3] for
+    /// spheres.
+    pub inertia: f64,
+    /// `ω_z` per disk, or `ω_x, ω_y, ω_z` per sphere (radians per time unit).
+    pub spins: Vec<f64>,
 }
 
 fn default_species_name() -> String {
@@ -220,13 +235,14 @@ impl<const D: usize> DsmcEngine<D> {
         }
         let ids = (0..n as u32).collect();
         Ok(Self::assemble(
-            config, sim_box, radius, mass, seed, derived, pos, velocities, ids, None,
+            config, sim_box, radius, mass, seed, derived, pos, velocities, ids, None, None,
         ))
     }
 
     /// The engine holding `pos`, `vel` and `ids` (in the order of the ids), sorted by
     /// cell, with its validity warnings: the whole engine when `domain` is `None`, else
     /// this rank's slab (the particles of its cells, `n_global` in all; collective then).
+    /// `rotation`: rough grains, their spins in the order of `pos`.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn assemble(
         config: DsmcConfig,
@@ -239,11 +255,16 @@ impl<const D: usize> DsmcEngine<D> {
         vel: Vec<Vector<D>>,
         ids: Vec<u32>,
         domain: Option<super::domain::Domain>,
+        rotation: Option<Rotation>,
     ) -> Self {
         let n = pos.len();
         let n_global = domain.as_ref().map_or(n, |d| d.n_global);
-        let grains = Grains::from_parts(derived.lattice, &pos, &vel, &ids, config.law.has_tc());
+        let mut grains = Grains::from_parts(derived.lattice, &pos, &vel, &ids, config.law.has_tc());
         drop((pos, vel, ids));
+        let inertia = rotation.map(|r| {
+            grains.set_spins(Some(&r.spins));
+            r.inertia
+        });
         let mut engine = Self {
             tally: Tally {
                 impact: vec![0; config.impact_bins],
@@ -268,6 +289,7 @@ impl<const D: usize> DsmcEngine<D> {
             domain,
             driving: None,
             restart: None,
+            inertia,
         };
         engine.sort_in_place();
         engine.validity = engine.check_validity();
@@ -276,9 +298,17 @@ impl<const D: usize> DsmcEngine<D> {
 
     /// Replaces the collision law from the next step on (as the event-driven engine's
     /// `set_collision_law`). Turning the TC model on starts every grain with no previous
-    /// collision; turning it off forgets the collision times.
+    /// collision; turning it off forgets the collision times. Smooth grains stay smooth
+    /// and rough grains rough (their angular velocities are part of the state).
     pub fn set_collision_law(&mut self, law: CollisionLaw) -> Result<(), DsmcError> {
         check_law(&law)?;
+        if law.is_rough() != self.is_rough() {
+            return Err(DsmcError::Invalid(format!(
+                "law.tangential_restitution is {}, but the grains are {}: a run cannot switch between smooth and rough grains",
+                law.tangential_restitution,
+                if self.is_rough() { "rough" } else { "smooth" }
+            )));
+        }
         self.grains.set_collision_times(law.has_tc());
         self.config.law = law;
         Ok(())
@@ -298,7 +328,7 @@ impl<const D: usize> DsmcEngine<D> {
             tau: self.tau,
             gravity: self.gravity,
             chi_global: self.chi_global,
-            grains: Grains::new(*self.grains.lattice(), self.grains.has_collision_times()),
+            grains: self.grains.range(0..0),
             start: Vec::new(),
             dest: Vec::new(),
             time: self.time,
@@ -309,7 +339,95 @@ impl<const D: usize> DsmcEngine<D> {
             domain: None,
             driving: self.driving.clone(),
             restart: self.restart,
+            inertia: self.inertia,
         }
+    }
+
+    /// Makes the grains rough from now on: the rough collision law `law` (β > -1 or a
+    /// friction coefficient), the reduced moment of inertia `inertia` (κ) and the angular
+    /// velocities `spins_by_id` (`d_r` values per grain by id: `ω_z` in 2D, `ω_x, ω_y, ω_z`
+    /// in 3D). Refused on a decomposed engine, for a smooth law, a κ out of range or a
+    /// wrong number of values.
+    pub fn make_rough(
+        &mut self,
+        law: CollisionLaw,
+        inertia: f64,
+        spins_by_id: &[f64],
+    ) -> Result<(), DsmcError> {
+        use crate::collision_law::rough::{max_inertia, rotational_dof, spin_at};
+        let bad = |m: String| Err(DsmcError::Invalid(m));
+        if self.domain.is_some() {
+            return bad("the grains of a run split over ranks cannot be made rough".into());
+        }
+        if !law.is_rough() {
+            return bad(
+                "law.tangential_restitution is -1: the law is that of smooth grains".into(),
+            );
+        }
+        if !(inertia > 0.0 && inertia <= max_inertia(D)) {
+            return bad(format!(
+                "inertia {inertia}: κ must lie in (0, {}]",
+                max_inertia(D)
+            ));
+        }
+        let n = self.grains.len();
+        if spins_by_id.len() != rotational_dof(D) * n {
+            return bad(format!(
+                "{} angular velocity values for {n} grains in {D} dimensions (give {})",
+                spins_by_id.len(),
+                rotational_dof(D) * n
+            ));
+        }
+        check_law(&law)?;
+        let ids = self.grains.ids();
+        let mut flat = vec![0.0; rotational_dof(D) * n];
+        for (k, &id) in ids.iter().enumerate() {
+            let w = spin_at::<D>(spins_by_id, id as usize);
+            crate::collision_law::rough::set_spin::<D>(&mut flat, k, &w);
+        }
+        self.grains.set_spins(Some(&flat));
+        self.grains.set_collision_times(law.has_tc());
+        self.config.law = law;
+        self.inertia = Some(inertia);
+        Ok(())
+    }
+
+    /// Whether the grains are rough (they carry angular velocities).
+    pub fn is_rough(&self) -> bool {
+        self.inertia.is_some()
+    }
+
+    /// The reduced moment of inertia κ of rough grains (`None` for smooth ones).
+    pub fn inertia(&self) -> Option<f64> {
+        self.inertia
+    }
+
+    /// The grains as a rough collision sees them (`κ` 0 for smooth grains).
+    pub(super) fn body(&self) -> crate::collision_law::Body {
+        crate::collision_law::Body {
+            mass: self.mass,
+            radius: self.radius,
+            inertia: self.inertia.unwrap_or(0.0),
+        }
+    }
+
+    /// Angular velocities of rough grains by id, `d_r` values per grain (`ω_z` in 2D);
+    /// empty for smooth grains.
+    pub fn angular_velocities(&self) -> Vec<f64> {
+        if self.domain.is_some() {
+            return self.whole().angular_velocities();
+        }
+        let g = &self.grains;
+        if !g.is_rough() {
+            return Vec::new();
+        }
+        let r = crate::collision_law::rough::rotational_dof(D);
+        let mut out = vec![0.0; r * g.len()];
+        for k in 0..g.len() {
+            let id = g.id(k) as usize;
+            crate::collision_law::rough::set_spin::<D>(&mut out, id, &g.spin(k));
+        }
+        out
     }
 
     /// The time step `tau` in use.
@@ -510,12 +628,13 @@ impl<const D: usize> DsmcEngine<D> {
     }
 }
 
-/// Rejects restitutions outside `[0, 1]` and a negative or non-finite contact duration.
+/// Rejects restitutions outside `[0, 1]`, a tangential restitution outside `[-1, 1]` and a
+/// negative or non-finite contact duration.
 fn check_law(law: &CollisionLaw) -> Result<(), DsmcError> {
-    if law.is_rough() {
+    let beta = law.tangential_restitution;
+    if !(-1.0..=1.0).contains(&beta) {
         return Err(DsmcError::Invalid(format!(
-            "law.tangential_restitution is {} (rough grains); DSMC simulates smooth grains only (-1)",
-            law.tangential_restitution
+            "law.tangential_restitution is {beta}; it must lie in [-1, 1] (-1 = smooth)"
         )));
     }
     for (key, x) in [
@@ -526,9 +645,16 @@ fn check_law(law: &CollisionLaw) -> Result<(), DsmcError> {
             law.wall_tangential_restitution,
         ),
     ] {
-        if !(0.0..=1.0).contains(&x) {
+        // Rough grains: the wall's tangential factor acts on the contact point, -β_w in
+        // [-1, 1].
+        let lo = if key == "wall_tangential_restitution" && law.is_rough() {
+            -1.0
+        } else {
+            0.0
+        };
+        if !(lo..=1.0).contains(&x) {
             return Err(DsmcError::Invalid(format!(
-                "law.{key} is {x}; a restitution must lie in [0, 1] (1 = elastic)"
+                "law.{key} is {x}; a restitution must lie in [{lo}, 1] (1 = elastic)"
             )));
         }
     }

@@ -8,13 +8,15 @@
 //! by the integer addition itself and the new cell comes from the words. Along a walled
 //! axis a word above `2^63` means the grain crossed a wall; only such grains (and a grain
 //! moving more than a quarter of the box in one step) take the `f64` path that applies the
-//! wall law and converts back.
+//! wall law and converts back. Rough grains keep their angular velocities in flight and
+//! hit a wall by RS-1 with the wall's α_w and β_w = -e_t
+//! ([`crate::collision_law::WallRestitution::apply_rough`]).
 
 use super::cells::CellIndex;
 use super::grains::Columns;
 use super::lattice::{Lattice, WALL_END, axis_cell};
 use crate::boundary::{AxisKind, SimulationBox};
-use crate::collision_law::CollisionLaw;
+use crate::collision_law::{Body, CollisionLaw, Spin};
 use crate::vector::Vector;
 
 /// Largest displacement (in lattice units of the whole word) of the integer path: a
@@ -27,6 +29,8 @@ pub(crate) struct Flight<'a, const D: usize> {
     pub(crate) lattice: &'a Lattice<D>,
     pub(crate) cells: CellIndex<D>,
     pub(crate) law: &'a CollisionLaw,
+    /// The grains as a rough wall collision sees them (rough grains only).
+    pub(crate) body: Body,
     pub(crate) gravity: Vector<D>,
     /// Length of the step (time units).
     pub(crate) dt: f64,
@@ -211,7 +215,11 @@ impl<const D: usize> Flight<'_, D> {
         x = x.add_scaled(dt, &u).add_scaled(0.5 * dt * dt, &g);
         u = u.add_scaled(dt, &g);
         let last = cols.last.get_mut(i);
-        self.confine(&mut x, &mut u, last, tc_elastic);
+        let mut spin = cols.spin.as_ref().map(|s| s.get(i));
+        self.confine(&mut x, &mut u, spin.as_mut(), last, tc_elastic);
+        if let (Some(s), Some(w)) = (cols.spin.as_mut(), spin) {
+            s.set(i, &w);
+        }
         let keep = !self.lattice.position_mask();
         for k in 0..D {
             if x[k].is_finite() {
@@ -227,12 +235,15 @@ impl<const D: usize> Flight<'_, D> {
     /// wall hit it `s / |v_n|` before the end of the step (exact without gravity): after
     /// the hit its normal speed is `e_w |v_n|` (its overshoot is mirrored and scaled by
     /// `e_w`) and its tangential velocity `e_t v_t` (its tangential displacement since the
-    /// hit is scaled by `e_t`); the hit time is the one the TC rule sees and records.
+    /// hit is scaled by `e_t`); the hit time is the one the TC rule sees and records. A
+    /// rough grain (`spin`) takes RS-1 at the wall instead, and its tangential
+    /// displacement since the hit follows its new tangential velocity.
     #[inline(always)]
     fn confine(
         &self,
         x: &mut Vector<D>,
         v: &mut Vector<D>,
+        mut spin: Option<&mut Spin>,
         mut last: Option<&mut f64>,
         tc_elastic: &mut u64,
     ) {
@@ -259,10 +270,21 @@ impl<const D: usize> Flight<'_, D> {
                     None => self.law.wall_restitution_now(self.t_end, &[], tc_elastic),
                 };
                 let e = w.normal;
+                let upper = x[k] > l;
                 if x[k] < 0.0 {
                     x[k] *= -e;
                 } else {
                     x[k] = l - e * (x[k] - l);
+                }
+                if let Some(spin) = spin.as_deref_mut() {
+                    let before = *v;
+                    w.apply_rough(k, upper, &self.body, v, spin);
+                    for t in (0..D).filter(|&t| t != k) {
+                        shift[t] += (v[t] - before[t]) * since;
+                    }
+                    shifted = true;
+                    guard += 1;
+                    continue;
                 }
                 if w.tangential != 1.0 {
                     for t in (0..D).filter(|&t| t != k) {

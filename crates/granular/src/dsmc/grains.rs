@@ -6,7 +6,9 @@
 //! A grain is `D` lattice words (its position as integer lattice coordinates, whose low
 //! bits also hold its identity: see [`Lattice`]) and `D` velocity components (`f64`), and,
 //! with the TC model only, its last collision time (`f64`): `16 D` bytes, 32 in 2D and
-//! 48 in 3D. Each quantity is one column (a structure of arrays), so that the free flight
+//! 48 in 3D; rough grains add their angular velocity, `d_r` columns (`ω_z` of a disk, the
+//! three components of a sphere's), 8 bytes in 2D and 24 in 3D, which smooth grains do
+//! not have. Each quantity is one column (a structure of arrays), so that the free flight
 //! streams through whole columns and an optional per-grain quantity (the TC model's
 //! collision times; rotational velocities) is one more column that costs nothing when
 //! absent. Sorting by cell moves one column at a time through one shared scratch column
@@ -19,6 +21,7 @@
 //! ([`Grains::pack`], [`Grains::push_packed`]) that restore it bit for bit.
 
 use super::lattice::Lattice;
+use crate::collision_law::rough::{Spin, rotational_dof};
 use crate::vector::Vector;
 use serde::{Deserialize, Serialize};
 use std::ops::Range;
@@ -38,6 +41,10 @@ pub struct Grains<const D: usize> {
     pub(super) last: Vec<f64>,
     /// Whether the records carry `last`.
     collision_times: bool,
+    /// Angular velocities of rough grains, one column per rotational degree of freedom
+    /// (`ω_z` in 2D; `ω_x`, `ω_y`, `ω_z` in 3D); no column for smooth grains.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub(super) spin: Vec<Vec<f64>>,
     /// The sort's scratch column (see [`Grains::reorder`]); not part of the state.
     #[serde(skip)]
     scratch: Vec<u64>,
@@ -52,6 +59,7 @@ impl<const D: usize> Clone for Grains<D> {
             vel: self.vel.clone(),
             last: self.last.clone(),
             collision_times: self.collision_times,
+            spin: self.spin.clone(),
             scratch: Vec::new(),
         }
     }
@@ -72,6 +80,7 @@ impl<const D: usize> Grains<D> {
             vel: std::array::from_fn(|_| Vec::with_capacity(n)),
             last: Vec::with_capacity(if collision_times { n } else { 0 }),
             collision_times,
+            spin: Vec::new(),
             scratch: Vec::new(),
         }
     }
@@ -123,12 +132,68 @@ impl<const D: usize> Grains<D> {
         self.collision_times = on;
     }
 
+    /// Whether the grains are rough (the records carry angular velocities).
+    pub fn is_rough(&self) -> bool {
+        !self.spin.is_empty()
+    }
+
+    /// Gives the records angular velocities (rough grains): `flat` holds `d_r` values per
+    /// grain in storage order (`ω_z` in 2D; `ω_x, ω_y, ω_z` in 3D); `None` takes them
+    /// away (smooth grains).
+    pub fn set_spins(&mut self, flat: Option<&[f64]>) {
+        self.spin = match flat {
+            None => Vec::new(),
+            Some(flat) => {
+                let r = rotational_dof(D);
+                (0..r)
+                    .map(|c| flat.iter().skip(c).step_by(r).copied().collect())
+                    .collect()
+            }
+        };
+    }
+
+    /// The angular velocity of grain `i` (`[0, 0, ω_z]` for a disk); zero for smooth
+    /// grains.
+    #[inline]
+    pub fn spin(&self, i: usize) -> Spin {
+        match self.spin.len() {
+            0 => [0.0; 3],
+            1 => [0.0, 0.0, self.spin[0][i]],
+            _ => [self.spin[0][i], self.spin[1][i], self.spin[2][i]],
+        }
+    }
+
+    /// Sets the angular velocity of grain `i` (nothing for smooth grains).
+    #[inline]
+    pub fn set_spin(&mut self, i: usize, w: &Spin) {
+        match self.spin.len() {
+            0 => {}
+            1 => self.spin[0][i] = w[2],
+            _ => {
+                for (c, col) in self.spin.iter_mut().enumerate() {
+                    col[i] = w[c];
+                }
+            }
+        }
+    }
+
+    /// Multiplies every angular velocity by `factor` (in parallel; nothing for smooth
+    /// grains).
+    pub fn scale_spins(&mut self, factor: f64) {
+        use rayon::prelude::*;
+        for col in &mut self.spin {
+            col.par_chunks_mut(4096)
+                .for_each(|c| c.iter_mut().for_each(|w| *w *= factor));
+        }
+    }
+
     /// Bytes held per grain: the record's columns and the sort's scratch column, from
     /// their capacities (the destination cells of a step are the engine's).
     pub fn bytes(&self) -> usize {
         let words: usize = self.pos.iter().map(Vec::capacity).sum::<usize>()
             + self.vel.iter().map(Vec::capacity).sum::<usize>()
             + self.last.capacity()
+            + self.spin.iter().map(Vec::capacity).sum::<usize>()
             + self.scratch.capacity();
         8 * words
     }
@@ -227,15 +292,24 @@ impl<const D: usize> Grains<D> {
         if self.collision_times {
             self.last.push(f64::NEG_INFINITY);
         }
+        for col in &mut self.spin {
+            col.push(0.0);
+        }
     }
 
     /// 64-bit words per packed record ([`Self::pack`]).
     pub fn words(&self) -> usize {
+        2 * D + usize::from(self.collision_times) + self.spin.len()
+    }
+
+    /// Where the angular velocity starts in a packed record.
+    fn spin_word(&self) -> usize {
         2 * D + usize::from(self.collision_times)
     }
 
     /// Appends grain `i`'s record to `out` as [`Self::words`] words (bit patterns: the
-    /// lattice words, the velocity, the last collision time; a record restored by
+    /// lattice words, the velocity, the last collision time, the angular velocity; a
+    /// record restored by
     /// [`Self::push_packed`] or [`Self::set_packed`] is the same bits).
     pub fn pack(&self, i: usize, out: &mut Vec<f64>) {
         for k in 0..D {
@@ -246,6 +320,9 @@ impl<const D: usize> Grains<D> {
         }
         if let Some(&t) = self.last.get(i) {
             out.push(t);
+        }
+        for col in &self.spin {
+            out.push(col[i]);
         }
     }
 
@@ -264,6 +341,10 @@ impl<const D: usize> Grains<D> {
         if self.collision_times {
             self.last.push(words[2 * D]);
         }
+        let at = self.spin_word();
+        for (c, col) in self.spin.iter_mut().enumerate() {
+            col.push(words[at + c]);
+        }
     }
 
     /// Overwrites grain `i` with the record packed in `words`.
@@ -275,6 +356,10 @@ impl<const D: usize> Grains<D> {
         if let Some(t) = self.last.get_mut(i) {
             *t = words[2 * D];
         }
+        let at = self.spin_word();
+        for (c, col) in self.spin.iter_mut().enumerate() {
+            col[i] = words[at + c];
+        }
     }
 
     /// Copies the records `src` to `dest ..` (as `slice::copy_within`).
@@ -284,7 +369,10 @@ impl<const D: usize> Grains<D> {
             self.vel[k].copy_within(src.clone(), dest);
         }
         if self.collision_times {
-            self.last.copy_within(src, dest);
+            self.last.copy_within(src.clone(), dest);
+        }
+        for col in &mut self.spin {
+            col.copy_within(src.clone(), dest);
         }
     }
 
@@ -298,6 +386,9 @@ impl<const D: usize> Grains<D> {
         if self.collision_times {
             self.last[to] = self.last[from];
         }
+        for col in &mut self.spin {
+            col[to] = col[from];
+        }
     }
 
     /// Shortens or lengthens to `n` grains (new records: identity 0 at the origin, at
@@ -310,6 +401,9 @@ impl<const D: usize> Grains<D> {
         if self.collision_times {
             self.last.resize(n, f64::NEG_INFINITY);
         }
+        for col in &mut self.spin {
+            col.resize(n, 0.0);
+        }
     }
 
     /// Keeps the first `n` grains.
@@ -319,24 +413,31 @@ impl<const D: usize> Grains<D> {
             self.vel[k].truncate(n);
         }
         self.last.truncate(n);
+        for col in &mut self.spin {
+            col.truncate(n);
+        }
     }
 
     /// A copy of the records `r`.
     pub fn range(&self, r: Range<usize>) -> Grains<D> {
         let mut g = Self::with_capacity(self.lattice, r.len(), self.collision_times);
+        g.spin = vec![Vec::with_capacity(r.len()); self.spin.len()];
         g.extend_from(self, r);
         g
     }
 
     /// Appends copies of `other`'s records `r` (both with or both without collision
-    /// times, on the same lattice).
+    /// times, both rough or both smooth, on the same lattice).
     pub fn extend_from(&mut self, other: &Grains<D>, r: Range<usize>) {
         for k in 0..D {
             self.pos[k].extend_from_slice(&other.pos[k][r.clone()]);
             self.vel[k].extend_from_slice(&other.vel[k][r.clone()]);
         }
         if self.collision_times {
-            self.last.extend_from_slice(&other.last[r]);
+            self.last.extend_from_slice(&other.last[r.clone()]);
+        }
+        for (col, o) in self.spin.iter_mut().zip(&other.spin) {
+            col.extend_from_slice(&o[r.clone()]);
         }
     }
 
@@ -348,6 +449,8 @@ impl<const D: usize> Grains<D> {
             && self.pos.iter().all(|c| c.len() == n)
             && self.vel.iter().all(|c| c.len() == n)
             && self.last.len() == if self.collision_times { n } else { 0 }
+            && (self.spin.is_empty() || self.spin.len() == rotational_dof(D))
+            && self.spin.iter().all(|c| c.len() == n)
     }
 
     /// The kernel's mutable view of every column.
@@ -356,6 +459,7 @@ impl<const D: usize> Grains<D> {
             pos: self.pos.each_mut().map(|c| &mut c[..]),
             vel: self.vel.each_mut().map(|c| &mut c[..]),
             last: &mut self.last[..],
+            spin: Spins::of(&mut self.spin),
         }
     }
 
@@ -403,6 +507,10 @@ impl<const D: usize> Grains<D> {
         if self.collision_times {
             with_bits(&mut self.last, |c| scatter(c, 2 * D));
         }
+        let at = 2 * D + usize::from(self.collision_times);
+        for (c, col) in self.spin.iter_mut().enumerate() {
+            with_bits(col, |b| scatter(b, at + c));
+        }
         self.scratch = scratch;
     }
 }
@@ -436,6 +544,74 @@ pub(super) struct Columns<'a, const D: usize> {
     pub(super) vel: [&'a mut [f64]; D],
     /// Empty without the TC model.
     pub(super) last: &'a mut [f64],
+    /// The angular velocities of rough grains (`None` for smooth grains).
+    pub(super) spin: Option<Spins<'a>>,
+}
+
+/// Mutable slices of the angular-velocity columns of a range of rough grains: one column
+/// (`ω_z`) in 2D, three in 3D.
+pub(super) struct Spins<'a> {
+    pub(super) cols: [&'a mut [f64]; 3],
+    /// Columns in use (1 or 3).
+    pub(super) len: usize,
+}
+
+impl<'a> Spins<'a> {
+    /// The view of `spin` (`None` when it has no column: smooth grains).
+    fn of(spin: &'a mut [Vec<f64>]) -> Option<Self> {
+        let len = spin.len();
+        if len == 0 {
+            return None;
+        }
+        let mut cols: [&'a mut [f64]; 3] = Default::default();
+        for (c, col) in spin.iter_mut().enumerate() {
+            cols[c] = &mut col[..];
+        }
+        Some(Self { cols, len })
+    }
+
+    /// The first `mid` grains and the rest.
+    fn split_at(self, mid: usize) -> (Spins<'a>, Spins<'a>) {
+        let mut lo: [&'a mut [f64]; 3] = Default::default();
+        let mut hi: [&'a mut [f64]; 3] = Default::default();
+        for (c, col) in self.cols.into_iter().enumerate().take(self.len) {
+            let (a, b) = col.split_at_mut(mid);
+            lo[c] = a;
+            hi[c] = b;
+        }
+        (
+            Spins {
+                cols: lo,
+                len: self.len,
+            },
+            Spins {
+                cols: hi,
+                len: self.len,
+            },
+        )
+    }
+
+    /// The angular velocity of grain `i` (`[0, 0, ω_z]` for a disk).
+    #[inline(always)]
+    pub(super) fn get(&self, i: usize) -> Spin {
+        if self.len == 1 {
+            [0.0, 0.0, self.cols[0][i]]
+        } else {
+            [self.cols[0][i], self.cols[1][i], self.cols[2][i]]
+        }
+    }
+
+    /// Sets the angular velocity of grain `i`.
+    #[inline(always)]
+    pub(super) fn set(&mut self, i: usize, w: &Spin) {
+        if self.len == 1 {
+            self.cols[0][i] = w[2];
+        } else {
+            for (col, &x) in self.cols.iter_mut().zip(w) {
+                col[i] = x;
+            }
+        }
+    }
 }
 
 impl<'a, const D: usize> Columns<'a, D> {
@@ -460,16 +636,25 @@ impl<'a, const D: usize> Columns<'a, D> {
         } else {
             self.last.split_at_mut(mid)
         };
+        let (sa, sb) = match self.spin {
+            Some(s) => {
+                let (a, b) = s.split_at(mid);
+                (Some(a), Some(b))
+            }
+            None => (None, None),
+        };
         (
             Columns {
                 pos: lo_pos,
                 vel: lo_vel,
                 last: la,
+                spin: sa,
             },
             Columns {
                 pos: hi_pos,
                 vel: hi_vel,
                 last: lb,
+                spin: sb,
             },
         )
     }

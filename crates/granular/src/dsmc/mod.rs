@@ -40,10 +40,11 @@ mod sums;
 
 pub use config::{DensityScope, DsmcConfig, VmaxMode};
 pub use domain::{Balance, BalanceMode, Communicator, Domain, DomainError, Traffic};
+pub use engine::Rotation;
 pub use engine::{DsmcEngine, DsmcError, UniformGas};
 pub use grains::Grains;
 pub use guards::{GuardKind, ValidityWarning};
 pub use observables::{DensityMap, StructureFactor};
 pub use parts::{EnginePart, IdBlock, PartInfo};
-pub use setup::{GrainSetup, InitialVelocity, Placement, SpeciesSetup};
+pub use setup::{GrainSetup, InitialSpin, InitialVelocity, Placement, SpeciesSetup};
 pub use species::SpeciesTable;

@@ -120,9 +120,13 @@ impl<const D: usize> DsmcEngine<D> {
         };
         let mine = domain.as_ref().map_or(0..cells, |d| d.cells.clone());
         let tc = self.config().law.has_tc();
+        let rough = self.is_rough();
         let lattice = *self.grains.lattice();
         let mut start = vec![0u32; mine.len() + 1];
         let mut grains = Grains::new(lattice, tc);
+        if rough {
+            grains.set_spins(Some(&[]));
+        }
         for info in parts {
             let lo = info.first_cell.max(mine.start);
             let hi = info.end_cell.min(mine.end);
@@ -134,6 +138,7 @@ impl<const D: usize> DsmcEngine<D> {
                 || part.cells() != (info.first_cell..info.end_cell)
                 || part.len() != info.particles
                 || part.grains.has_collision_times() != tc
+                || part.grains.is_rough() != rough
             {
                 return Err(format!(
                     "{} does not hold what the checkpoint lists (cells {}..{}, {} particles)",
@@ -170,15 +175,23 @@ impl<const D: usize> DsmcEngine<D> {
                 first: 0,
                 positions,
                 velocities,
+                angular_velocities: self.angular_velocities(),
             };
         };
         let (k, n, me) = (domain.size(), domain.n_global, domain.rank());
         let block = |q: usize| q * n / k..(q + 1) * n / k;
-        let w = 1 + 2 * D;
         let g = &self.grains;
+        // Angular velocity components per grain (0: smooth grains).
+        let r = if g.is_rough() {
+            crate::collision_law::rough::rotational_dof(D)
+        } else {
+            0
+        };
+        let w = 1 + 2 * D + r;
         let mine = block(me);
         let mut positions = vec![Vector::zero(); mine.len()];
         let mut velocities = vec![Vector::zero(); mine.len()];
+        let mut angular_velocities = vec![0.0; r * mine.len()];
         let mut out: Vec<Vec<f64>> = vec![Vec::new(); k];
         for i in 0..g.len() {
             let id = g.id(i) as usize;
@@ -186,6 +199,8 @@ impl<const D: usize> DsmcEngine<D> {
                 // Grains of this rank's own block go straight to their rows.
                 positions[id - mine.start] = g.position(i);
                 velocities[id - mine.start] = g.velocity(i);
+                let at = r * (id - mine.start);
+                angular_velocities[at..at + r].copy_from_slice(&g.spin(i)[3 - r..]);
                 continue;
             }
             // The owner of id: the largest q with q n / k <= id.
@@ -200,19 +215,22 @@ impl<const D: usize> DsmcEngine<D> {
             o.push(f64::from_bits(id as u64));
             o.extend_from_slice(&g.position(i).0);
             o.extend_from_slice(&g.velocity(i).0);
+            o.extend_from_slice(&g.spin(i)[3 - r..]);
         }
         let sent: usize = out.iter().map(|v| v.len() / w).sum();
         let incoming = domain.exchange(out);
         domain.hold(g.len() + sent + mine.len());
-        for r in incoming.iter().flat_map(|v| v.chunks_exact(w)) {
-            let slot = r[0].to_bits() as usize - mine.start;
-            positions[slot] = Vector::from_slice(&r[1..1 + D]).unwrap_or_default();
-            velocities[slot] = Vector::from_slice(&r[1 + D..w]).unwrap_or_default();
+        for rec in incoming.iter().flat_map(|v| v.chunks_exact(w)) {
+            let slot = rec[0].to_bits() as usize - mine.start;
+            positions[slot] = Vector::from_slice(&rec[1..1 + D]).unwrap_or_default();
+            velocities[slot] = Vector::from_slice(&rec[1 + D..1 + 2 * D]).unwrap_or_default();
+            angular_velocities[r * slot..r * slot + r].copy_from_slice(&rec[1 + 2 * D..w]);
         }
         IdBlock {
             first: mine.start,
             positions,
             velocities,
+            angular_velocities,
         }
     }
 }
@@ -227,4 +245,7 @@ pub struct IdBlock<const D: usize> {
     pub positions: Vec<Vector<D>>,
     /// Velocities of ids `first ..`.
     pub velocities: Vec<Vector<D>>,
+    /// Angular velocities of ids `first ..` (`d_r` values each) of rough grains; empty for
+    /// smooth grains.
+    pub angular_velocities: Vec<f64>,
 }

@@ -20,6 +20,10 @@
 //! * **Given positions**: the species' list, in order.
 //! * Velocities: zero, a fixed speed in a uniformly random direction, Maxwell-Boltzmann
 //!   at the species' temperature, one given velocity, or a list per grain.
+//! * Angular velocities (rough grains only, [`GrainSetup::inertia`]): zero,
+//!   Maxwell-Boltzmann at a rotational temperature (each of the `d_r` components Gaussian
+//!   with variance `T_r / I`, `I = κ m R²`) from a third stream of the chunk,
+//!   `(seed, [INITIAL_STATE, GRAINS, s, c, SPIN])`, or one given angular velocity.
 //!
 //! # Global sums
 //!
@@ -63,6 +67,7 @@ pub const ROUND: usize = 1 << 20;
 const GRAINS: u64 = 7;
 const POSITION: u64 = 0;
 const VELOCITY: u64 = 1;
+const SPIN: u64 = 2;
 
 /// How the grains of one species are placed.
 #[derive(Clone, Debug)]
@@ -91,6 +96,19 @@ pub enum InitialVelocity<const D: usize> {
     PerGrain(Arc<Vec<Vector<D>>>),
 }
 
+/// How the rough grains of one species start spinning.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub enum InitialSpin {
+    /// Not spinning.
+    #[default]
+    Zero,
+    /// Maxwell-Boltzmann at this rotational temperature (`k_B = 1`): each of the `d_r`
+    /// components Gaussian with variance `T_r / I`.
+    MaxwellBoltzmann(f64),
+    /// Every grain with this angular velocity (`[0, 0, ω_z]` for a disk).
+    Given(crate::collision_law::Spin),
+}
+
 /// One species of a DSMC set-up: its name, its grains and how they start.
 #[derive(Clone, Debug)]
 pub struct SpeciesSetup<const D: usize> {
@@ -102,6 +120,8 @@ pub struct SpeciesSetup<const D: usize> {
     pub placement: Placement<D>,
     /// How they start moving.
     pub velocity: InitialVelocity<D>,
+    /// How they start spinning (rough grains; ignored for smooth ones).
+    pub angular_velocity: InitialSpin,
 }
 
 /// The initial state of a DSMC run: species of equal grains (one radius, one mass), in
@@ -114,6 +134,9 @@ pub struct GrainSetup<const D: usize> {
     pub radius: f64,
     /// Grain mass (every species).
     pub mass: f64,
+    /// The reduced moment of inertia κ of rough grains (every species), `None` for smooth
+    /// grains, which carry no angular velocity.
+    pub inertia: Option<f64>,
     /// Remove the centre-of-mass velocity.
     pub zero_momentum: bool,
     /// The run's seed (the keyed streams are derived from it).
@@ -147,15 +170,17 @@ impl<const D: usize> GrainSetup<D> {
         }
     }
 
-    /// Positions and velocities of the grains `ids` (consecutive ids), in id order. An
-    /// error names the first grain that cannot be created.
+    /// Positions, velocities and (rough grains; empty otherwise) angular velocities (`d_r`
+    /// values each) of the grains `ids` (consecutive ids), in id order. An error names the
+    /// first grain that cannot be created.
     pub fn grains(
         &self,
         sim_box: &SimulationBox<D>,
         ids: Range<usize>,
-    ) -> Result<(Vec<Vector<D>>, Vec<Vector<D>>), (usize, String)> {
+    ) -> Result<Created<D>, (usize, String)> {
         let mut pos = Vec::with_capacity(ids.len());
         let mut vel = Vec::with_capacity(ids.len());
+        let mut spins = Vec::new();
         let mut first = 0;
         for (s, sp) in self.species.iter().enumerate() {
             let own = first..first + sp.count;
@@ -172,17 +197,45 @@ impl<const D: usize> GrainSetup<D> {
                 let key = derive_key(self.seed, &[INITIAL_STATE, GRAINS, s as u64, c as u64]);
                 let mut prng = stream_from_key(crate::random::extend_key(key, POSITION));
                 let mut vrng = stream_from_key(crate::random::extend_key(key, VELOCITY));
+                let mut srng = stream_from_key(crate::random::extend_key(key, SPIN));
                 for j in chunk.start..chunk.end.min(b) {
                     let x = self.position(sim_box, sp, j, &mut prng);
                     let v = self.velocity(sp, j, &mut vrng);
+                    let w = self.spin(sp, &mut srng);
                     if j >= a {
                         pos.push(x);
                         vel.push(v);
+                        if let Some(w) = w {
+                            let r = crate::collision_law::rough::rotational_dof(D);
+                            spins.extend_from_slice(&w[3 - r..]);
+                        }
                     }
                 }
             }
         }
-        Ok((pos, vel))
+        Ok((pos, vel, spins))
+    }
+
+    /// A rough grain of species `sp`'s angular velocity (drawing from `rng` where it is
+    /// random); `None` for smooth grains.
+    fn spin(&self, sp: &SpeciesSetup<D>, rng: &mut Stream) -> Option<crate::collision_law::Spin> {
+        let kappa = self.inertia?;
+        Some(match &sp.angular_velocity {
+            InitialSpin::Zero => [0.0; 3],
+            InitialSpin::MaxwellBoltzmann(t) => {
+                let s = (t / (kappa * self.mass * self.radius * self.radius)).sqrt();
+                let mut w = [0.0; 3];
+                for x in w
+                    .iter_mut()
+                    .skip(3 - crate::collision_law::rough::rotational_dof(D))
+                {
+                    let z: f64 = StandardNormal.sample(rng);
+                    *x = s * z;
+                }
+                w
+            }
+            InitialSpin::Given(w) => *w,
+        })
     }
 
     /// Grain `j` of species `sp`'s position (drawing from `rng` for random placement).
@@ -255,8 +308,13 @@ pub fn id_block(n: usize, rank: usize, ranks: usize) -> Range<usize> {
     rank * n / ranks..(rank + 1) * n / ranks
 }
 
-/// A rank's own grains: positions, velocities and ids, in id order.
-type OwnGrains<const D: usize> = (Vec<Vector<D>>, Vec<Vector<D>>, Vec<u32>);
+/// Grains created from a set-up: positions, velocities and angular velocities (`d_r`
+/// values each; empty for smooth grains), in id order.
+pub type Created<const D: usize> = (Vec<Vector<D>>, Vec<Vector<D>>, Vec<f64>);
+
+/// A rank's own grains: positions, velocities, ids and angular velocities (`d_r` values
+/// each; empty for smooth grains), in id order.
+type OwnGrains<const D: usize> = (Vec<Vector<D>>, Vec<Vector<D>>, Vec<u32>, Vec<f64>);
 
 /// The most loaded rank of a set-up, as the memory check sees it before any rank
 /// allocates its own grains ([`OwnGrainsCheck`]).
@@ -364,7 +422,7 @@ impl<const D: usize> DsmcEngine<D> {
         let made = setup.grains(&sim_box, block.clone());
         let bad =
             |(id, message): (usize, String)| DsmcError::Invalid(format!("grain {id}: {message}"));
-        let (mut pos, mut vel) = agree(ids_layout.as_ref(), made.map_err(bad))?;
+        let (mut pos, mut vel, spins) = agree(ids_layout.as_ref(), made.map_err(bad))?;
         // Positions into the box (periodic wrap), refused outside it.
         let derived_place = |x: &mut Vector<D>| -> bool {
             sim_box.wrap(x);
@@ -409,7 +467,7 @@ impl<const D: usize> DsmcEngine<D> {
         };
         let derived = Derived::new(&config, &sim_box, n, setup.radius, mass, t0)?;
         let ids: Vec<u32> = (block.start as u32..block.end as u32).collect();
-        let (pos, vel, ids, domain) = match ids_layout {
+        let (pos, vel, ids, spins, domain) = match ids_layout {
             None => {
                 if let Some(check) = check {
                     check(&RankLoad {
@@ -421,7 +479,7 @@ impl<const D: usize> DsmcEngine<D> {
                     })
                     .map_err(DsmcError::Invalid)?;
                 }
-                (pos, vel, ids, None)
+                (pos, vel, ids, spins, None)
             }
             Some(layout) => {
                 // The engine's cell of a position: exact, from its lattice words.
@@ -441,8 +499,8 @@ impl<const D: usize> DsmcEngine<D> {
                     let loads: Vec<f64> = totals.iter().map(|&c| c as f64).collect();
                     domain.set_cuts(&super::domain::balanced_cuts(&loads, domain.size()));
                 }
-                let (p, v, i) = domain.scatter_to_slabs(pos, vel, ids, cell_of, check)?;
-                (p, v, i, Some(domain))
+                let (p, v, i, w) = domain.scatter_to_slabs(pos, vel, ids, spins, cell_of, check)?;
+                (p, v, i, w, Some(domain))
             }
         };
         let mut engine = Self::assemble(
@@ -456,6 +514,9 @@ impl<const D: usize> DsmcEngine<D> {
             vel,
             ids,
             domain,
+            setup
+                .inertia
+                .map(|inertia| super::engine::Rotation { inertia, spins }),
         );
         engine.set_species(setup.table());
         Ok(engine)
@@ -550,7 +611,8 @@ fn round_length(block: usize) -> usize {
 }
 
 impl Domain {
-    /// Sends the grains of this rank's block of ids (`pos`, `vel`, `ids` in id order) to
+    /// Sends the grains of this rank's block of ids (`pos`, `vel`, `ids`, and the `d_r`
+    /// angular velocity components of each in `spins` for rough grains, in id order) to
     /// the ranks owning their cells (collective), in rounds of at most
     /// [`round_length`] grains; returns this rank's own grains in id order (the arrivals
     /// in the order of the source ranks). `check` sees the number of own grains before
@@ -560,6 +622,7 @@ impl Domain {
         pos: Vec<Vector<D>>,
         vel: Vec<Vector<D>>,
         ids: Vec<u32>,
+        spins: Vec<f64>,
         cell_of: impl Fn(&Vector<D>) -> u32,
         check: Option<OwnGrainsCheck<'_>>,
     ) -> Result<OwnGrains<D>, DsmcError> {
@@ -608,9 +671,16 @@ impl Domain {
         let mut out_pos = vec![Vector::<D>::zero(); own];
         let mut out_vel = vec![Vector::<D>::zero(); own];
         let mut out_ids = vec![0u32; own];
+        // Angular velocity components per grain (0: smooth grains).
+        let r = if spins.is_empty() {
+            0
+        } else {
+            crate::collision_law::rough::rotational_dof(D)
+        };
+        let mut out_spins = vec![0.0; r * own];
         let longest = self.n_global.div_ceil(k);
         let round = round_length(longest);
-        let w = 1 + 2 * D;
+        let w = 1 + 2 * D + r;
         for r in 0..longest.div_ceil(round).max(1) {
             let range = (r * round).min(pos.len())..((r + 1) * round).min(pos.len());
             let mut outgoing: Vec<Vec<f64>> = vec![Vec::new(); k];
@@ -620,6 +690,7 @@ impl Domain {
                 if q == me {
                     let c = &mut cursor[me];
                     (out_pos[*c], out_vel[*c], out_ids[*c]) = (pos[i], vel[i], ids[i]);
+                    out_spins[r * *c..r * *c + r].copy_from_slice(&spins[r * i..r * i + r]);
                     *c += 1;
                     continue;
                 }
@@ -627,6 +698,7 @@ impl Domain {
                 o.push(f64::from_bits(u64::from(ids[i])));
                 o.extend_from_slice(&pos[i].0);
                 o.extend_from_slice(&vel[i].0);
+                o.extend_from_slice(&spins[r * i..r * i + r]);
                 sent += 1;
             }
             let incoming = self.exchange(outgoing);
@@ -637,11 +709,12 @@ impl Domain {
                     let c = &mut cursor[q];
                     out_ids[*c] = g[0].to_bits() as u32;
                     out_pos[*c] = Vector::from_slice(&g[1..1 + D]).unwrap_or_default();
-                    out_vel[*c] = Vector::from_slice(&g[1 + D..w]).unwrap_or_default();
+                    out_vel[*c] = Vector::from_slice(&g[1 + D..1 + 2 * D]).unwrap_or_default();
+                    out_spins[r * *c..r * *c + r].copy_from_slice(&g[1 + 2 * D..w]);
                     *c += 1;
                 }
             }
         }
-        Ok((out_pos, out_vel, out_ids))
+        Ok((out_pos, out_vel, out_ids, out_spins))
     }
 }

@@ -199,7 +199,7 @@ fn block_of<const D: usize>(e: &crate::dsmc::DsmcEngine<D>) -> Grains {
                 .map(|id| e.species().of(id))
                 .collect(),
             species_names: e.species().names.clone(),
-            ..Default::default()
+            angular_velocities: block.angular_velocities,
         },
         first: block.first,
         total: e.particle_count(),

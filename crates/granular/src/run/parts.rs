@@ -377,10 +377,10 @@ fn block_file(path: &Path, rank: usize) -> PathBuf {
 pub(crate) fn write_snapshot(engine: &AnyEngine, path: &Path) -> Result<(), RunError> {
     with_blocks(engine, path, |frame| {
         let (k, n, dimension) = (frame.blocks, frame.n, frame.dimension);
-        let from_blocks = |velocities: bool| -> Fill<'_, f64> {
+        let from_blocks = |section: usize| -> Fill<'_, f64> {
             Box::new(move |sink| {
                 for q in 0..k {
-                    frame.read_block(q, velocities, &mut |values| sink(values))?;
+                    frame.read_block(q, section, &mut |values| sink(values))?;
                 }
                 Ok(())
             })
@@ -393,8 +393,10 @@ pub(crate) fn write_snapshot(engine: &AnyEngine, path: &Path) -> Result<(), RunE
             mass: frame.mass,
             species_names: frame.species.names.clone(),
             species_ends: frame.species.ends.iter().map(|&x| x as usize).collect(),
-            positions: from_blocks(false),
-            velocities: from_blocks(true),
+            positions: from_blocks(0),
+            velocities: from_blocks(1),
+            rotational: frame.rotational,
+            angular_velocities: (frame.rotational > 0).then(|| from_blocks(2)),
         };
         Ok(write_snapshot_streamed(path, snapshot)?)
     })
@@ -419,6 +421,9 @@ pub(crate) struct BlockFrame<'a> {
     pub mass: f64,
     /// The species.
     pub species: crate::dsmc::SpeciesTable,
+    /// Angular velocity components per grain (`d_r` of rough grains, 0 for smooth ones):
+    /// a block file holds them after the velocities.
+    pub rotational: usize,
 }
 
 /// Grains per piece read from a block file.
@@ -430,24 +435,33 @@ impl BlockFrame<'_> {
         crate::dsmc::setup::id_block(self.n, q, self.blocks)
     }
 
-    /// The positions (or velocities) of block `q`, `PIECE` grains at a time.
+    /// The positions (`section` 0), velocities (1) or angular velocities (2) of block `q`,
+    /// `PIECE` grains at a time.
     fn read_block(
         &self,
         q: usize,
-        velocities: bool,
+        section: usize,
         sink: &mut dyn FnMut(&[f64]) -> std::io::Result<()>,
     ) -> std::io::Result<()> {
         let mut f = std::fs::File::open(block_file(self.path, q))?;
-        let count = self.rows(q).len() * self.dimension;
-        if velocities {
-            f.seek(SeekFrom::Start(8 * count as u64))?;
+        let rows = self.rows(q).len();
+        let width = if section == 2 {
+            self.rotational
+        } else {
+            self.dimension
+        };
+        let count = rows * width;
+        let skip = rows * self.dimension * section.min(2);
+        if skip > 0 {
+            f.seek(SeekFrom::Start(8 * skip as u64))?;
         }
         let mut f = std::io::BufReader::new(f);
-        let mut buf = vec![0u8; 8 * PIECE * self.dimension];
-        let mut values = Vec::with_capacity(PIECE * self.dimension);
+        let piece = PIECE * width.max(1);
+        let mut buf = vec![0u8; 8 * piece];
+        let mut values = Vec::with_capacity(piece);
         let mut left = count;
         while left > 0 {
-            let m = left.min(PIECE * self.dimension);
+            let m = left.min(piece);
             f.read_exact(&mut buf[..8 * m])?;
             values.clear();
             values.extend(
@@ -546,9 +560,17 @@ fn with_blocks_of<const D: usize>(
                 w.write_all(&c.to_le_bytes())?;
             }
         }
+        for c in &block.angular_velocities {
+            w.write_all(&c.to_le_bytes())?;
+        }
         w.flush()
     })()
     .map_err(io_err(&mine));
+    let rotational = if e.is_rough() {
+        crate::collision_law::rough::rotational_dof(D)
+    } else {
+        0
+    };
     drop(block);
     let failed = first_failure(domain, written.is_ok());
     let frame = BlockFrame {
@@ -560,6 +582,7 @@ fn with_blocks_of<const D: usize>(
         radius: e.radius(),
         mass: e.mass(),
         species: e.species().clone(),
+        rotational,
     };
     let result = written.and_then(|()| match failed {
         Some(r) => Err(RunError::Directory {

@@ -5,7 +5,7 @@
 
 use super::validate::{finite, non_negative, num};
 use super::{EngineKind, Scenario, ScenarioError};
-use crate::collision_law::rough::{max_inertia, rotational_dof};
+use crate::collision_law::rough::{max_inertia, rotational_dof, uniform_inertia};
 use serde::de::{self, Deserializer};
 use serde::{Deserialize, Serialize};
 
@@ -144,16 +144,24 @@ pub(super) fn validate(sc: &Scenario) -> Result<(), ScenarioError> {
     }
     let rough = c.law().is_rough();
     if rough && sc.kind() == EngineKind::Dsmc {
-        let (key, value) = match c.tangential_restitution {
-            Some(beta) => ("collisions.tangential_restitution", num(beta)),
-            None => ("collisions.friction", num(c.friction.unwrap_or(0.0))),
+        // DSMC's collision rule is that of one kind of grain: one κ too.
+        let kappa = |s: usize| {
+            sc.species()[s]
+                .inertia
+                .unwrap_or(uniform_inertia(sc.dimension))
         };
-        return Err(ScenarioError::new(
-            key,
-            format!(
-                "is {value}, which makes the grains rough, but engine = \"dsmc\" does not simulate rough grains yet (only the event-driven engine does); use engine = \"edmd\" (a dilute gas: a small packing_fraction) or remove the key"
-            ),
-        ));
+        for s in 1..sc.species().len() {
+            if kappa(s) != kappa(0) {
+                return Err(ScenarioError::new(
+                    format!("species[{s}].inertia"),
+                    format!(
+                        "is {} but species[0] has κ = {}: the DSMC engine takes species of equal grains (one radius, one mass, one moment of inertia); give every species the same inertia (or use engine = \"edmd\" for a mixture)",
+                        num(kappa(s)),
+                        num(kappa(0))
+                    ),
+                ));
+            }
+        }
     }
     let d = sc.dimension;
     let smooth_fix = "the grains are smooth (collisions.tangential_restitution is -1 or absent); make them rough with collisions.tangential_restitution in (-1, 1], or remove the key";

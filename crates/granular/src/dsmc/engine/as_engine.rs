@@ -68,6 +68,7 @@ impl<const D: usize> Engine for DsmcEngine<D> {
         let n = self.n_global();
         let d = D as f64;
         let kinetic = self.kinetic_energy_now();
+        let rotational = self.rotational_energy_now();
         let volume = self.sim_box.volume();
         let wall_area: f64 = (0..D)
             .filter(|&k| !self.sim_box.is_periodic(k))
@@ -85,7 +86,10 @@ impl<const D: usize> Engine for DsmcEngine<D> {
             temperature: self.mass * c2 / d,
             species: Vec::new(),
             wall_collisions: None,
-            dissipated_energy: self.driving.as_ref().map(|s| s.dissipated(kinetic)),
+            dissipated_energy: self
+                .driving
+                .as_ref()
+                .map(|s| s.dissipated(kinetic + rotational.unwrap_or(0.0))),
             tc_elastic_collisions: Some(self.tc_elastic_collisions()),
             virial: None,
             wall_impulse: None,
@@ -101,13 +105,15 @@ impl<const D: usize> Engine for DsmcEngine<D> {
                 .as_ref()
                 .map(|s| vec![("injected_energy".to_string(), s.injected_energy)])
                 .unwrap_or_default(),
-            rotational_energy: None,
-            rotational_temperature: None,
+            rotational_energy: rotational,
+            rotational_temperature: rotational
+                .map(|e| 2.0 * e / (crate::collision_law::rough::rotational_dof(D) * n) as f64),
         }
     }
 
+    /// Translational plus (rough grains) rotational kinetic energy.
     fn kinetic_energy(&self) -> f64 {
-        self.kinetic_energy_now()
+        self.kinetic_energy_now() + self.rotational_energy_now().unwrap_or(0.0)
     }
 
     fn impact_histogram(&self) -> Option<Histogram> {
@@ -140,7 +146,7 @@ impl<const D: usize> Engine for DsmcEngine<D> {
             masses: vec![self.mass; n],
             species: (0..n as u32).map(|id| self.species.of(id)).collect(),
             species_names: self.species.names.clone(),
-            ..Default::default()
+            angular_velocities: self.angular_velocities(),
         })
     }
 }

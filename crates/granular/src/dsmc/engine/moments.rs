@@ -75,6 +75,31 @@ impl<const D: usize> DsmcEngine<D> {
         0.5 * self.mass * s
     }
 
+    /// Rotational kinetic energy `Σ I |ω|² / 2` (`I = κ m R²`) of rough grains, a
+    /// deterministic chunked sum as the kinetic energy's; `None` for smooth grains.
+    pub fn rotational_energy_now(&self) -> Option<f64> {
+        let body = self.body();
+        self.inertia?;
+        let g = &self.grains;
+        let [s] = self.ordered_fold::<1, 1>(
+            |i| {
+                let w = g.spin(i);
+                [w[0] * w[0] + w[1] * w[1] + w[2] * w[2]]
+            },
+            add,
+            add,
+        );
+        Some(0.5 * body.inertia * body.mass * body.radius * body.radius * s)
+    }
+
+    /// Rotational temperature `T_r = 2 E_rot / (d_r N)` of rough grains (`None` for smooth
+    /// ones).
+    pub fn rotational_temperature(&self) -> Option<f64> {
+        let dr = crate::collision_law::rough::rotational_dof(D) as f64;
+        self.rotational_energy_now()
+            .map(|e| 2.0 * e / (dr * self.n_global() as f64))
+    }
+
     /// The identity of a particle whose velocity has a non-finite component (the smallest
     /// such identity), or `None` when every velocity is finite. Checks every particle
     /// (in parallel).

@@ -27,7 +27,7 @@ impl<const D: usize> DsmcEngine<D> {
     /// lengths and length / time) at absolute time `time`, and rebuilds what depends on
     /// them: the cell sort (from the order of the ids, as when the engine was built) and
     /// the validity warnings. The configuration, the counters (steps, collisions), the
-    /// tally and the driving are kept; the TC model's memory of the last collisions starts
+    /// tally, the driving and the angular velocities of rough grains are kept; the TC model's memory of the last collisions starts
     /// afresh, and the random streams restart under a key of `time`
     /// ([`crate::random::RESTART`]). Two engines of the same grains restarted with the same
     /// arrays at the same time therefore continue with the same bits, whatever they did
@@ -75,6 +75,11 @@ impl<const D: usize> DsmcEngine<D> {
             derived.place(&self.sim_box, x)?;
         }
         let ids = (0..n as u32).collect();
+        // Rough grains keep their angular velocities (by id).
+        let rotation = self.inertia.map(|inertia| super::Rotation {
+            inertia,
+            spins: self.angular_velocities(),
+        });
         let mut fresh = Self::assemble(
             self.config.clone(),
             self.sim_box.clone(),
@@ -86,6 +91,7 @@ impl<const D: usize> DsmcEngine<D> {
             vel,
             ids,
             None,
+            rotation,
         );
         fresh.time = time;
         fresh.steps = self.steps;

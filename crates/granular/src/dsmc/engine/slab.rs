@@ -136,6 +136,7 @@ impl<const D: usize> DsmcEngine<D> {
             vel,
             ids,
             Some(domain),
+            None,
         ))
     }
 }

@@ -47,6 +47,7 @@ impl<const D: usize> DsmcEngine<D> {
             radius: self.radius,
             cell_volume: self.grid.volume,
             law: self.config.law.clone(),
+            body: self.body(),
             vmax_mode: self.config.vmax_mode,
             global_vmax,
             enskog_global: (self.config.enskog
@@ -67,6 +68,7 @@ impl<const D: usize> DsmcEngine<D> {
             lattice: &lattice,
             cells: CellIndex::new(&self.grid, &lattice),
             law: &self.config.law,
+            body: self.body(),
             gravity: self.gravity,
             dt,
             t_end: self.time + dt,

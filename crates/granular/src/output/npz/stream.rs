@@ -34,6 +34,11 @@ pub struct StreamedSnapshot<'a> {
     pub positions: Fill<'a, f64>,
     /// Velocities, as the positions.
     pub velocities: Fill<'a, f64>,
+    /// Angular velocity components per grain of rough grains (`d_r`: 1 in 2D, 3 in 3D).
+    pub rotational: usize,
+    /// Angular velocities of rough grains, `n x rotational` values (`None`: smooth grains,
+    /// no such member).
+    pub angular_velocities: Option<Fill<'a, f64>>,
 }
 
 /// Writes a snapshot with the same members, order and bytes as [`super::write_snapshot`] of the
@@ -118,6 +123,23 @@ pub fn write_snapshot_streamed(
     start(&mut zip, "species_names")?;
     let names = NpzArray::strings(std::mem::take(&mut s.species_names));
     write_array_to(&mut zip, "species_names", &names).map_err(io_error(path))?;
+    if let Some(mut fill) = s.angular_velocities {
+        // As `write_snapshot`: (n,) for disks, (n, 3) for spheres.
+        let shape = if s.rotational == 1 {
+            vec![nn]
+        } else {
+            vec![nn, s.rotational as u64]
+        };
+        start(&mut zip, "angular_velocities")?;
+        let mut w = npyz::WriteOptions::<f64>::new()
+            .dtype(type_str("<f8"))
+            .shape(&shape)
+            .writer(&mut zip)
+            .begin_nd()
+            .map_err(io_error(path))?;
+        fill(&mut |values| w.extend(values.iter().copied())).map_err(io_error(path))?;
+        w.finish().map_err(io_error(path))?;
+    }
     let mut inner = zip.finish().map_err(zip_error(path))?;
     inner.flush().map_err(io_error(path))
 }

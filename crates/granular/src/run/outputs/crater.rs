@@ -67,7 +67,7 @@ fn initial_rows_of<const D: usize>(
         message: format!("could not recompute the bed's initial positions: {message}"),
     };
     let (bx, setup) = crate::build::dsmc_setup::<D>(scenario).map_err(|e| failed(e.to_string()))?;
-    let (positions, _) = setup
+    let (positions, _, _) = setup
         .grains(&bx, ids)
         .map_err(|(id, m)| failed(format!("grain {id}: {m}")))?;
     Ok(positions
