@@ -672,17 +672,18 @@ impl Domain {
         let mut out_vel = vec![Vector::<D>::zero(); own];
         let mut out_ids = vec![0u32; own];
         // Angular velocity components per grain (0: smooth grains).
-        let r = if spins.is_empty() {
+        let dr = if spins.is_empty() {
             0
         } else {
             crate::collision_law::rough::rotational_dof(D)
         };
-        let mut out_spins = vec![0.0; r * own];
+        let mut out_spins = vec![0.0; dr * own];
         let longest = self.n_global.div_ceil(k);
         let round = round_length(longest);
-        let w = 1 + 2 * D + r;
-        for r in 0..longest.div_ceil(round).max(1) {
-            let range = (r * round).min(pos.len())..((r + 1) * round).min(pos.len());
+        let w = 1 + 2 * D + dr;
+        for round_index in 0..longest.div_ceil(round).max(1) {
+            let range =
+                (round_index * round).min(pos.len())..((round_index + 1) * round).min(pos.len());
             let mut outgoing: Vec<Vec<f64>> = vec![Vec::new(); k];
             let mut sent = 0;
             for i in range {
@@ -690,7 +691,7 @@ impl Domain {
                 if q == me {
                     let c = &mut cursor[me];
                     (out_pos[*c], out_vel[*c], out_ids[*c]) = (pos[i], vel[i], ids[i]);
-                    out_spins[r * *c..r * *c + r].copy_from_slice(&spins[r * i..r * i + r]);
+                    out_spins[dr * *c..dr * *c + dr].copy_from_slice(&spins[dr * i..dr * i + dr]);
                     *c += 1;
                     continue;
                 }
@@ -698,7 +699,7 @@ impl Domain {
                 o.push(f64::from_bits(u64::from(ids[i])));
                 o.extend_from_slice(&pos[i].0);
                 o.extend_from_slice(&vel[i].0);
-                o.extend_from_slice(&spins[r * i..r * i + r]);
+                o.extend_from_slice(&spins[dr * i..dr * i + dr]);
                 sent += 1;
             }
             let incoming = self.exchange(outgoing);
@@ -710,7 +711,7 @@ impl Domain {
                     out_ids[*c] = g[0].to_bits() as u32;
                     out_pos[*c] = Vector::from_slice(&g[1..1 + D]).unwrap_or_default();
                     out_vel[*c] = Vector::from_slice(&g[1 + D..1 + 2 * D]).unwrap_or_default();
-                    out_spins[r * *c..r * *c + r].copy_from_slice(&g[1 + 2 * D..w]);
+                    out_spins[dr * *c..dr * *c + dr].copy_from_slice(&g[1 + 2 * D..w]);
                     *c += 1;
                 }
             }
