@@ -4,6 +4,7 @@
 
 use crate::errors::value_error;
 use granular::intruder::{BathDistribution, Gaussian, PowerLaw};
+use granular::theory::relaxation::{SonineRelaxation, SonineState};
 use granular::theory::rough::{Approximation, RoughGas, RoughState};
 use granular::theory::{equilibrium as eq, haff};
 use numpy::{PyArray1, PyReadonlyArray1};
@@ -381,6 +382,156 @@ fn rough_cooling_rate<'py>(
     })
 }
 
+/// The gas of [`SonineRelaxation`] from the Python arguments, checked.
+#[allow(clippy::too_many_arguments)]
+fn relaxing_gas(
+    dimension: usize,
+    restitution: f64,
+    mass: f64,
+    number_density: f64,
+    radius: f64,
+    chi: f64,
+    particles: Option<usize>,
+) -> PyResult<SonineRelaxation> {
+    dimension_2_or_3(dimension)?;
+    if !(0.0..=1.0).contains(&restitution) {
+        return Err(value_error(format!(
+            "restitution is {restitution}; give a normal restitution from 0 to 1"
+        )));
+    }
+    for (name, v) in [
+        ("mass", mass),
+        ("number_density", number_density),
+        ("radius", radius),
+        ("chi", chi),
+    ] {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(value_error(format!(
+                "{name} is {v}; give a positive number"
+            )));
+        }
+    }
+    if particles == Some(0) {
+        return Err(value_error(
+            "particles is 0; give the number of grains (or None for infinitely many)",
+        ));
+    }
+    Ok(SonineRelaxation::new(
+        dimension,
+        restitution,
+        mass,
+        number_density,
+        radius,
+        chi,
+        particles,
+    ))
+}
+
+fn increasing(name: &str, x: &[f64]) -> PyResult<()> {
+    if x.iter().any(|t| !(t.is_finite() && *t >= 0.0)) || x.windows(2).any(|w| w[1] < w[0]) {
+        return Err(value_error(format!(
+            "{name} must be finite times from 0 on, in increasing order"
+        )));
+    }
+    Ok(())
+}
+
+/// `SonineRelaxation::trajectory` (KT-14, KT-15): the temperature and `a2` at `times` of a
+/// gas starting from (`temperature`, `a2`) at time 0 under white noise of strength
+/// `strengths[k]` from `change_times[k]` on.
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+fn sonine_relaxation<'py>(
+    py: Python<'py>,
+    dimension: usize,
+    restitution: f64,
+    mass: f64,
+    number_density: f64,
+    radius: f64,
+    chi: f64,
+    particles: Option<usize>,
+    temperature: f64,
+    a2: f64,
+    change_times: A<'py>,
+    strengths: A<'py>,
+    times: A<'py>,
+) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+    let gas = relaxing_gas(
+        dimension,
+        restitution,
+        mass,
+        number_density,
+        radius,
+        chi,
+        particles,
+    )?;
+    if !(temperature.is_finite() && temperature > 0.0 && a2.is_finite()) {
+        return Err(value_error(format!(
+            "temperature is {temperature} and a2 is {a2}; give a positive temperature and a finite a2"
+        )));
+    }
+    let contiguous = |a: &A<'py>| {
+        a.as_slice()
+            .map(|s| s.to_vec())
+            .map_err(|_| value_error("the arrays must be contiguous"))
+    };
+    let (changes, strengths, times) = (
+        contiguous(&change_times)?,
+        contiguous(&strengths)?,
+        contiguous(&times)?,
+    );
+    increasing("times", &times)?;
+    increasing("the strength's change times", &changes)?;
+    if changes.len() != strengths.len() || changes.first() != Some(&0.0) {
+        return Err(value_error(
+            "give the strength as a number or as (time, strength) pairs, the first at time 0",
+        ));
+    }
+    if strengths.iter().any(|x| !(x.is_finite() && *x >= 0.0)) {
+        return Err(value_error(
+            "a strength is negative or not finite; give xi0^2 >= 0 (0: free cooling)",
+        ));
+    }
+    let protocol: Vec<(f64, f64)> = changes.into_iter().zip(strengths).collect();
+    let states = gas.trajectory(SonineState { temperature, a2 }, &protocol, &times);
+    let t: Vec<f64> = states.iter().map(|s| s.temperature).collect();
+    let a: Vec<f64> = states.iter().map(|s| s.a2).collect();
+    Ok((PyArray1::from_vec(py, t), PyArray1::from_vec(py, a)))
+}
+
+/// `SonineRelaxation::strength_for_temperature` (KT-13 solved for `ξ0²`) element by
+/// element.
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+fn white_noise_strength<'py>(
+    py: Python<'py>,
+    dimension: usize,
+    restitution: f64,
+    mass: f64,
+    number_density: f64,
+    radius: f64,
+    chi: f64,
+    particles: Option<usize>,
+    temperature: A<'py>,
+) -> Out<'py> {
+    let gas = relaxing_gas(
+        dimension,
+        restitution,
+        mass,
+        number_density,
+        radius,
+        chi,
+        particles,
+    )?;
+    map(py, [temperature], |[t]| {
+        if t > 0.0 {
+            gas.strength_for_temperature(t)
+        } else {
+            f64::NAN
+        }
+    })
+}
+
 /// Adds the `theory` submodule.
 pub fn register(parent: &Bound<'_, PyModule>) -> PyResult<()> {
     let m = PyModule::new(parent.py(), "theory")?;
@@ -405,6 +556,8 @@ pub fn register(parent: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(needle_flux, &m)?)?;
     m.add_function(wrap_pyfunction!(rough_temperature_ratio, &m)?)?;
     m.add_function(wrap_pyfunction!(rough_cooling_rate, &m)?)?;
+    m.add_function(wrap_pyfunction!(sonine_relaxation, &m)?)?;
+    m.add_function(wrap_pyfunction!(white_noise_strength, &m)?)?;
     parent.add_submodule(&m)?;
     Ok(())
 }

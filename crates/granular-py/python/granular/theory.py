@@ -5,7 +5,8 @@ Array arguments may be Python numbers, lists or NumPy arrays of any shape; they 
 together and the result has the broadcast shape (a 0-d input gives a Python float). Units:
 ``k_B = 1`` (a temperature is an energy), lengths and masses in the scenario's units.
 Equation labels: HD-n (the hard-disk assignment), DSMC-n (Müller & Herrmann's DSMC paper), G-n (the Gillespie
-intruder paper), RS-n (rough grains, docs/rough.md).
+intruder paper), RS-n (rough grains, docs/rough.md), KT-n (kinetic theory from the literature,
+docs/equations.md).
 """
 
 from __future__ import annotations
@@ -43,6 +44,8 @@ __all__ = [
     "needle_flux",
     "rough_temperature_ratio",
     "rough_cooling_rate",
+    "sonine_relaxation",
+    "white_noise_strength",
 ]
 
 ArrayLike = npt.ArrayLike
@@ -321,4 +324,75 @@ def rough_cooling_rate(
         normal_restitution,
         tangential_restitution,
         inertia,
+    )
+
+
+Strength = Union[float, "list[tuple[float, float]]", npt.ArrayLike]
+
+
+def sonine_relaxation(
+    times: ArrayLike,
+    temperature: float,
+    a2: float,
+    strength: Strength,
+    restitution: float,
+    number_density: float,
+    radius: float,
+    mass: float = 1.0,
+    chi: float = 1.0,
+    particles: int | None = None,
+    dimension: int = 2,
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+    """Temperature and ``a2`` at ``times`` of a homogeneous gas heated by white noise, relaxing
+    from ``(temperature, a2)`` at time 0 in the first Sonine approximation (KT-14, KT-15:
+    ``dT/dt = m xi0^2 - zeta T``, ``da2/dt = -(2 m xi0^2/T) a2 + (2 omega/(D(D+2)))[...]``;
+    docs/equations.md). The theory of the Kovacs (Prados & Trizac 2014) and Mpemba (Lasanta et
+    al. 2017) effects of driven granular gases.
+
+    ``strength`` is ``xi0^2`` (length^2/time^3; 0 for free cooling), a number or a list of
+    ``(time, strength)`` pairs, the first at time 0, for a protocol that changes it.
+    ``particles`` (N) gives the kick variance ``xi0^2 (1 - 1/N)`` that the engines' zero-momentum
+    kicks leave each grain; ``chi`` is the contact value (1 for a dilute gas and DSMC without
+    Enskog's factor). ``times`` are increasing, from 0. Returns ``(T, a2)``, arrays of the
+    shape of ``times``.
+    """
+    t = np.asarray(times, dtype=np.float64)
+    if np.ndim(strength) == 0:
+        pairs = np.array([[0.0, float(strength)]])  # type: ignore[arg-type]
+    else:
+        pairs = np.asarray(strength, dtype=np.float64).reshape(-1, 2)
+    temps, a2s = _T.sonine_relaxation(
+        dimension,
+        float(restitution),
+        float(mass),
+        float(number_density),
+        float(radius),
+        float(chi),
+        particles,
+        float(temperature),
+        float(a2),
+        np.ascontiguousarray(pairs[:, 0]),
+        np.ascontiguousarray(pairs[:, 1]),
+        np.ascontiguousarray(t.reshape(-1)),
+    )
+    return np.asarray(temps).reshape(t.shape), np.asarray(a2s).reshape(t.shape)
+
+
+def white_noise_strength(
+    temperature: ArrayLike,
+    restitution: float,
+    number_density: float,
+    radius: float,
+    mass: float = 1.0,
+    chi: float = 1.0,
+    particles: int | None = None,
+    dimension: int = 2,
+) -> Result:
+    """The white-noise strength ``xi0^2`` whose steady temperature is ``temperature`` (KT-13 solved
+    for ``xi0^2``, at KT-12's ``a2``; ``particles`` as in :func:`sonine_relaxation`). NaN where the
+    temperature is not positive."""
+    return _apply(
+        _T.white_noise_strength,
+        (dimension, float(restitution), float(mass), float(number_density), float(radius), float(chi), particles),
+        temperature,
     )
