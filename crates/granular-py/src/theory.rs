@@ -11,6 +11,8 @@ use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
 
 type Out<'py> = PyResult<Bound<'py, PyArray1<f64>>>;
+/// Two arrays of one length (a temperature and an `a2` series).
+type Pair<'py> = PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)>;
 
 /// `f` applied element by element to `K` arrays of one length.
 fn map<'py, const K: usize>(
@@ -455,7 +457,7 @@ fn sonine_relaxation<'py>(
     change_times: A<'py>,
     strengths: A<'py>,
     times: A<'py>,
-) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+) -> Pair<'py> {
     let gas = relaxing_gas(
         dimension,
         restitution,
