@@ -149,3 +149,31 @@ def test_rough_grains_theory_on_arrays() -> None:
     assert math.isnan(theory.rough_temperature_ratio(0.9, 0.0, inertia=0.8, dimension=3))
     with pytest.raises(ValueError, match="white_noise"):
         theory.rough_temperature_ratio(0.9, 0.0, state="driven")  # type: ignore[arg-type]
+
+
+def test_sonine_relaxation_of_a_heated_gas() -> None:
+    """KT-14/KT-15 on NumPy: elastic grains heat at exactly m xi0^2 (1 - 1/N) and stay Maxwellian; an
+    inelastic gas relaxes to the steady temperature of white_noise_strength (KT-13) and to KT-12's a2 up
+    to order a2^2; a protocol of strengths is followed piecewise; bad input is a ValueError."""
+    gas = dict(number_density=1e5, radius=1e-4, particles=1000)
+    times = np.linspace(0.0, 2.0, 5)
+    temps, a2 = theory.sonine_relaxation(times, 1.0, 0.0, 0.5, 1.0, mass=2.0, **gas)
+    np.testing.assert_allclose(temps, 1.0 + 2.0 * 0.5 * (1 - 1 / 1000) * times, rtol=0, atol=1e-12)
+    assert np.all(a2 == 0.0)
+    omega = float(theory.collision_frequency(1e5, 1e-4, 1.0))
+    for e in (0.3, 0.8):
+        xi = float(theory.white_noise_strength(0.5, e, **gas))
+        end_t, end_a2 = theory.sonine_relaxation([300.0 / omega], 2.0, 0.0, xi, e, **gas)
+        kt12 = 16 * (1 - e) * (1 - 2 * e * e) / (73 + 56 * 2 - 3 * e * (35 + 8 * 2) + 30 * e * e * (1 - e))
+        assert abs(end_a2[0] - kt12) < 2 * kt12**2
+        assert abs(end_t[0] / 0.5 - 1) < kt12**2
+    # A protocol: heating switched off at t = 1 (free cooling), against two calls.
+    both, _ = theory.sonine_relaxation([1.0, 2.0], 1.0, 0.0, [(0.0, 0.5), (1.0, 0.0)], 1.0, **gas)
+    assert both[1] == both[0]
+    with pytest.raises(ValueError, match="strength"):
+        theory.sonine_relaxation([1.0], 1.0, 0.0, -1.0, 0.5, **gas)
+    with pytest.raises(ValueError, match="increasing"):
+        theory.sonine_relaxation([2.0, 1.0], 1.0, 0.0, 1.0, 0.5, **gas)
+    with pytest.raises(ValueError, match="restitution"):
+        theory.sonine_relaxation([1.0], 1.0, 0.0, 1.0, 1.5, **gas)
+    assert np.isnan(theory.white_noise_strength(-1.0, 0.5, **gas))
