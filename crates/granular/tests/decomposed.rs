@@ -600,12 +600,18 @@ fn outputs_scenario() -> granular::scenario::Scenario {
     granular::scenario::Scenario::from_toml(&text, &[]).expect("valid scenario")
 }
 
-/// `summary.json` without its wall-clock fields.
+/// `summary.json` without its wall-clock fields and the `ranks` block (how the ranks of a
+/// decomposed run shared the grains; absent in a threaded run).
 pub(crate) fn summary_without_clock(dir: &std::path::Path) -> serde_json::Value {
     let text = std::fs::read_to_string(dir.join("summary.json")).expect("summary.json");
     let mut v: serde_json::Value = serde_json::from_str(&text).expect("JSON");
     if let Some(o) = v.as_object_mut() {
-        for k in ["wall_seconds", "events_per_second", "collisions_per_second"] {
+        for k in [
+            "wall_seconds",
+            "events_per_second",
+            "collisions_per_second",
+            "ranks",
+        ] {
             o.remove(k);
         }
     }
@@ -1000,6 +1006,27 @@ fn check_mixed_on_ranks(threaded: &std::path::Path, driven: bool, k: usize, bala
         let peaks = run_on_ranks(k, &scenario, &shared);
         let what = format!("{k} ranks, balance {balance}, driven {driven}");
         same_files(threaded, &shared, &what);
+        // summary.json's `ranks` block: every rank's peak as the rank itself counted it.
+        let summary: granular::Summary = serde_json::from_str(
+            &std::fs::read_to_string(shared.join("summary.json")).expect("summary.json"),
+        )
+        .expect("summary");
+        let ranks = summary.ranks.expect("a ranks block");
+        assert_eq!(ranks.ranks, k, "{what}");
+        let counted: Vec<usize> = peaks.iter().map(|p| p.0).collect();
+        assert_eq!(ranks.peak_grains, counted, "{what}");
+        assert_eq!(
+            ranks.final_grains.iter().sum::<usize>(),
+            MIXED_GRAINS,
+            "{what}"
+        );
+        assert_eq!(ranks.cuts_moved, peaks[0].1, "{what}");
+        let even = MIXED_GRAINS as f64 / k as f64;
+        let most = *counted.iter().max().unwrap_or(&0) as f64;
+        assert!(
+            (ranks.peak_over_even_share - most / even).abs() < 1e-12,
+            "{what}"
+        );
         if k > 1 && balance == "count" {
             for (rank, &(peak, _)) in peaks.iter().enumerate() {
                 // Balanced (own grains within 5 % of N / K): its own grains, its block of

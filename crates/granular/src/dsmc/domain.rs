@@ -366,6 +366,16 @@ impl Domain {
         self.held.peak.load(std::sync::atomic::Ordering::Relaxed)
     }
 
+    /// Every rank's peak grains ([`Domain::peak_grains`]) and its grains now (`local`), by
+    /// rank (collective).
+    pub fn peaks(&self, local: usize) -> Vec<(usize, usize)> {
+        self.comm
+            .all_gather(&[self.peak_grains() as f64, local as f64])
+            .iter()
+            .map(|v| (v[0] as usize, v[1] as usize))
+            .collect()
+    }
+
     /// How the work is shared since the last report (collective): every rank's grains
     /// (`local`) and the share of the wall time it spent inside communication, which
     /// includes waiting for the slowest rank. Returns `(largest / mean grains, the

@@ -737,6 +737,7 @@ impl Recorder {
             steady_state: None,
             rough: None,
             resolved: ResolvedSummary::of(simulation.resolved()),
+            ranks: None,
             warnings: self.warnings.clone(),
             changes: simulation.changes().to_vec(),
             outputs: simulation.outputs_done(),
@@ -746,6 +747,8 @@ impl Recorder {
         for o in &mut self.attached {
             o.finish(simulation, &mut summary)?;
         }
+        // After the outputs, which may read the grains by blocks (and so hold more).
+        summary.ranks = ranks_summary(simulation);
         let run_dir = RunDir::new(&self.dir);
         let path = run_dir.file(RunFile::Summary);
         let text = serde_json::to_string_pretty(&summary).unwrap_or_default();
@@ -757,6 +760,28 @@ impl Recorder {
         );
         Ok(summary)
     }
+}
+
+/// How the ranks of a decomposed DSMC run shared the grains (collective; `None` for a run
+/// in one process).
+fn ranks_summary(simulation: &Simulation) -> Option<summary::RanksSummary> {
+    let domain = simulation.engine().domain()?;
+    let own = match simulation.engine() {
+        AnyEngine::Dsmc2(e) => e.local_len(),
+        AnyEngine::Dsmc3(e) => e.local_len(),
+        _ => 0,
+    };
+    let peaks = domain.peaks(own);
+    let ranks = peaks.len();
+    let n = simulation.particle_count().max(1) as f64;
+    let most = peaks.iter().map(|p| p.0).max().unwrap_or(0);
+    Some(summary::RanksSummary {
+        ranks,
+        peak_grains: peaks.iter().map(|p| p.0).collect(),
+        peak_over_even_share: most as f64 * ranks as f64 / n,
+        final_grains: peaks.iter().map(|p| p.1).collect(),
+        cuts_moved: domain.recuts(),
+    })
 }
 
 /// The run loop's hooks for a run directory: outputs at output times, progress and

@@ -278,6 +278,26 @@ pub struct SteadyStateSummary {
 /// Rough grains (`docs/rough.md`): the measured temperature ratio and reduced cooling
 /// rate of the run (averages after the equilibration time, with their standard errors)
 /// beside the kinetic theory of one species of rough grains in a homogeneous gas: the
+/// How a DSMC run split over MPI ranks shared its grains (`summary.json`'s `ranks`): the
+/// memory of the busiest rank, which sets how many grains a node can take.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RanksSummary {
+    /// Number of ranks.
+    pub ranks: usize,
+    /// The most grains each rank held at a time over the run, by rank: its own grains and,
+    /// at a migration, at the set-up, at a re-cut or when the outputs read the grains by
+    /// blocks of ids, those in its buffers besides (`Domain::peak_grains`).
+    pub peak_grains: Vec<usize>,
+    /// The largest peak over an even share `N / ranks`: 1 would be a perfectly even
+    /// machine with no buffers; the memory per rank is this times `N / ranks` times the
+    /// bytes per grain (docs/cluster.md).
+    pub peak_over_even_share: f64,
+    /// Grains each rank owns at the end, by rank.
+    pub final_grains: Vec<usize>,
+    /// Times the slab cuts moved to follow the grains (`dsmc.balance`).
+    pub cuts_moved: u64,
+}
+
 /// Maxwellian approximation (RS-4/RS-5 for a cooling gas and the rescaled cooling state,
 /// RS-6 for white noise) and the first Sonine approximation (RS-8, RS-9).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -370,8 +390,12 @@ pub struct Summary {
     /// Warnings raised during the run (e.g. DSMC's validity conditions), also in `log.txt`.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<String>,
-    /// Parameters changed in flight (`Simulation::set`), in order: time, key, old and
-    /// new value.
+    /// A DSMC run over MPI ranks: how the ranks shared the grains (absent otherwise; the
+    /// rest of the summary is the threaded run's, bit for bit).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ranks: Option<RanksSummary>,
+    /// Parameters changed in flight (`Simulation::set` or `[[schedule]]`), in order: time,
+    /// key, old and new value.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub changes: Vec<crate::in_flight::Change>,
     /// Outputs written (rows of `timeseries.csv` after the one at `t = 0`).
