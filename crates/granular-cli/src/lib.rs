@@ -56,6 +56,10 @@ enum Command {
         /// `granular check` and docs/scenario.md, "Limits").
         #[arg(long)]
         insist: bool,
+        /// Worker threads of this process (default: the cores, shared among the MPI ranks
+        /// on this node); results do not depend on it.
+        #[arg(long, allow_hyphen_values = true, value_parser = args::threads)]
+        threads: Option<usize>,
     },
     /// Validate a scenario, print it fully resolved and estimate what the run will cost.
     Check {
@@ -160,6 +164,10 @@ enum Command {
         /// No progress bar.
         #[arg(long, short)]
         quiet: bool,
+        /// Worker threads of this process (default: the cores, shared among the MPI ranks
+        /// on this node); results do not depend on it.
+        #[arg(long, allow_hyphen_values = true, value_parser = args::threads)]
+        threads: Option<usize>,
     },
     /// Reproduce the figures of the Gillespie intruder paper (PNG, SVG and CSV).
     Reproduce(ReproduceArgs),
@@ -231,6 +239,23 @@ fn parse_seed(s: &str) -> Result<u64, String> {
 /// `--format`: a trajectory format name.
 fn parse_format(s: &str) -> Result<granular::trajectory::Format, String> {
     granular::trajectory::Format::parse(s)
+}
+
+/// Sizes the worker threads of a run (`granular run`/`resume --threads`): the given number
+/// (capped at the cores), or the cores shared among the `ranks_on_node` MPI ranks of this
+/// node (at least 1 each). An explicit `RAYON_NUM_THREADS` is kept when `--threads` is not
+/// given. The result never depends on it (docs/cluster.md, "Ranks and threads").
+fn use_threads(threads: Option<usize>, ranks_on_node: usize) -> Result<(), CliError> {
+    let n = match threads {
+        Some(_) => worker_threads(threads)?,
+        None if std::env::var_os("RAYON_NUM_THREADS").is_some() => return Ok(()),
+        None => (worker_threads(None)? / ranks_on_node.max(1)).max(1),
+    };
+    // Fails only if the pool already exists (a second run in one process): keep it.
+    let _ = rayon::ThreadPoolBuilder::new()
+        .num_threads(n)
+        .build_global();
+    Ok(())
 }
 
 /// `--threads`: at least 1, at most the number of cores (more is capped, with a note).
@@ -361,6 +386,7 @@ fn dispatch(cli: Cli) -> Result<(), CliError> {
             quiet,
             replace,
             insist,
+            threads,
         } => {
             let sc = load_with(&scenario, seed, &set, insist)?;
             let dir = out.unwrap_or_else(|| default_dir(&scenario));
@@ -380,7 +406,7 @@ fn dispatch(cli: Cli) -> Result<(), CliError> {
                     dir.display()
                 )));
             }
-            launch(&dir, quiet, |mine, _, comm, ranks_on_node| {
+            launch(&dir, quiet, threads, |mine, _, comm, ranks_on_node| {
                 // Each rank creates only its own grains; a DSMC run whose most loaded rank
                 // would not fit in its share of this node's memory is refused (not with
                 // --insist).
@@ -438,7 +464,11 @@ fn dispatch(cli: Cli) -> Result<(), CliError> {
             }
             Ok(())
         }
-        Command::Resume { dir, quiet } => launch(&dir, quiet, |mine, rank, comm, _| {
+        Command::Resume {
+            dir,
+            quiet,
+            threads,
+        } => launch(&dir, quiet, threads, |mine, rank, comm, _| {
             if rank != 0 {
                 ranks_copy(&dir, mine)?;
             }
@@ -569,8 +599,10 @@ fn parse_shard(text: &str) -> Result<granular::run::sweep::Shard, String> {
 fn launch(
     dir: &Path,
     quiet: bool,
+    threads: Option<usize>,
     open: impl FnOnce(&Path, usize, Ranks, usize) -> Result<Run, String>,
 ) -> Result<(), CliError> {
+    use_threads(threads, 1)?;
     let run = open(dir, 0, None, 1)?;
     finish_after(run, dir, quiet, None)
 }
@@ -615,9 +647,11 @@ fn ranks_copy(dir: &Path, mine: &Path) -> Result<(), String> {
 fn launch(
     dir: &Path,
     quiet: bool,
+    threads: Option<usize>,
     open: impl FnOnce(&Path, usize, Ranks, usize) -> Result<Run, String>,
 ) -> Result<(), CliError> {
     let ranks = ranks::Ranks::start();
+    use_threads(threads, ranks.on_node())?;
     let mine = ranks.directory(dir);
     let rank = ranks.rank();
     let result = (|| {

@@ -1,6 +1,6 @@
 //! The `granular` binary end to end: run, check, resume and bench, and the errors users see.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 #[path = "cli/report.rs"]
@@ -564,6 +564,37 @@ fn intruder_sweep_over_restitution() {
         "{}",
         String::from_utf8_lossy(&plot.stderr)
     );
+}
+
+/// `granular run --threads`: a DSMC run on one and on two worker threads writes the same
+/// time series and summary (but for its wall-clock fields), bit for bit.
+#[test]
+fn run_threads_do_not_change_the_result() {
+    let (a, b) = (tmp("threads-1"), tmp("threads-2"));
+    let scenario = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/dsmc-cooling.toml");
+    for (dir, threads) in [(&a, "1"), (&b, "2")] {
+        let out = granular()
+            .args(["run", "--quiet", "--threads", threads, "--out"])
+            .arg(dir)
+            .arg(&scenario)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    let read = |d: &Path, f: &str| std::fs::read_to_string(d.join(f)).unwrap();
+    assert_eq!(read(&a, "timeseries.csv"), read(&b, "timeseries.csv"));
+    let summary = |d: &Path| {
+        let mut v: serde_json::Value = serde_json::from_str(&read(d, "summary.json")).unwrap();
+        for k in ["wall_seconds", "events_per_second", "collisions_per_second"] {
+            v.as_object_mut().unwrap().remove(k);
+        }
+        v
+    };
+    assert_eq!(summary(&a), summary(&b));
 }
 
 /// `granular reproduce fig3 --quick`: PNG, SVG and CSV with the theory column, and the
