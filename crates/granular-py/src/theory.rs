@@ -384,17 +384,14 @@ fn rough_cooling_rate<'py>(
     })
 }
 
+/// The gas of [`SonineRelaxation`] as `granular.theory` passes it: `(dimension,
+/// restitution, mass, number_density, radius, chi, particles)`.
+#[derive(FromPyObject)]
+struct GasArgs(usize, f64, f64, f64, f64, f64, Option<usize>);
+
 /// The gas of [`SonineRelaxation`] from the Python arguments, checked.
-#[allow(clippy::too_many_arguments)]
-fn relaxing_gas(
-    dimension: usize,
-    restitution: f64,
-    mass: f64,
-    number_density: f64,
-    radius: f64,
-    chi: f64,
-    particles: Option<usize>,
-) -> PyResult<SonineRelaxation> {
+fn relaxing_gas(args: GasArgs) -> PyResult<SonineRelaxation> {
+    let GasArgs(dimension, restitution, mass, number_density, radius, chi, particles) = args;
     dimension_2_or_3(dimension)?;
     if !(0.0..=1.0).contains(&restitution) {
         return Err(value_error(format!(
@@ -442,31 +439,16 @@ fn increasing(name: &str, x: &[f64]) -> PyResult<()> {
 /// gas starting from (`temperature`, `a2`) at time 0 under white noise of strength
 /// `strengths[k]` from `change_times[k]` on.
 #[pyfunction]
-#[allow(clippy::too_many_arguments)]
 fn sonine_relaxation<'py>(
     py: Python<'py>,
-    dimension: usize,
-    restitution: f64,
-    mass: f64,
-    number_density: f64,
-    radius: f64,
-    chi: f64,
-    particles: Option<usize>,
+    gas: GasArgs,
     temperature: f64,
     a2: f64,
     change_times: A<'py>,
     strengths: A<'py>,
     times: A<'py>,
 ) -> Pair<'py> {
-    let gas = relaxing_gas(
-        dimension,
-        restitution,
-        mass,
-        number_density,
-        radius,
-        chi,
-        particles,
-    )?;
+    let gas = relaxing_gas(gas)?;
     if !(temperature.is_finite() && temperature > 0.0 && a2.is_finite()) {
         return Err(value_error(format!(
             "temperature is {temperature} and a2 is {a2}; give a positive temperature and a finite a2"
@@ -504,27 +486,8 @@ fn sonine_relaxation<'py>(
 /// `SonineRelaxation::strength_for_temperature` (KT-13 solved for `ξ0²`) element by
 /// element.
 #[pyfunction]
-#[allow(clippy::too_many_arguments)]
-fn white_noise_strength<'py>(
-    py: Python<'py>,
-    dimension: usize,
-    restitution: f64,
-    mass: f64,
-    number_density: f64,
-    radius: f64,
-    chi: f64,
-    particles: Option<usize>,
-    temperature: A<'py>,
-) -> Out<'py> {
-    let gas = relaxing_gas(
-        dimension,
-        restitution,
-        mass,
-        number_density,
-        radius,
-        chi,
-        particles,
-    )?;
+fn white_noise_strength<'py>(py: Python<'py>, gas: GasArgs, temperature: A<'py>) -> Out<'py> {
+    let gas = relaxing_gas(gas)?;
     map(py, [temperature], |[t]| {
         if t > 0.0 {
             gas.strength_for_temperature(t)

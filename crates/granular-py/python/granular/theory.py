@@ -330,6 +330,16 @@ def rough_cooling_rate(
 Strength = Union[float, "list[tuple[float, float]]", npt.ArrayLike]
 
 
+def _gas(
+    dimension: int, restitution: float, mass: float, number_density: float, radius: float, chi: float,
+    particles: int | None,
+) -> tuple[int, float, float, float, float, float, int | None]:
+    """The gas of KT-14/KT-15 as the compiled functions take it."""
+    return (
+        dimension, float(restitution), float(mass), float(number_density), float(radius), float(chi), particles
+    )
+
+
 def sonine_relaxation(
     times: ArrayLike,
     temperature: float,
@@ -362,13 +372,7 @@ def sonine_relaxation(
     else:
         pairs = np.asarray(strength, dtype=np.float64).reshape(-1, 2)
     temps, a2s = _T.sonine_relaxation(
-        dimension,
-        float(restitution),
-        float(mass),
-        float(number_density),
-        float(radius),
-        float(chi),
-        particles,
+        _gas(dimension, restitution, mass, number_density, radius, chi, particles),
         float(temperature),
         float(a2),
         np.ascontiguousarray(pairs[:, 0]),
@@ -393,6 +397,6 @@ def white_noise_strength(
     temperature is not positive."""
     return _apply(
         _T.white_noise_strength,
-        (dimension, float(restitution), float(mass), float(number_density), float(radius), float(chi), particles),
+        (_gas(dimension, restitution, mass, number_density, radius, chi, particles),),
         temperature,
     )
