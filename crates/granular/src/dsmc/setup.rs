@@ -681,8 +681,9 @@ impl Domain {
         let longest = self.n_global.div_ceil(k);
         let round = round_length(longest);
         let w = 1 + 2 * D + r;
-        for r in 0..longest.div_ceil(round).max(1) {
-            let range = (r * round).min(pos.len())..((r + 1) * round).min(pos.len());
+        // (`r` is the number of spin components throughout; the rounds are `t`.)
+        for t in 0..longest.div_ceil(round).max(1) {
+            let range = (t * round).min(pos.len())..((t + 1) * round).min(pos.len());
             let mut outgoing: Vec<Vec<f64>> = vec![Vec::new(); k];
             let mut sent = 0;
             for i in range {
