@@ -204,5 +204,18 @@ pub fn read_snapshot<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py,
     out.set_item("masses", PyArray1::from_vec(py, s.masses))?;
     out.set_item("species", PyArray1::from_vec(py, s.species))?;
     out.set_item("species_names", s.species_names)?;
+    // Rough grains: (N,) in 2D, (N, 3) in 3D.
+    if !s.angular_velocities.is_empty() {
+        let w = s.angular_velocities;
+        let spins = if d == 2 {
+            PyArray1::from_vec(py, w).into_any()
+        } else {
+            let a = numpy::ndarray::Array2::from_shape_vec((n, 3), w).map_err(|e| {
+                simulation_error(format!("snapshot angular velocities are not {n} x 3: {e}"))
+            })?;
+            numpy::PyArray2::from_owned_array(py, a).into_any()
+        };
+        out.set_item("angular_velocities", spins)?;
+    }
     Ok(out)
 }

@@ -168,13 +168,22 @@ fn state_error(e: StateError) -> PyErr {
     }
 }
 
-/// `(time, positions, velocities)` of a snapshot given as a path, a `granular.Snapshot`
-/// or a dict, checked against the scenario's grains and dimension.
+/// The arrays of a snapshot: time, positions, velocities and, from a rough run, angular
+/// velocities.
+struct SnapshotArrays {
+    time: f64,
+    positions: Vec<f64>,
+    velocities: Vec<f64>,
+    angular_velocities: Option<Vec<f64>>,
+}
+
+/// The arrays of a snapshot given as a path, a `granular.Snapshot` or a dict, checked
+/// against the scenario's grains and dimension.
 fn snapshot_arrays(
     py: Python<'_>,
     snapshot: &Bound<'_, PyAny>,
     scenario: &granular::Scenario,
-) -> PyResult<(f64, Vec<f64>, Vec<f64>)> {
+) -> PyResult<SnapshotArrays> {
     if scenario.kind() == granular::scenario::EngineKind::Intruder {
         return Err(state_error(StateError::NoGrains { engine: "intruder" }));
     }
@@ -199,7 +208,12 @@ fn snapshot_arrays(
                 s.dimension
             )));
         }
-        return Ok((s.time, s.positions, s.velocities));
+        return Ok(SnapshotArrays {
+            time: s.time,
+            positions: s.positions,
+            velocities: s.velocities,
+            angular_velocities: (!s.angular_velocities.is_empty()).then_some(s.angular_velocities),
+        });
     }
     let get = |key: &str| -> PyResult<Bound<'_, PyAny>> {
         if let Ok(dict) = snapshot.cast::<pyo3::types::PyDict>() {
@@ -216,7 +230,22 @@ fn snapshot_arrays(
     let time: f64 = get("time")?.extract()?;
     let positions = crate::state::grain_array(py, "positions", &get("positions")?, n, d)?;
     let velocities = crate::state::grain_array(py, "velocities", &get("velocities")?, n, d)?;
-    Ok((time, positions, velocities))
+    // Angular velocities where the snapshot has them (a rough run's): a dict's key or a
+    // `granular.Snapshot`'s attribute, absent or None otherwise.
+    let spins = match snapshot.cast::<pyo3::types::PyDict>() {
+        Ok(dict) => dict.get_item("angular_velocities")?,
+        Err(_) => snapshot.getattr("angular_velocities").ok(),
+    };
+    let angular_velocities = match spins.filter(|w| !w.is_none()) {
+        Some(w) => Some(crate::state::spin_array(py, &w, n, d)?),
+        None => None,
+    };
+    Ok(SnapshotArrays {
+        time,
+        positions,
+        velocities,
+        angular_velocities,
+    })
 }
 
 impl PySimulation {
@@ -377,7 +406,9 @@ impl PySimulation {
     /// instead of the scenario's initial state: `snapshot` is the path of a snapshot
     /// `.npz` (a run directory's `snapshot_NNNNNN.npz`), a `granular.Snapshot`
     /// (`granular.load_run(...).snapshot(k)`) or the dict of `Simulation.snapshot()`;
-    /// its `positions` and `velocities` (float64 (N, D), input order) and `time` are used.
+    /// its `positions` and `velocities` (float64 (N, D), input order) and `time` are used,
+    /// and the `angular_velocities` of a rough run's snapshot where it has them (rough
+    /// grains of a snapshot without them start from the scenario's drawn spins).
     /// The run goes on exactly, bit for bit, as a simulation of the same scenario whose
     /// state was set to the same arrays at the same time (`set_state`). Raises ValueError
     /// or TypeError for arrays that do not fit the scenario (shape, dtype, NaN, a grain
@@ -395,14 +426,17 @@ impl PySimulation {
         let scenario = scenario_argument(py, scenario, seed, insist)?;
         let resolved = scenario.resolved.clone();
         let origin = scenario.origin.clone();
-        let (time, positions, velocities) = snapshot_arrays(py, snapshot, &resolved)?;
+        let a = snapshot_arrays(py, snapshot, &resolved)?;
         let built = py.detach(|| {
             guard("Simulation.from_snapshot()", || {
-                Ok(Simulation::from_state(
+                Ok(Simulation::from_grain_state(
                     resolved,
-                    time,
-                    &positions,
-                    &velocities,
+                    a.time,
+                    GrainState {
+                        positions: Some(&a.positions),
+                        velocities: Some(&a.velocities),
+                        angular_velocities: a.angular_velocities.as_deref(),
+                    },
                 ))
             })
         })?;
@@ -452,7 +486,9 @@ impl PySimulation {
     /// set(key, value) -> dict
     ///
     /// Changes a parameter from the current time on, between two advance() calls:
-    /// "collisions.restitution", "collisions.wall_restitution",
+    /// "collisions.restitution", "collisions.tangential_restitution" and
+    /// "collisions.friction" (rough grains; -1 makes them smooth, smooth grains cannot
+    /// become rough), "collisions.wall_restitution",
     /// "collisions.wall_tangential_restitution", "collisions.contact_duration" (the TC
     /// model), "driving.strength" (white noise), "driving.temperature" (rescaling),
     /// "gravity" (a list of D numbers). Validated as the same key in a scenario; other keys
@@ -470,9 +506,20 @@ impl PySimulation {
         let sim = self.sim_mut()?;
         let change = guard("set", || Ok(sim.set(key, &text).cloned()))?
             .map_err(|e| scenario_error(py, &e, None))?;
-        if let Ok(s) = self.scenario.with_overrides(py, &[format!("{key}={text}")]) {
-            self.scenario = s;
-        }
+        self.scenario = match self.scenario.with_overrides(py, &[format!("{key}={text}")]) {
+            Ok(s) => s,
+            // Rough grains made smooth: the changed scenario drops the species' rough keys
+            // (`scenario::changed`), which the overrides alone cannot say.
+            Err(_) => {
+                let changed = self.sim()?.scenario().clone();
+                PyScenario {
+                    source: changed.to_toml(),
+                    overrides: Vec::new(),
+                    origin: self.scenario.origin.clone(),
+                    resolved: changed,
+                }
+            }
+        };
         let value = serde_json::to_value(&change).map_err(simulation_error)?;
         json_to_python(py, &value)
     }
@@ -485,26 +532,30 @@ impl PySimulation {
         json_to_python(py, &value)
     }
 
-    /// set_state(positions=None, velocities=None) -> None
+    /// set_state(positions=None, velocities=None, angular_velocities=None) -> None
     ///
-    /// Sets the positions and/or the velocities of every grain at the current time
-    /// (float64 (N, D), input order: grain i is the i-th grain of the scenario's species
-    /// list; an array left out keeps its present values). Checked before anything changes:
+    /// Sets the positions, velocities and/or (rough grains) angular velocities of every
+    /// grain at the current time (positions and velocities float64 (N, D), angular
+    /// velocities float64 (N,) in 2D and (N, 3) in 3D, as `angular_velocities` returns
+    /// them; input order: grain i is the i-th grain of the scenario's species list; an
+    /// array left out keeps its present values). Checked before anything changes:
     /// shape and dtype (TypeError, ValueError), finite values, every centre inside the box
     /// (for edmd at least a radius from a wall) and, for edmd, no two grains overlapping
-    /// (ValueError naming the first overlapping pair and their distance); a refused call
+    /// (ValueError naming the first overlapping pair and their distance), angular
+    /// velocities only for rough grains (ValueError for smooth ones); a refused call
     /// leaves the simulation unchanged. The engine then rebuilds what depends on the state
     /// (edmd: every grain synchronised to the current time and every event predicted
     /// again; dsmc: the cell sort) and keys its random streams by the current time, so the
     /// run goes on exactly as `Simulation.from_snapshot` of the same arrays at this time.
     /// Time, counters and initial_kinetic_energy go on. SimulationError for the intruder
     /// engine (no grains).
-    #[pyo3(signature = (positions = None, velocities = None))]
+    #[pyo3(signature = (positions = None, velocities = None, angular_velocities = None))]
     fn set_state(
         &mut self,
         py: Python<'_>,
         positions: Option<&Bound<'_, PyAny>>,
         velocities: Option<&Bound<'_, PyAny>>,
+        angular_velocities: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<()> {
         let sim = self.sim_mut()?;
         if sim.engine_name() == "intruder" {
@@ -512,10 +563,14 @@ impl PySimulation {
                 engine: sim.engine_name(),
             }));
         }
-        if positions.is_none() && velocities.is_none() {
+        if positions.is_none() && velocities.is_none() && angular_velocities.is_none() {
             return Err(pyo3::exceptions::PyTypeError::new_err(
-                "set_state() needs positions=..., velocities=... or both",
+                "set_state() needs positions=..., velocities=..., angular_velocities=... or \
+several of them",
             ));
+        }
+        if angular_velocities.is_some() && !sim.engine().is_rough() {
+            return Err(state_error(StateError::Smooth));
         }
         let (n, d) = (sim.particle_count(), sim.dimension());
         let positions = positions
@@ -524,9 +579,13 @@ impl PySimulation {
         let velocities = velocities
             .map(|v| crate::state::grain_array(py, "velocities", v, n, d))
             .transpose()?;
+        let spins = angular_velocities
+            .map(|w| crate::state::spin_array(py, w, n, d))
+            .transpose()?;
         let state = GrainState {
             positions: positions.as_deref(),
             velocities: velocities.as_deref(),
+            angular_velocities: spins.as_deref(),
         };
         py.detach(|| guard("set_state", || Ok(sim.set_state(state))))?
             .map_err(state_error)

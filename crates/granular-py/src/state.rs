@@ -3,7 +3,7 @@
 //! straight into a NumPy array's own buffer.
 
 use granular::Simulation;
-use numpy::{PyArray2, PyArrayMethods};
+use numpy::{PyArray2, PyArrayDyn, PyArrayMethods};
 use pyo3::prelude::*;
 
 /// Which per-grain vector.
@@ -54,6 +54,61 @@ pub fn grain_array(
     n: usize,
     d: usize,
 ) -> PyResult<Vec<f64>> {
+    let what = format!(
+        "one row of {d} per grain, in input order (grain i is the i-th grain of the \
+scenario's species list)"
+    );
+    values(py, name, value, &[n, d], &what)
+}
+
+/// The angular velocities given by the user for rough grains in `d` dimensions: float64
+/// `(n,)` in 2D (`ω_z`), `(n, 3)` in 3D, as [`grain_array`].
+pub fn spin_array(
+    py: Python<'_>,
+    value: &Bound<'_, PyAny>,
+    n: usize,
+    d: usize,
+) -> PyResult<Vec<f64>> {
+    if d == 2 {
+        values(
+            py,
+            "angular_velocities",
+            value,
+            &[n],
+            "ω_z of each disk, about the axis normal to the plane, in input order",
+        )
+    } else {
+        values(
+            py,
+            "angular_velocities",
+            value,
+            &[n, 3],
+            "one row ω_x, ω_y, ω_z per sphere, in input order",
+        )
+    }
+}
+
+fn shape_text(shape: &[usize]) -> String {
+    match shape {
+        [a] => format!("({a},)"),
+        s => format!(
+            "({})",
+            s.iter()
+                .map(|x| x.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+    }
+}
+
+/// The row-major values of a float64 array of shape `shape` given as `name`.
+fn values(
+    py: Python<'_>,
+    name: &str,
+    value: &Bound<'_, PyAny>,
+    shape: &[usize],
+    what: &str,
+) -> PyResult<Vec<f64>> {
     let numpy = py.import("numpy")?;
     let ndarray = numpy.getattr("ndarray")?;
     let array = if value.is_instance(&ndarray)? {
@@ -72,28 +127,20 @@ np.asarray({name}, dtype=np.float64))",
             .map_err(|e| {
                 pyo3::exceptions::PyTypeError::new_err(format!(
                     "`{name}` is not an array of numbers ({e}); give a float64 NumPy array of \
-shape ({n}, {d})"
+shape {}",
+                    shape_text(shape)
                 ))
             })?
     };
-    let shape: Vec<usize> = array.getattr("shape")?.extract()?;
-    if shape != [n, d] {
+    let given: Vec<usize> = array.getattr("shape")?.extract()?;
+    if given != shape {
         return Err(crate::errors::value_error(format!(
-            "`{name}` has shape {}; give shape ({n}, {d}): one row of {d} per grain, in input \
-order (grain i is the i-th grain of the scenario's species list)",
-            match shape.as_slice() {
-                [a] => format!("({a},)"),
-                s => format!(
-                    "({})",
-                    s.iter()
-                        .map(|x| x.to_string())
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ),
-            }
+            "`{name}` has shape {}; give shape {}: {what}",
+            shape_text(&given),
+            shape_text(shape)
         )));
     }
-    let typed = array.cast::<PyArray2<f64>>()?;
+    let typed = array.cast::<PyArrayDyn<f64>>()?;
     let view = typed.try_readonly()?;
     Ok(match view.as_slice() {
         Ok(s) => s.to_vec(),

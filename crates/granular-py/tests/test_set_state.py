@@ -190,7 +190,7 @@ def test_resume_goes_on_as_granular_resume(tmp_path: Path) -> None:
 
 def test_set_state_needs_an_array() -> None:
     sim = granular.Simulation(granular.Scenario.from_toml(EDMD_2D))
-    with pytest.raises(TypeError, match="positions=..., velocities=... or both"):
+    with pytest.raises(TypeError, match="positions=..., velocities=..., angular_velocities=..."):
         sim.set_state()
 
 
@@ -224,3 +224,109 @@ def test_set_on_the_intruder_engine_is_refused() -> None:
     sim = granular.Simulation(granular.Scenario.from_toml(INTRUDER_1D))
     with pytest.raises(granular.ScenarioError, match="intruder engine"):
         sim.set("collisions.restitution", 0.5)
+
+
+def _rough(engine: str, dimension: int) -> str:
+    count = 2000 if engine == "dsmc" else 300
+    return f"""
+engine = "{engine}"
+dimension = {dimension}
+seed = 9
+box = {{ boundary = "periodic" }}
+[collisions]
+restitution = 0.9
+tangential_restitution = 0.0
+[[species]]
+name = "grain"
+count = {count}
+packing_fraction = 0.1
+velocity = {{ distribution = "maxwell_boltzmann", temperature = 1.0 }}
+angular_velocity = {{ distribution = "maxwell_boltzmann", temperature = 1.0 }}
+[stop]
+time = 1.0
+[output]
+interval = 0.1
+snapshot_every = 1
+"""
+
+
+@pytest.mark.parametrize("engine", ["edmd", "dsmc"])
+@pytest.mark.parametrize("dimension", [2, 3])
+def test_rough_grains_set_with_their_spins(engine: str, dimension: int, tmp_path: Path) -> None:
+    """Positions, velocities and angular velocities set at t go on as from_snapshot of the same arrays
+    (a dict, and a run directory's snapshot file of a rough run, which carries its spins)."""
+    scenario = granular.Scenario.from_toml(_rough(engine, dimension))
+    sim = granular.Simulation(scenario)
+    sim.advance(0.2)
+    snap = sim.snapshot()
+    w = -2.0 * snap["angular_velocities"]
+    assert w.shape == ((sim.particle_count,) if dimension == 2 else (sim.particle_count, 3))
+    snap["angular_velocities"] = w
+    snap["velocities"] = 0.5 * snap["velocities"]
+    sim.set_state(velocities=snap["velocities"], angular_velocities=w)
+    np.testing.assert_array_equal(sim.angular_velocities, w)
+    started = granular.Simulation.from_snapshot(scenario, snap)
+    np.testing.assert_array_equal(started.angular_velocities, w)
+    for s in (sim, started):
+        s.advance(0.4)
+    assert sim.positions.tobytes() == started.positions.tobytes()
+    assert sim.velocities.tobytes() == started.velocities.tobytes()
+    assert sim.angular_velocities.tobytes() == started.angular_velocities.tobytes()
+    assert sim.angular_velocities.tobytes() != w.tobytes()
+    # A run directory's snapshot of a rough run restores the spins too.
+    granular.Simulation(scenario).run(out=tmp_path / "run")
+    run = granular.load_run(tmp_path / "run")
+    k = 3
+    snap = run.snapshot(k)
+    assert snap.angular_velocities is not None and snap.angular_velocities.shape == w.shape
+    by_path = granular.Simulation.from_snapshot(scenario, run.snapshot_paths[k])
+    by_object = granular.Simulation.from_snapshot(scenario, snap)
+    np.testing.assert_array_equal(by_path.angular_velocities, snap.angular_velocities)
+    np.testing.assert_array_equal(by_object.angular_velocities, snap.angular_velocities)
+    for s in (by_path, by_object):
+        s.advance(snap.time + 0.1)
+    assert by_path.angular_velocities.tobytes() == by_object.angular_velocities.tobytes()
+
+
+def test_bad_angular_velocities_are_refused_and_change_nothing() -> None:
+    scenario = granular.Scenario.from_toml(_rough("edmd", 3))
+    sim = granular.Simulation(scenario)
+    twin = granular.Simulation(scenario)
+    for s in (sim, twin):
+        s.advance(0.1)
+    n = sim.particle_count
+    w = sim.angular_velocities
+    with pytest.raises(ValueError, match=rf"`angular_velocities` has shape \({n},\); give shape \({n}, 3\)"):
+        sim.set_state(velocities=0.5 * sim.velocities, angular_velocities=w[:, 0].copy())
+    bad = w.copy()
+    bad[4, 2] = np.inf
+    with pytest.raises(ValueError, match=r"`angular_velocities\[4, 2\]` is inf"):
+        sim.set_state(velocities=0.5 * sim.velocities, angular_velocities=bad)
+    with pytest.raises(TypeError, match="dtype"):
+        sim.set_state(angular_velocities=w.astype(np.float32))
+    for s in (sim, twin):
+        s.advance(0.2)
+    assert sim.velocities.tobytes() == twin.velocities.tobytes()
+    assert sim.angular_velocities.tobytes() == twin.angular_velocities.tobytes()
+    smooth = granular.Simulation(granular.Scenario.from_toml(EDMD_2D))
+    with pytest.raises(ValueError, match="grains are smooth"):
+        smooth.set_state(angular_velocities=np.zeros(smooth.particle_count))
+
+
+def test_tangential_restitution_in_flight() -> None:
+    """Rough grains made smooth in flight keep their spins; the scenario in force says so; smooth grains
+    cannot become rough."""
+    sim = granular.Simulation(granular.Scenario.from_toml(_rough("dsmc", 2)))
+    sim.advance(0.1)
+    change = sim.set("collisions.tangential_restitution", -1.0)
+    assert (change["old"], change["new"]) == ("0.0", "-1.0")
+    assert sim.scenario.to_dict()["collisions"]["tangential_restitution"] == -1.0
+    w = sim.angular_velocities.copy()
+    before = sim.collisions
+    sim.advance(0.3)
+    assert sim.collisions > before
+    assert sim.angular_velocities.tobytes() == w.tobytes()
+    smooth = granular.Simulation(granular.Scenario.from_toml(EDMD_2D))
+    with pytest.raises(granular.ScenarioError, match="cannot become rough in flight"):
+        smooth.set("collisions.tangential_restitution", 0.5)
+    assert smooth.changes == []

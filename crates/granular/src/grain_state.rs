@@ -5,6 +5,7 @@
 
 use crate::boundary::SimulationBox;
 use crate::build::{AnyEngine, BuildError};
+use crate::collision_law::rough::rotational_dof;
 use crate::engine::Engine;
 use crate::particles::ParticleSet;
 use crate::vector::Vector;
@@ -17,6 +18,20 @@ pub struct GrainState<'a> {
     pub positions: Option<&'a [f64]>,
     /// Velocities, length / time.
     pub velocities: Option<&'a [f64]>,
+    /// Angular velocities of rough grains, radians per time unit: `ω_z` per grain in 2D
+    /// (`n` values), `ω_x, ω_y, ω_z` per grain in 3D (`n × 3`, row-major). Refused for
+    /// smooth grains, which carry no rotation.
+    pub angular_velocities: Option<&'a [f64]>,
+}
+
+/// The whole arrays an engine restarts from ([`checked`]): every grain's position and
+/// velocity (`n × D`) and, for rough grains, angular velocity (`n × d_r`; empty for
+/// smooth grains).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Arrays {
+    pub positions: Vec<f64>,
+    pub velocities: Vec<f64>,
+    pub angular_velocities: Vec<f64>,
 }
 
 /// Why a state was refused (the simulation is unchanged).
@@ -46,15 +61,36 @@ pub enum StateError {
         /// Dimension.
         d: usize,
     },
+    /// `angular_velocities` of the wrong shape (one value per disk, three per sphere).
+    #[error(
+        "`angular_velocities` has {len} values; give shape {shape} (one row per grain, in \
+         input order: {what})"
+    )]
+    SpinShape {
+        /// Values given.
+        len: usize,
+        /// The shape to give: `(n,)` in 2D, `(n, 3)` in 3D.
+        shape: String,
+        /// What a row holds.
+        what: &'static str,
+    },
+    /// Angular velocities given for smooth grains.
+    #[error(
+        "`angular_velocities` given, but the grains are smooth \
+         (collisions.tangential_restitution = -1) and carry no rotation; leave \
+         angular_velocities out, or start a simulation of rough grains \
+         (collisions.tangential_restitution in (-1, 1])"
+    )]
+    Smooth,
     /// A value is NaN or infinite.
-    #[error("`{array}[{grain}, {axis}]` is {value}; give finite numbers")]
+    #[error("`{array}[{grain}{}]` is {value}; give finite numbers", axis.map_or(String::new(), |a| format!(", {a}")))]
     NotFinite {
-        /// `positions` or `velocities`.
+        /// `positions`, `velocities` or `angular_velocities`.
         array: &'static str,
         /// Grain (row).
         grain: usize,
-        /// Axis (column).
-        axis: usize,
+        /// Axis (column; `None` for the one-column `angular_velocities` of disks).
+        axis: Option<usize>,
         /// The value.
         value: f64,
     },
@@ -104,11 +140,9 @@ pub enum StateError {
 }
 
 /// Checks `state` against an engine and returns the whole arrays to set (the present
-/// positions or velocities where `state` leaves one out), nothing changed.
-pub(crate) fn checked(
-    engine: &AnyEngine,
-    state: GrainState<'_>,
-) -> Result<(Vec<f64>, Vec<f64>), StateError> {
+/// positions, velocities or angular velocities where `state` leaves one out), nothing
+/// changed.
+pub(crate) fn checked(engine: &AnyEngine, state: GrainState<'_>) -> Result<Arrays, StateError> {
     match engine {
         AnyEngine::Edmd2(e) => {
             let radii = e.radii();
@@ -133,8 +167,9 @@ fn check<const D: usize>(
     radii: &[f64],
     hard: bool,
     state: GrainState<'_>,
-) -> Result<(Vec<f64>, Vec<f64>), StateError> {
+) -> Result<Arrays, StateError> {
     let n = engine.particle_count();
+    let angular_velocities = spins::<D>(engine, n, state.angular_velocities)?;
     let whole = |array: &'static str, given: Option<&[f64]>, velocities: bool| {
         let values = match given {
             Some(a) => a.to_vec(),
@@ -156,7 +191,7 @@ fn check<const D: usize>(
             return Err(StateError::NotFinite {
                 array,
                 grain: i / D,
-                axis: i % D,
+                axis: Some(i % D),
                 value: values[i],
             });
         }
@@ -207,5 +242,49 @@ fn check<const D: usize>(
             })?;
         }
     }
-    Ok((positions, velocities))
+    Ok(Arrays {
+        positions,
+        velocities,
+        angular_velocities,
+    })
+}
+
+/// The angular velocities to set in `D` dimensions: `given` checked (rough grains only, `n`
+/// values in 2D, `n × 3` in 3D, finite), or the present ones (empty for smooth grains).
+fn spins<const D: usize>(
+    engine: &AnyEngine,
+    n: usize,
+    given: Option<&[f64]>,
+) -> Result<Vec<f64>, StateError> {
+    let Some(values) = given else {
+        return Ok(engine.angular_velocities());
+    };
+    if !engine.is_rough() {
+        return Err(StateError::Smooth);
+    }
+    let r = rotational_dof(D);
+    if values.len() != n * r {
+        return Err(StateError::SpinShape {
+            len: values.len(),
+            shape: if r == 1 {
+                format!("({n},)")
+            } else {
+                format!("({n}, {r})")
+            },
+            what: if r == 1 {
+                "ω_z of each disk, about the axis normal to the plane"
+            } else {
+                "ω_x, ω_y, ω_z of each sphere"
+            },
+        });
+    }
+    if let Some(i) = values.iter().position(|x| !x.is_finite()) {
+        return Err(StateError::NotFinite {
+            array: "angular_velocities",
+            grain: i / r,
+            axis: (r > 1).then_some(i % r),
+            value: values[i],
+        });
+    }
+    Ok(values.to_vec())
 }

@@ -212,57 +212,75 @@ impl Simulation {
     /// A simulation of `scenario` that starts from given grains at time `time` instead of
     /// the scenario's initial state: the engine is built from the scenario, then its
     /// grains are set as by [`Simulation::set_state`] at `time` (both arrays row-major
-    /// `n × D` in input order). The continuation is the same, bit for bit, as that of any
-    /// simulation of the same scenario whose state was set to the same arrays at the same
-    /// time, for instance one that ran up to `time` and took a snapshot there: the
-    /// engines rebuild everything from the arrays and key their random streams by `time`
-    /// (see [`crate::random::RESTART`]).
+    /// `n × D` in input order; rough grains keep the angular velocities the scenario
+    /// draws, see [`Simulation::from_grain_state`] to give them too). The continuation is
+    /// the same, bit for bit, as that of any simulation of the same scenario whose state
+    /// was set to the same arrays at the same time, for instance one that ran up to `time`
+    /// and took a snapshot there: the engines rebuild everything from the arrays and key
+    /// their random streams by `time` (see [`crate::random::RESTART`]).
     pub fn from_state(
         scenario: Scenario,
         time: f64,
         positions: &[f64],
         velocities: &[f64],
     ) -> Result<Simulation, StateError> {
+        Simulation::from_grain_state(
+            scenario,
+            time,
+            GrainState {
+                positions: Some(positions),
+                velocities: Some(velocities),
+                angular_velocities: None,
+            },
+        )
+    }
+
+    /// [`Simulation::from_state`] from any of the per-grain arrays of a [`GrainState`]:
+    /// those it leaves out are the scenario's drawn ones. A snapshot of a rough run
+    /// (its positions, velocities and angular velocities) restarts it exactly.
+    pub fn from_grain_state(
+        scenario: Scenario,
+        time: f64,
+        state: GrainState<'_>,
+    ) -> Result<Simulation, StateError> {
         if !(time.is_finite() && time >= 0.0) {
             return Err(StateError::Time(time));
         }
         let mut simulation = Simulation::new(scenario)?;
-        let (positions, velocities) = grain_state::checked(
-            &simulation.engine,
-            GrainState {
-                positions: Some(positions),
-                velocities: Some(velocities),
-            },
-        )?;
+        let a = grain_state::checked(&simulation.engine, state)?;
         simulation
             .engine
-            .restart(time, &positions, &velocities)
+            .restart(time, &a.positions, &a.velocities, &a.angular_velocities)
             .map_err(StateError::Engine)?;
         simulation.initial_kinetic_energy = simulation.engine.kinetic_energy();
         Ok(simulation)
     }
 
-    /// Sets the positions and/or velocities of every grain (row-major `n × D` in input
-    /// order; `None` keeps the present ones) at the current time, and lets the engine
-    /// rebuild what depends on them: the event-driven engine synchronises every grain to
-    /// the current time and predicts every event again, DSMC sorts its cells again, and
-    /// both key their random streams by the current time ([`crate::random::RESTART`]), so
-    /// that the run goes on exactly as [`Simulation::from_state`] of the same arrays at
-    /// this time. Checked before anything changes: the lengths, finite values, centres
-    /// inside the box (and, for the event-driven engine, at least a radius from a wall
-    /// and no two grains overlapping). Refused for the intruder engines and for a DSMC
-    /// run split over ranks. The clock, the counters and `initial_kinetic_energy` go on.
+    /// Sets the positions, velocities and/or (rough grains) angular velocities of every
+    /// grain (row-major `n × D`, and `n` values in 2D or `n × 3` in 3D for the angular
+    /// velocities, in input order; `None` keeps the present ones) at the current time, and
+    /// lets the engine rebuild what depends on them: the event-driven engine synchronises
+    /// every grain to the current time and predicts every event again, DSMC sorts its
+    /// cells again, and both key their random streams by the current time
+    /// ([`crate::random::RESTART`]), so that the run goes on exactly as
+    /// [`Simulation::from_grain_state`] of the same arrays at this time. Checked before
+    /// anything changes: the lengths, finite values, centres inside the box (and, for the
+    /// event-driven engine, at least a radius from a wall and no two grains overlapping),
+    /// angular velocities only for rough grains. Refused for the intruder engines and for
+    /// a DSMC run split over ranks. The clock, the counters and `initial_kinetic_energy`
+    /// go on.
     pub fn set_state(&mut self, state: GrainState<'_>) -> Result<(), StateError> {
-        let (positions, velocities) = grain_state::checked(&self.engine, state)?;
+        let a = grain_state::checked(&self.engine, state)?;
         let time = self.time();
         self.engine
-            .restart(time, &positions, &velocities)
+            .restart(time, &a.positions, &a.velocities, &a.angular_velocities)
             .map_err(StateError::Engine)
     }
 
     /// Changes the parameter `key` to `value` (the right side of `key = value` in TOML, as
     /// `granular run --set` takes it) from the current time on: the collision law
-    /// (`collisions.restitution`, `collisions.wall_restitution`,
+    /// (`collisions.restitution`, `collisions.tangential_restitution` and
+    /// `collisions.friction` of rough grains, `collisions.wall_restitution`,
     /// `collisions.wall_tangential_restitution`, `collisions.contact_duration`), the
     /// driving's `driving.strength` or `driving.temperature`, and `gravity` (the keys of
     /// [`crate::in_flight::KEYS`]). Validated as the same key in a scenario (the scenario
@@ -270,7 +288,9 @@ impl Simulation {
     /// engines, are refused saying so. The change is kept ([`Simulation::changes`]) for
     /// `log.txt`, `summary.json` and checkpoints, and [`Simulation::resolved`] is resolved
     /// again from the changed scenario at the same initial temperature (Haff's time and the
-    /// driving's steady state follow the new values). A refused change changes nothing.
+    /// driving's steady state follow the new values). Rough grains may become smooth
+    /// (β = -1: their angular velocities stay as they are); smooth grains carry none and
+    /// cannot become rough. A refused change changes nothing.
     pub fn set(&mut self, key: &str, value: &str) -> Result<&Change, ScenarioError> {
         self.change(&[(key.to_string(), value.to_string())])?;
         Ok(&self.changes[self.changes.len() - 1])

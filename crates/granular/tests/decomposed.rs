@@ -997,6 +997,33 @@ fn per_rank_setup_is_the_threaded_run_for_any_ranks_and_cuts() {
     }
 }
 
+/// Rough grains created by each rank (spinning from the start, walls and gravity): their
+/// angular velocities go to their ranks with the rest of the record, in every round of
+/// the set-up's exchange, and the run writes the threaded run's files bit for bit.
+#[test]
+fn rough_per_rank_setup_is_the_threaded_run() {
+    use granular::run::Run;
+    let spin = r#"{ distribution = "maxwell_boltzmann", temperature = 1.0 }"#;
+    let set = [
+        "collisions.tangential_restitution=0.5".to_string(),
+        format!("species[0].angular_velocity={spin}"),
+        format!("species[1].angular_velocity={spin}"),
+    ];
+    let set: Vec<&str> = set.iter().map(String::as_str).collect();
+    let threaded = crate::common::tmp("rough-threaded");
+    Run::create(&threaded, mixed_scenario(false, &set))
+        .unwrap()
+        .run_to_end(&mut |_| {}, None)
+        .unwrap();
+    for k in [2, 3] {
+        let shared = crate::common::tmp("rough-ranks");
+        run_on_ranks(k, &mixed_scenario(false, &set), &shared);
+        same_files(&threaded, &shared, &format!("rough grains on {k} ranks"));
+        let _ = std::fs::remove_dir_all(shared);
+    }
+    let _ = std::fs::remove_dir_all(threaded);
+}
+
 /// [`per_rank_setup_is_the_threaded_run_for_any_ranks_and_cuts`] on `k` ranks.
 fn check_mixed_on_ranks(threaded: &std::path::Path, driven: bool, k: usize, balance: &str) {
     {

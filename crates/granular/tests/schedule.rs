@@ -192,3 +192,87 @@ fn a_state_set_after_an_entry_takes_its_values() {
     assert_eq!(started.changes()[0].time, 0.3, "applied at the start");
     assert_eq!(started.next_scheduled_time(), Some(0.55));
 }
+
+/// Rough grains whose tangential restitution a `[[schedule]]` changes (β = 0 -> 0.5 at
+/// t = 0.25, smooth at t = 0.55) run bit for bit as with `set` at those times, and keep
+/// their spins from the second entry on; a schedule that would make smooth grains rough
+/// is refused when the scenario is read.
+#[test]
+fn a_schedule_of_the_tangential_restitution() {
+    for engine in ["edmd", "dsmc"] {
+        let count = if engine == "dsmc" { 2000 } else { 300 };
+        let text = |schedule: &str| {
+            format!(
+                r#"
+engine = "{engine}"
+dimension = 2
+seed = 3
+box = {{ boundary = "periodic" }}
+[collisions]
+restitution = 0.9
+tangential_restitution = 0.0
+[[species]]
+name = "grain"
+count = {count}
+packing_fraction = 0.1
+inertia = 0.4
+velocity = {{ distribution = "maxwell_boltzmann", temperature = 1.0 }}
+angular_velocity = {{ distribution = "maxwell_boltzmann", temperature = 1.0 }}
+[stop]
+time = 0.8
+[output]
+interval = 0.1
+{schedule}"#
+            )
+        };
+        let schedule = r#"
+[[schedule]]
+time = 0.25
+set = { "collisions.tangential_restitution" = 0.5 }
+
+[[schedule]]
+time = 0.55
+set = { "collisions.tangential_restitution" = -1.0 }
+"#;
+        let mut sim = Simulation::new(Scenario::from_toml(&text(schedule), &[]).expect("scenario"))
+            .expect("build");
+        sim.run().expect("run");
+        let mut hand =
+            Simulation::new(Scenario::from_toml(&text(""), &[]).expect("scenario")).expect("build");
+        let mut frozen = Vec::new();
+        for t in [0.1, 0.2, 0.25, 0.3, 0.4, 0.5, 0.55, 0.6, 0.7, 0.8] {
+            hand.advance(t).expect("advance");
+            if t == 0.25 {
+                hand.set("collisions.tangential_restitution", "0.5")
+                    .expect("set");
+            }
+            if t == 0.55 {
+                hand.set("collisions.tangential_restitution", "-1.0")
+                    .expect("set");
+                frozen = hand.snapshot().expect("grains").angular_velocities;
+            }
+        }
+        let spins = |s: &Simulation| bits(&s.snapshot().expect("grains").angular_velocities);
+        assert_eq!(sim.collisions(), hand.collisions(), "{engine}");
+        assert_eq!(
+            bits(&sim.velocities().expect("grains")),
+            bits(&hand.velocities().expect("grains")),
+            "{engine}: velocities"
+        );
+        assert_eq!(spins(&sim), spins(&hand), "{engine}: spins");
+        assert_eq!(spins(&sim), bits(&frozen), "{engine}: smooth from t = 0.55");
+        assert_eq!(sim.changes().len(), 2, "{engine}");
+
+        let smooth = text(schedule).replace("tangential_restitution = 0.0\n", "");
+        let smooth = smooth.replace("inertia = 0.4\n", "").replace(
+            "angular_velocity = { distribution = \"maxwell_boltzmann\", temperature = 1.0 }\n",
+            "",
+        );
+        let e = Scenario::from_toml(&smooth, &[]).expect_err("refused");
+        let message = e.to_string();
+        assert!(
+            message.contains("schedule[0].set") && message.contains("cannot become rough"),
+            "{engine}: {message}"
+        );
+    }
+}

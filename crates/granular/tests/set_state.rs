@@ -77,6 +77,7 @@ fn same_as_started_from_the_arrays(scenario: Scenario, t: f64, t_end: f64, what:
     sim.set_state(GrainState {
         positions: Some(&x),
         velocities: Some(&v),
+        ..Default::default()
     })
     .unwrap_or_else(|e| panic!("{what}: set_state: {e}"));
     assert_eq!(sim.time(), t, "{what}: the clock goes on");
@@ -174,6 +175,7 @@ fn refused_states_change_nothing() {
                 GrainState {
                     positions: Some(&x[..x.len() - 2]),
                     velocities: None,
+                    ..Default::default()
                 },
                 "`positions` has",
             ),
@@ -181,6 +183,7 @@ fn refused_states_change_nothing() {
                 GrainState {
                     positions: None,
                     velocities: Some(&nan),
+                    ..Default::default()
                 },
                 "`velocities[3, 1]` is NaN",
             ),
@@ -188,6 +191,7 @@ fn refused_states_change_nothing() {
                 GrainState {
                     positions: Some(&outside),
                     velocities: None,
+                    ..Default::default()
                 },
                 "`positions[3, 1]` = 1.5 lies outside the box",
             ),
@@ -217,6 +221,7 @@ fn overlapping_grains_are_named_with_their_distance() {
     match sim.set_state(GrainState {
         positions: Some(&x),
         velocities: None,
+        ..Default::default()
     }) {
         Err(StateError::Overlap { a, b, distance, .. }) => {
             assert_eq!((a, b), (4, 9));
@@ -233,6 +238,7 @@ fn overlapping_grains_are_named_with_their_distance() {
         .set_state(GrainState {
             positions: Some(&x),
             velocities: None,
+            ..Default::default()
         })
         .expect_err("refused");
     assert!(e.to_string().contains("walls; radius"), "{e}");
@@ -250,6 +256,7 @@ fn the_intruder_engine_has_no_grains_to_set() {
         .set_state(GrainState {
             positions: Some(&[0.0, 0.0]),
             velocities: None,
+            ..Default::default()
         })
         .expect_err("refused");
     assert!(matches!(e, StateError::NoGrains { .. }), "{e}");
@@ -388,14 +395,12 @@ fn scenario_free() -> Scenario {
     scenario("edmd", 2, false, false)
 }
 
-/// Rough grains: `set_state` sets positions and velocities only, every grain keeps its
-/// angular velocity (bit for bit), and the rough dynamics goes on (spins change again).
-#[test]
-fn set_state_keeps_the_spins_of_rough_grains() {
-    for dimension in [2, 3] {
-        let text = format!(
-            r#"
-engine = "edmd"
+/// Rough grains (RS-1, β = 0) in a periodic box, spinning at the start.
+fn rough_scenario(engine: &str, dimension: usize) -> Scenario {
+    let count = if engine == "dsmc" { 2000 } else { 300 };
+    let text = format!(
+        r#"
+engine = "{engine}"
 dimension = {dimension}
 seed = 9
 box = {{ boundary = "periodic" }}
@@ -404,7 +409,7 @@ restitution = 0.9
 tangential_restitution = 0.0
 [[species]]
 name = "grain"
-count = 300
+count = {count}
 packing_fraction = 0.1
 velocity = {{ distribution = "maxwell_boltzmann", temperature = 1.0 }}
 angular_velocity = {{ distribution = "maxwell_boltzmann", temperature = 1.0 }}
@@ -413,40 +418,239 @@ time = 1.0
 [output]
 interval = 0.1
 "#
-        );
-        let sc = Scenario::from_toml(&text, &[]).expect("valid rough scenario");
-        let mut sim = Simulation::new(sc).expect("build");
-        sim.advance(0.2).expect("advance");
-        let spins = |sim: &Simulation| sim.snapshot().expect("grains").angular_velocities;
-        let before = spins(&sim);
-        assert_eq!(before.len(), 300 * if dimension == 2 { 1 } else { 3 });
-        let (x, mut v) = state(&sim);
-        v.iter_mut().for_each(|u| *u *= 0.5);
-        sim.set_state(GrainState {
-            positions: Some(&x),
-            velocities: Some(&v),
-        })
-        .expect("set_state");
-        assert_eq!(
-            bits(&spins(&sim)),
-            bits(&before),
-            "{dimension}D: spins kept"
-        );
-        assert_eq!(
-            bits(&state(&sim).1),
-            bits(&v),
-            "{dimension}D: velocities set"
-        );
-        let collisions = sim.collisions();
-        sim.advance(0.4).expect("advance");
-        assert!(
-            sim.collisions() > collisions + 100,
-            "{dimension}D: collisions go on"
-        );
-        assert_ne!(
-            bits(&spins(&sim)),
-            bits(&before),
-            "{dimension}D: spins evolve"
-        );
+    );
+    Scenario::from_toml(&text, &[]).expect("valid rough scenario")
+}
+
+fn spins(sim: &Simulation) -> Vec<f64> {
+    sim.snapshot().expect("grains").angular_velocities
+}
+
+/// Rough grains: `set_state` without angular velocities sets positions and velocities
+/// only, every grain keeps its angular velocity (bit for bit), and the rough dynamics goes
+/// on (spins change again).
+#[test]
+fn set_state_keeps_the_spins_of_rough_grains() {
+    for engine in ["edmd", "dsmc"] {
+        for dimension in [2, 3] {
+            let what = format!("{engine} {dimension}D");
+            let mut sim = Simulation::new(rough_scenario(engine, dimension)).expect("build");
+            sim.advance(0.2).expect("advance");
+            let before = spins(&sim);
+            let r = if dimension == 2 { 1 } else { 3 };
+            assert_eq!(before.len(), sim.particle_count() * r, "{what}");
+            let (x, mut v) = state(&sim);
+            v.iter_mut().for_each(|u| *u *= 0.5);
+            sim.set_state(GrainState {
+                positions: Some(&x),
+                velocities: Some(&v),
+                ..Default::default()
+            })
+            .expect("set_state");
+            assert_eq!(bits(&spins(&sim)), bits(&before), "{what}: spins kept");
+            assert_eq!(bits(&state(&sim).1), bits(&v), "{what}: velocities set");
+            let collisions = sim.collisions();
+            sim.advance(0.4).expect("advance");
+            assert!(
+                sim.collisions() > collisions + 100,
+                "{what}: collisions go on"
+            );
+            assert_ne!(bits(&spins(&sim)), bits(&before), "{what}: spins evolve");
+        }
+    }
+}
+
+/// Rough grains: positions, velocities and angular velocities set at `t` (the spins
+/// reversed and doubled, the velocities halved) continue bit for bit as a simulation
+/// started from the same three arrays at `t`, in both engines, 2D and 3D.
+#[test]
+fn rough_grains_set_with_their_spins_continue_as_started_from_the_arrays() {
+    for engine in ["edmd", "dsmc"] {
+        for dimension in [2, 3] {
+            let what = format!("{engine} {dimension}D");
+            let scenario = rough_scenario(engine, dimension);
+            let mut sim = Simulation::new(scenario.clone()).expect("build");
+            sim.advance(0.2).expect("advance");
+            let (x, mut v) = state(&sim);
+            v.iter_mut().for_each(|u| *u *= 0.5);
+            let w: Vec<f64> = spins(&sim).iter().map(|u| -2.0 * u).collect();
+            let collisions_before = sim.collisions();
+            sim.set_state(GrainState {
+                positions: Some(&x),
+                velocities: Some(&v),
+                angular_velocities: Some(&w),
+            })
+            .unwrap_or_else(|e| panic!("{what}: set_state: {e}"));
+            assert_eq!(bits(&spins(&sim)), bits(&w), "{what}: spins set");
+            let mut started = Simulation::from_grain_state(
+                scenario,
+                0.2,
+                GrainState {
+                    positions: Some(&x),
+                    velocities: Some(&v),
+                    angular_velocities: Some(&w),
+                },
+            )
+            .unwrap_or_else(|e| panic!("{what}: from_grain_state: {e}"));
+            assert_eq!(bits(&spins(&started)), bits(&w), "{what}: spins at t");
+            sim.advance(0.5).expect("advance");
+            started.advance(0.5).expect("advance");
+            assert!(
+                sim.collisions() > collisions_before + 100,
+                "{what}: collisions happen after the state is set"
+            );
+            assert_eq!(bits(&state(&sim).0), bits(&state(&started).0), "{what}");
+            assert_eq!(bits(&state(&sim).1), bits(&state(&started).1), "{what}");
+            assert_eq!(bits(&spins(&sim)), bits(&spins(&started)), "{what}: spins");
+            assert_ne!(bits(&spins(&sim)), bits(&w), "{what}: spins evolve");
+            assert_eq!(
+                sim.collisions() - collisions_before,
+                started.collisions(),
+                "{what}: the same collisions"
+            );
+        }
+    }
+}
+
+/// Angular velocities of the wrong shape, not finite, or given for smooth grains are
+/// refused, naming the array and the fix, and change nothing.
+#[test]
+fn refused_angular_velocities_change_nothing() {
+    for engine in ["edmd", "dsmc"] {
+        for dimension in [2, 3] {
+            let what = format!("{engine} {dimension}D");
+            let scenario = rough_scenario(engine, dimension);
+            let mut sim = Simulation::new(scenario.clone()).expect("build");
+            let mut twin = Simulation::new(scenario).expect("build");
+            sim.advance(0.1).expect("advance");
+            twin.advance(0.1).expect("advance");
+            let n = sim.particle_count();
+            let w = spins(&sim);
+            let (x, v) = state(&sim);
+            let mut nan = w.clone();
+            nan[7] = f64::NAN;
+            let wrong = vec![0.0; if dimension == 2 { 3 * n } else { n }];
+            let (shape, at) = if dimension == 2 {
+                (
+                    format!("give shape ({n},)"),
+                    "`angular_velocities[7]` is NaN",
+                )
+            } else {
+                (
+                    format!("give shape ({n}, 3)"),
+                    "`angular_velocities[2, 1]` is NaN",
+                )
+            };
+            for (given, expected) in [(&wrong, shape.as_str()), (&nan, at)] {
+                // Valid positions and velocities with bad spins: nothing is set.
+                let halved: Vec<f64> = v.iter().map(|u| 0.5 * u).collect();
+                let e = sim
+                    .set_state(GrainState {
+                        positions: Some(&x),
+                        velocities: Some(&halved),
+                        angular_velocities: Some(given),
+                    })
+                    .expect_err("refused");
+                assert!(e.to_string().contains(expected), "{what}: {e}");
+            }
+            sim.advance(0.3).expect("advance");
+            twin.advance(0.3).expect("advance");
+            assert_eq!(bits(&state(&sim).1), bits(&state(&twin).1), "{what}");
+            assert_eq!(bits(&spins(&sim)), bits(&spins(&twin)), "{what}");
+            // Smooth grains carry no rotation.
+            let mut smooth = Simulation::new(scenario_for(engine, dimension)).expect("build");
+            let e = smooth
+                .set_state(GrainState {
+                    angular_velocities: Some(&vec![0.0; n]),
+                    ..Default::default()
+                })
+                .expect_err("refused");
+            assert!(matches!(e, StateError::Smooth), "{what}: {e}");
+            assert!(
+                e.to_string().contains("tangential_restitution"),
+                "{what}: {e}"
+            );
+        }
+    }
+}
+
+fn scenario_for(engine: &str, dimension: usize) -> Scenario {
+    scenario(engine, dimension, false, false)
+}
+
+/// `collisions.tangential_restitution` in flight (both engines, 2D and 3D): rough grains
+/// made elastic (α = 1) and perfectly rough (β = 1) keep their total, translational plus
+/// rotational, energy to round-off; made smooth (β = -1) they keep every angular velocity
+/// bit for bit from then on while colliding. Smooth grains carry no spins and cannot
+/// become rough: refused in the scenario's words, nothing changed.
+#[test]
+fn tangential_restitution_in_flight() {
+    for engine in ["edmd", "dsmc"] {
+        for dimension in [2, 3] {
+            let what = format!("{engine} {dimension}D");
+            let mut sim = Simulation::new(rough_scenario(engine, dimension)).expect("build");
+            sim.advance(0.2).expect("advance");
+            sim.set("collisions.restitution", "1.0").expect("α = 1");
+            let change = sim
+                .set("collisions.tangential_restitution", "1.0")
+                .expect("β = 1")
+                .clone();
+            assert_eq!((change.old.as_str(), change.new.as_str()), ("0.0", "1.0"));
+            let total = |s: &Simulation| {
+                let o = s.observe();
+                o.kinetic_energy + o.rotational_energy.expect("rough grains")
+            };
+            let e0 = total(&sim);
+            let (c0, w0) = (sim.collisions(), spins(&sim));
+            sim.advance(0.4).expect("advance");
+            let e1 = total(&sim);
+            assert!(sim.collisions() > c0 + 100, "{what}");
+            assert_ne!(
+                bits(&spins(&sim)),
+                bits(&w0),
+                "{what}: β = 1 turns the spins"
+            );
+            assert!((e1 - e0).abs() < 1e-10 * e0, "{what}: {e0} -> {e1}");
+            // Smooth from now on: the spins stay as they are.
+            sim.set("collisions.tangential_restitution", "-1.0")
+                .expect("β = -1");
+            let species = &sim.scenario().species()[0];
+            assert!(species.angular_velocity.is_none() && species.inertia.is_none());
+            let (c1, w1) = (sim.collisions(), spins(&sim));
+            sim.advance(0.6).expect("advance");
+            assert!(sim.collisions() > c1 + 100, "{what}");
+            assert_eq!(
+                bits(&spins(&sim)),
+                bits(&w1),
+                "{what}: β = -1 keeps the spins"
+            );
+            let e2 = total(&sim);
+            assert!((e2 - e0).abs() < 1e-10 * e0, "{what}: {e0} -> {e2}");
+            // Once smooth, smooth for the rest of the run.
+            let e = sim
+                .set("collisions.tangential_restitution", "0.5")
+                .expect_err("refused");
+            assert!(
+                e.to_string().contains("cannot become rough in flight"),
+                "{e}"
+            );
+            assert_eq!(sim.changes().len(), 3, "{what}");
+
+            let mut smooth = Simulation::new(scenario_for(engine, dimension)).expect("build");
+            for (key, value) in [
+                ("collisions.tangential_restitution", "0.5"),
+                ("collisions.friction", "0.3"),
+            ] {
+                let e = smooth.set(key, value).expect_err("refused");
+                assert!(
+                    e.to_string().contains(key)
+                        && (e.to_string().contains("cannot become rough in flight")
+                            || key == "collisions.friction"),
+                    "{what}: {e}"
+                );
+            }
+            assert!(smooth.changes().is_empty());
+            assert!(spins(&smooth).is_empty());
+        }
     }
 }

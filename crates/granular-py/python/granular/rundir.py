@@ -69,7 +69,8 @@ class Snapshot:
     """One snapshot file: arrays in input order (grain ``i`` is the ``i``-th grain of the scenario).
 
     ``positions`` and ``velocities`` are float64 ``(N, D)``, ``radii`` and ``masses`` float64 ``(N,)``,
-    ``species`` uint32 ``(N,)`` indices into ``species_names``; ``time`` the simulation time.
+    ``species`` uint32 ``(N,)`` indices into ``species_names``; ``time`` the simulation time;
+    ``angular_velocities`` (rough grains only, else None) float64 ``(N,)`` in 2D, ``(N, 3)`` in 3D.
     """
 
     time: float
@@ -79,6 +80,7 @@ class Snapshot:
     masses: np.ndarray
     species: np.ndarray
     species_names: list[str]
+    angular_velocities: Optional[np.ndarray] = None
     arrays: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
 
     @classmethod
@@ -97,6 +99,9 @@ class Snapshot:
             "species": s["species"],
             "species_names": np.array(names, dtype=str),
         }
+        spins = s.get("angular_velocities")
+        if spins is not None:
+            arrays["angular_velocities"] = spins
         return cls(
             time=float(s["time"]),
             positions=s["positions"],
@@ -105,6 +110,7 @@ class Snapshot:
             masses=s["masses"],
             species=s["species"],
             species_names=names,
+            angular_velocities=spins,
             arrays=arrays,
         )
 

@@ -99,30 +99,57 @@ impl AnyEngine {
         }
     }
 
-    /// Sets every grain's position and velocity (row-major `n × D` by grain id) at
-    /// absolute time `time` and rebuilds what depends on them (`Edmd::restart`,
-    /// `DsmcEngine::restart`); the arrays are checked by the caller
-    /// (`Simulation::set_state`). The intruder engines have no grains: refused.
+    /// Sets every grain's position and velocity (row-major `n × D` by grain id) and, for
+    /// rough grains, angular velocity (`n × d_r`; empty for smooth grains) at absolute time
+    /// `time`, and rebuilds what depends on them (`Edmd::restart`, `DsmcEngine::restart`);
+    /// the arrays are checked by the caller (`Simulation::set_state`). The intruder engines
+    /// have no grains: refused.
     pub fn restart(
         &mut self,
         time: f64,
         positions: &[f64],
         velocities: &[f64],
+        angular_velocities: &[f64],
     ) -> Result<(), String> {
+        let w = angular_velocities;
         match self {
-            AnyEngine::Edmd2(e) => e.restart(time, positions, velocities),
-            AnyEngine::Edmd3(e) => e.restart(time, positions, velocities),
+            AnyEngine::Edmd2(e) => e.restart(time, positions, velocities, w),
+            AnyEngine::Edmd3(e) => e.restart(time, positions, velocities, w),
             AnyEngine::Dsmc2(e) => e
-                .restart(time, positions, velocities)
+                .restart(time, positions, velocities, w)
                 .map_err(|e| e.to_string())?,
             AnyEngine::Dsmc3(e) => e
-                .restart(time, positions, velocities)
+                .restart(time, positions, velocities, w)
                 .map_err(|e| e.to_string())?,
             AnyEngine::Intruder(_) => {
                 return Err("the intruder engine has no grains to set".into());
             }
         }
         Ok(())
+    }
+
+    /// Whether the grains are rough (they carry angular velocities).
+    pub fn is_rough(&self) -> bool {
+        match self {
+            AnyEngine::Edmd2(e) => e.is_rough(),
+            AnyEngine::Edmd3(e) => e.is_rough(),
+            AnyEngine::Dsmc2(e) => e.is_rough(),
+            AnyEngine::Dsmc3(e) => e.is_rough(),
+            AnyEngine::Intruder(_) => false,
+        }
+    }
+
+    /// Angular velocities of rough grains by id, `d_r` values per grain (`ω_z` in 2D,
+    /// `ω_x, ω_y, ω_z` in 3D); empty for smooth grains and the intruder engines (gathered
+    /// from all ranks for a decomposed DSMC engine, collectively).
+    pub fn angular_velocities(&self) -> Vec<f64> {
+        match self {
+            AnyEngine::Edmd2(e) => e.angular_velocities(),
+            AnyEngine::Edmd3(e) => e.angular_velocities(),
+            AnyEngine::Dsmc2(e) => e.angular_velocities(),
+            AnyEngine::Dsmc3(e) => e.angular_velocities(),
+            AnyEngine::Intruder(_) => Vec::new(),
+        }
     }
 
     /// The whole engine: a clone, gathered from all ranks for a decomposed DSMC engine

@@ -103,6 +103,27 @@ pub(crate) fn collide_group<const D: usize>(
         impact: vec![0; p.impact_bins],
         ..Tally::default()
     };
+    // Smooth and rough grains each get their own copy of the kernel: the smooth one has
+    // no rough code, so its registers are those of the kernel before rough grains.
+    if cols.spin.is_some() {
+        collide_cells::<D, true>(p, lattice, first_cell, bounds, cols, &mut tally);
+    } else {
+        collide_cells::<D, false>(p, lattice, first_cell, bounds, cols, &mut tally);
+    }
+    tally
+}
+
+/// The cells of [`collide_group`], with rough grains (`ROUGH`: `cols` has their angular
+/// velocities) or smooth ones.
+#[inline(always)]
+fn collide_cells<const D: usize, const ROUGH: bool>(
+    p: &StepParams,
+    lattice: &Lattice<D>,
+    first_cell: usize,
+    bounds: &[u32],
+    cols: &mut Columns<'_, D>,
+    tally: &mut Tally,
+) {
     let base = bounds[0] as usize;
     let step_key = derive_key(p.seed, &[DYNAMICS, p.step]);
     for k in 0..bounds.len() - 1 {
@@ -112,9 +133,8 @@ pub(crate) fn collide_group<const D: usize>(
             continue;
         }
         let mut rng = CellStream::new(step_key, (first_cell + k) as u64);
-        collide_cell(p, lattice, &mut rng, cols, s..e, &mut tally);
+        collide_cell::<D, ROUGH>(p, lattice, &mut rng, cols, s..e, tally);
     }
-    tally
 }
 
 /// The random stream of one cell in one step (see the module docs).
@@ -202,7 +222,7 @@ fn box_diagonal<const D: usize>(vel: &[&mut [f64]; D], range: std::ops::Range<us
     d2.sqrt()
 }
 
-fn collide_cell<const D: usize>(
+fn collide_cell<const D: usize, const ROUGH: bool>(
     p: &StepParams,
     lattice: &Lattice<D>,
     rng: &mut CellStream,
@@ -264,7 +284,7 @@ fn collide_cell<const D: usize>(
         let ghat = g * (1.0 / gm);
         // Impact parameter b / d uniform on the (D-1)-ball of radius 1.
         let (r2, normal) = impact(rng, &ghat);
-        if cols.spin.is_some() {
+        if ROUGH {
             rough_pair(p, cols, i, j, &normal, tally);
         } else {
             let gn = gm * (1.0 - r2).max(0.0).sqrt();

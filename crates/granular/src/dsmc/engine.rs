@@ -299,14 +299,14 @@ impl<const D: usize> DsmcEngine<D> {
     /// Replaces the collision law from the next step on (as the event-driven engine's
     /// `set_collision_law`). Turning the TC model on starts every grain with no previous
     /// collision; turning it off forgets the collision times. Smooth grains stay smooth
-    /// and rough grains rough (their angular velocities are part of the state).
+    /// (they carry no angular velocities: a rough law is refused); rough grains under a
+    /// smooth law (β = -1) keep their angular velocities unchanged.
     pub fn set_collision_law(&mut self, law: CollisionLaw) -> Result<(), DsmcError> {
         check_law(&law)?;
-        if law.is_rough() != self.is_rough() {
+        if law.is_rough() && !self.is_rough() {
             return Err(DsmcError::Invalid(format!(
-                "law.tangential_restitution is {}, but the grains are {}: a run cannot switch between smooth and rough grains",
+                "law.tangential_restitution is {}, but the grains are smooth: they carry no angular velocities and cannot become rough in flight",
                 law.tangential_restitution,
-                if self.is_rough() { "rough" } else { "smooth" }
             )));
         }
         self.grains.set_collision_times(law.has_tc());

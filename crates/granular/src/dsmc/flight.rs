@@ -76,33 +76,11 @@ impl<const D: usize> Flight<'_, D> {
         for k in 0..D {
             let vel = &cols.vel[k][..n];
             let pos = &mut cols.pos[k][..n];
-            let (scale, drop, mask) = (plan.scale[k], plan.drop[k], plan.mask);
-            let (mult, last, stride) = (plan.mult[k], plan.last[k], plan.stride[k]);
-            let walled = WALLS && plan.walled[k];
-            let mut m = 0.0f64;
-            for (i, ((&v, w), c)) in vel
-                .iter()
-                .zip(pos.iter_mut())
-                .zip(dest.iter_mut())
-                .enumerate()
-            {
-                let mut d = v * scale;
-                if ACCELERATED {
-                    d += drop;
-                }
-                let a = d.abs();
-                m = if a > m { a } else { m };
-                // Exact truncation when |d| < 2^63 (else saturated, and the chunk is
-                // redone below); the identity bits of the step cleared.
-                let step = (d as i64 as u64) & mask;
-                let x = w.wrapping_add(step);
-                *w = x;
-                let cell = axis_cell(x & mask, mult, last) as u32 * stride;
-                *c = if k == 0 { cell } else { *c + cell };
-                if walled && x > WALL_END {
-                    crossed.push(i);
-                }
-            }
+            let m = if k == 0 {
+                fly_axis::<ACCELERATED, WALLS, true, D>(&plan, k, vel, pos, dest, &mut crossed)
+            } else {
+                fly_axis::<ACCELERATED, WALLS, false, D>(&plan, k, vel, pos, dest, &mut crossed)
+            };
             largest = largest.max(m);
         }
         let mut tc_elastic = 0;
@@ -319,6 +297,52 @@ impl<const D: usize> Flight<'_, D> {
             }
         }
     }
+}
+
+/// The integer flight of one axis `k` over a chunk (see [`Flight::fly_with`]): each
+/// grain's step added to its lattice word, its cell coordinate along `k` written into
+/// `dest` (`FIRST`, the first axis) or added to it, the grains of a walled axis whose
+/// word went past a wall pushed onto `crossed`; returns the largest `|step|`. Out
+/// of line, so that the registers of this loop, which every grain passes through on
+/// every axis of every step, do not depend on the rest of the flight (the columns of
+/// rough grains, the wall law): inlined, the loop kept two of its pointers on the stack.
+#[inline(never)]
+fn fly_axis<const ACCELERATED: bool, const WALLS: bool, const FIRST: bool, const D: usize>(
+    plan: &Plan<D>,
+    k: usize,
+    vel: &[f64],
+    pos: &mut [u64],
+    dest: &mut [u32],
+    crossed: &mut Vec<usize>,
+) -> f64 {
+    let (scale, drop, mask) = (plan.scale[k], plan.drop[k], plan.mask);
+    let (mult, last, stride) = (plan.mult[k], plan.last[k], plan.stride[k]);
+    let walled = WALLS && plan.walled[k];
+    let mut m = 0.0f64;
+    for (i, ((&v, w), c)) in vel
+        .iter()
+        .zip(pos.iter_mut())
+        .zip(dest.iter_mut())
+        .enumerate()
+    {
+        let mut d = v * scale;
+        if ACCELERATED {
+            d += drop;
+        }
+        let a = d.abs();
+        m = if a > m { a } else { m };
+        // Exact truncation when |d| < 2^63 (else saturated, and the chunk is redone by
+        // the caller); the identity bits of the step cleared.
+        let step = (d as i64 as u64) & mask;
+        let x = w.wrapping_add(step);
+        *w = x;
+        let cell = axis_cell(x & mask, mult, last) as u32 * stride;
+        *c = if FIRST { cell } else { *c + cell };
+        if walled && x > WALL_END {
+            crossed.push(i);
+        }
+    }
+    m
 }
 
 /// The per-axis constants of one step's integer flight.

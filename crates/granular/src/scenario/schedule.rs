@@ -24,8 +24,10 @@ use serde::{Deserialize, Serialize};
 
 /// The keys that can change once a simulation exists (by [`crate::Simulation::set`] or
 /// `[[schedule]]`), in the scenario's words.
-pub const IN_FLIGHT_KEYS: [&str; 7] = [
+pub const IN_FLIGHT_KEYS: [&str; 9] = [
     "collisions.restitution",
+    "collisions.tangential_restitution",
+    "collisions.friction",
     "collisions.wall_restitution",
     "collisions.wall_tangential_restitution",
     "collisions.contact_duration",
@@ -68,7 +70,11 @@ fn refuse(key: &str, message: impl Into<String>) -> ScenarioError {
 /// text) made: each key one of [`IN_FLIGHT_KEYS`], and the scenario with the new values
 /// checked whole, as a scenario file with those values would be (without the cost
 /// limits: the run was accepted when it started). The schedule itself is kept as it is.
-/// The error names the key and why it cannot take the value; nothing is changed then.
+/// Rough grains may become smooth (`collisions.tangential_restitution = -1`: their
+/// angular velocities stay as they are from then on, and the changed scenario drops the
+/// species' `inertia` and `angular_velocity`, which smooth grains do not take); smooth
+/// grains carry no angular velocities and cannot become rough. The error names the key
+/// and why it cannot take the value; nothing is changed then.
 pub fn changed(
     scenario: &Scenario,
     assignments: &[(String, String)],
@@ -124,6 +130,7 @@ pub fn changed(
     // The scenario without its schedule, so that checking the changed scenario does not
     // check the schedule again (which changes it in turn).
     let mut base = scenario.clone();
+    let was_rough = scenario.collisions().law().is_rough();
     let schedule = base
         .grains_mut()
         .map(|g| std::mem::take(&mut g.schedule))
@@ -132,7 +139,40 @@ pub fn changed(
         .iter()
         .map(|(k, v)| format!("{k}={v}"))
         .collect();
-    let mut out = Scenario::from_toml_insisting(&base.to_toml(), &overrides)?;
+    let mut out = match Scenario::from_toml_insisting(&base.to_toml(), &overrides) {
+        Ok(out) => out,
+        // Rough grains made smooth: their κ and initial spins are no keys of smooth
+        // grains (the engine keeps both).
+        Err(e) if was_rough && e.key.starts_with("species[") => {
+            if let Some(g) = base.grains_mut() {
+                for sp in &mut g.species {
+                    sp.inertia = None;
+                    sp.angular_velocity = None;
+                }
+            }
+            let out = Scenario::from_toml_insisting(&base.to_toml(), &overrides)?;
+            if out.collisions().law().is_rough() {
+                return Err(e);
+            }
+            out
+        }
+        Err(e) => return Err(e),
+    };
+    if !was_rough && out.collisions().law().is_rough() {
+        let key = assignments
+            .iter()
+            .map(|(k, _)| k.as_str())
+            .find(|k| *k == "collisions.tangential_restitution" || *k == "collisions.friction")
+            .unwrap_or("collisions.tangential_restitution");
+        return Err(refuse(
+            key,
+            "would make the grains rough, but they are smooth \
+             (collisions.tangential_restitution = -1 until now) and carry no angular \
+             velocities, so they cannot become rough in flight; start the run with rough \
+             grains (collisions.tangential_restitution in (-1, 1]: it can then change in \
+             flight, to -1 as well)",
+        ));
+    }
     if let Some(g) = out.grains_mut() {
         g.schedule = schedule;
     }

@@ -24,22 +24,24 @@ pub(super) struct StreamRestart {
 
 impl<const D: usize> DsmcEngine<D> {
     /// Puts every grain at `positions` with `velocities` (row-major `n × D` by grain id,
-    /// lengths and length / time) at absolute time `time`, and rebuilds what depends on
-    /// them: the cell sort (from the order of the ids, as when the engine was built) and
-    /// the validity warnings. The configuration, the counters (steps, collisions), the
-    /// tally, the driving and the angular velocities of rough grains are kept; the TC model's memory of the last collisions starts
-    /// afresh, and the random streams restart under a key of `time`
+    /// lengths and length / time) and, rough grains, `angular_velocities` (`d_r` values
+    /// per grain by id; empty for smooth grains) at absolute time `time`, and rebuilds what
+    /// depends on them: the cell sort (from the order of the ids, as when the engine was
+    /// built) and the validity warnings. The configuration, the counters (steps,
+    /// collisions), the tally and the driving are kept; the TC model's memory of the last
+    /// collisions starts afresh, and the random streams restart under a key of `time`
     /// ([`crate::random::RESTART`]). Two engines of the same grains restarted with the same
     /// arrays at the same time therefore continue with the same bits, whatever they did
     /// before.
     ///
     /// Refused on a decomposed engine (its grains are spread over ranks). The caller
-    /// validates the arrays (lengths `n × D`, finite, inside the box).
+    /// validates the arrays (lengths, finite, inside the box).
     pub fn restart(
         &mut self,
         time: f64,
         positions: &[f64],
         velocities: &[f64],
+        angular_velocities: &[f64],
     ) -> Result<(), DsmcError> {
         if self.domain.is_some() {
             return Err(DsmcError::Invalid(
@@ -52,6 +54,15 @@ impl<const D: usize> DsmcEngine<D> {
                 "{} position and {} velocity values for {n} grains in {D} dimensions",
                 positions.len(),
                 velocities.len()
+            )));
+        }
+        let r = crate::collision_law::rough::rotational_dof(D);
+        let spins = if self.is_rough() { r * n } else { 0 };
+        if angular_velocities.len() != spins {
+            return Err(DsmcError::Invalid(format!(
+                "{} angular velocity values for {n} {} grains in {D} dimensions (give {spins})",
+                angular_velocities.len(),
+                if self.is_rough() { "rough" } else { "smooth" }
             )));
         }
         let rows = |a: &[f64]| -> Vec<Vector<D>> {
@@ -75,10 +86,9 @@ impl<const D: usize> DsmcEngine<D> {
             derived.place(&self.sim_box, x)?;
         }
         let ids = (0..n as u32).collect();
-        // Rough grains keep their angular velocities (by id).
         let rotation = self.inertia.map(|inertia| super::Rotation {
             inertia,
-            spins: self.angular_velocities(),
+            spins: angular_velocities.to_vec(),
         });
         let mut fresh = Self::assemble(
             self.config.clone(),

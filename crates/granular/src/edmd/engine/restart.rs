@@ -10,7 +10,8 @@ use crate::vector::Vector;
 
 impl<const D: usize> Edmd<D> {
     /// Puts every grain at `positions` with `velocities` (row-major `n × D` by grain id,
-    /// lengths and length / time) at absolute time `time`, and rebuilds everything that
+    /// lengths and length / time) and, rough grains, `angular_velocities` (`d_r` values per
+    /// grain by id; empty for smooth grains) at absolute time `time`, and rebuilds everything that
     /// depends on them: every grain's clock is set to `time`, the cells, the storage order
     /// and every prediction are made again, as when the engine was built. The collision
     /// law, the options, the totals and the impact histogram are kept; the TC model's
@@ -20,12 +21,19 @@ impl<const D: usize> Edmd<D> {
     /// arrays at the same time therefore continue with the same bits, whatever they did
     /// before.
     ///
-    /// The caller validates the arrays (lengths `n × D`, finite, inside the box or the
-    /// walls, no overlap: `Simulation::set_state`); compression must be over.
-    pub fn restart(&mut self, time: f64, positions: &[f64], velocities: &[f64]) {
+    /// The caller validates the arrays (lengths `n × D` and `n × d_r`, finite, inside the
+    /// box or the walls, no overlap: `Simulation::set_state`); compression must be over.
+    pub fn restart(
+        &mut self,
+        time: f64,
+        positions: &[f64],
+        velocities: &[f64],
+        angular_velocities: &[f64],
+    ) {
         let n = self.len();
         debug_assert_eq!(positions.len(), n * D);
         debug_assert_eq!(velocities.len(), n * D);
+        debug_assert_eq!(angular_velocities.len(), self.angular_velocities().len());
         debug_assert_eq!(self.growth, 0.0);
         let rows = |a: &[f64]| -> Vec<Vector<D>> {
             a.chunks_exact(D)
@@ -39,8 +47,8 @@ impl<const D: usize> Edmd<D> {
             masses: self.masses(),
             species: self.species(),
             species_names: self.species_names.clone(),
-            // Rough grains keep their spins and κ: only positions and velocities are set.
-            angular_velocities: self.angular_velocities(),
+            // Rough grains keep their κ.
+            angular_velocities: angular_velocities.to_vec(),
             inertia: self.species_inertia(),
         };
         let mut fresh = Self::new(
