@@ -136,11 +136,11 @@ fn crossing(times: &[f64], diff: &[f64], guess: f64, half: f64) -> f64 {
     mt - md / slope
 }
 
+/// Mean and standard error of the mean of independent values.
 fn mean_and_error(x: &[f64]) -> (f64, f64) {
-    let n = x.len() as f64;
-    let m = x.iter().sum::<f64>() / n;
-    let var = x.iter().map(|v| (v - m).powi(2)).sum::<f64>() / (n - 1.0);
-    (m, (var / n).sqrt())
+    let mut stats = granular::stats::RunningStats::new();
+    x.iter().for_each(|v| stats.push(*v));
+    (stats.mean(), stats.standard_error())
 }
 
 /// The Mpemba effect: the hotter sample A, with the larger `a2`, crosses the colder B and

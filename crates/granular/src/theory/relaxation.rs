@@ -105,7 +105,7 @@ impl SonineRelaxation {
         let heating = self.mass * strength * self.kick_fraction;
         let omega = self.omega(t);
         let inelastic = 1.0 - e * e;
-        let zeta = inelastic / d * omega * (1.0 + 3.0 * a / 16.0);
+        let zeta = super::haff::sonine_cooling_rate(self.dimension, e, omega, a);
         let b2 = 3.0 / 32.0 * (10.0 * d + 39.0 + 10.0 * e * e) * inelastic + (d - 1.0) * (1.0 + e);
         let mu4 = inelastic * (d + 1.5 + e * e) + b2 * a;
         let bracket = (d + 2.0) * inelastic * (1.0 + 19.0 * a / 16.0) - mu4;
@@ -184,10 +184,9 @@ impl SonineRelaxation {
     /// The noise strength `ξ0²` whose steady temperature is `temperature` (KT-13 solved
     /// for `ξ0²`, at KT-12's `a2`).
     pub fn strength_for_temperature(&self, temperature: f64) -> f64 {
-        let d = self.dimension as f64;
         let a = super::sonine::white_noise_a2(self.dimension, self.restitution);
-        let zeta =
-            (1.0 - self.restitution.powi(2)) / d * self.omega(temperature) * (1.0 + 3.0 * a / 16.0);
+        let omega = self.omega(temperature);
+        let zeta = super::haff::sonine_cooling_rate(self.dimension, self.restitution, omega, a);
         zeta * temperature / (self.mass * self.kick_fraction)
     }
 
@@ -314,7 +313,7 @@ mod tests {
         let (d, e) = (3, 0.8);
         let g = gas(d, e);
         let a = sonine::cooling_a2_first(d, e);
-        let zeta0 = (1.0 - e * e) / d as f64 * g.omega(1.0) * (1.0 + 3.0 * a / 16.0);
+        let zeta0 = crate::theory::haff::sonine_cooling_rate(d, e, g.omega(1.0), a);
         let t0 = 2.0 / zeta0;
         let s = g.evolve(
             SonineState {
