@@ -289,9 +289,12 @@ fn write_array_to<W: Write>(writer: W, name: &str, array: &NpzArray) -> io::Resu
 fn read_array_from<R: Read>(reader: R, name: &str) -> Result<NpzArray, NpzError> {
     let io_err = |source: io::Error| NpzError::Format(format!("array `{name}`: {source}"));
     let file = NpyFile::new(reader).map_err(io_err)?;
-    if file.order() != npyz::Order::C && file.shape().len() > 1 {
+    let fortran = file.order() != npyz::Order::C && file.shape().len() > 1;
+    if fortran && file.shape().len() > 2 {
         return Err(NpzError::Format(format!(
-            "array `{name}` is in Fortran order; only C order is supported"
+            "array `{name}` is a {}-d array in Fortran order; save it in C order \
+             (numpy.ascontiguousarray)",
+            file.shape().len()
         )));
     }
     let shape = file.shape().to_vec();
@@ -301,11 +304,31 @@ fn read_array_from<R: Read>(reader: R, name: &str) -> Result<NpzArray, NpzError>
         )));
     };
     let data = match (ts.type_char(), ts.size_field()) {
-        (TypeChar::Float, 8) => NpzData::F64(file.into_vec().map_err(io_err)?),
-        (TypeChar::Uint, 4) => NpzData::U32(file.into_vec().map_err(io_err)?),
-        (TypeChar::Uint, 8) => NpzData::U64(file.into_vec().map_err(io_err)?),
-        (TypeChar::Int, 8) => NpzData::I64(file.into_vec().map_err(io_err)?),
-        (TypeChar::UnicodeStr, _) => NpzData::Str(file.into_vec().map_err(io_err)?),
+        (TypeChar::Float, 8) => NpzData::F64(c_order_if(
+            fortran,
+            &shape,
+            file.into_vec().map_err(io_err)?,
+        )),
+        (TypeChar::Uint, 4) => NpzData::U32(c_order_if(
+            fortran,
+            &shape,
+            file.into_vec().map_err(io_err)?,
+        )),
+        (TypeChar::Uint, 8) => NpzData::U64(c_order_if(
+            fortran,
+            &shape,
+            file.into_vec().map_err(io_err)?,
+        )),
+        (TypeChar::Int, 8) => NpzData::I64(c_order_if(
+            fortran,
+            &shape,
+            file.into_vec().map_err(io_err)?,
+        )),
+        (TypeChar::UnicodeStr, _) => NpzData::Str(c_order_if(
+            fortran,
+            &shape,
+            file.into_vec().map_err(io_err)?,
+        )),
         _ => {
             return Err(NpzError::Format(format!(
                 "array `{name}` has dtype {ts}; supported are <f8, <u4, <u8, <i8 and <U"
@@ -315,6 +338,22 @@ fn read_array_from<R: Read>(reader: R, name: &str) -> Result<NpzArray, NpzError>
     let array = NpzArray { shape, data };
     array.check(name)?;
     Ok(array)
+}
+
+/// Row-major values of a `rows x columns` matrix stored column-major.
+fn c_order<T: Clone>(column_major: &[T], rows: usize, columns: usize) -> Vec<T> {
+    (0..rows)
+        .flat_map(|i| (0..columns).map(move |j| column_major[j * rows + i].clone()))
+        .collect()
+}
+
+/// `values` in row-major order: a 2-d array in Fortran order (a transposed array saved as
+/// it lies) is column-major and reordered.
+fn c_order_if<T: Clone>(fortran: bool, shape: &[u64], values: Vec<T>) -> Vec<T> {
+    match (fortran, shape) {
+        (true, &[r, c]) if values.len() as u64 == r * c => c_order(&values, r as usize, c as usize),
+        _ => values,
+    }
 }
 
 fn io_error(path: &Path) -> impl Fn(io::Error) -> NpzError + '_ {
