@@ -361,16 +361,21 @@ fn load_with(
         // A string: TOML integers stop at i64::MAX, seeds at u64::MAX.
         overrides.push(format!("seed=\"{s}\""));
     }
+    let base = path.parent();
     let read = |o: &[String]| {
-        if insist {
-            Scenario::from_toml_insisting(&text, o)
-        } else {
-            Scenario::from_toml(&text, o)
+        granular::scenario::ScenarioInput {
+            text: &text,
+            overrides: o,
+            base,
+            limits: !insist,
+            ..Default::default()
         }
+        .read()
     };
     let mut sc = read(&overrides).map_err(|e| CliError::scenario(path, &text, &overrides, e))?;
-    if let Some(o) = granular::scenario::bath_file_override(path, &sc) {
-        overrides.push(o);
+    let absolute = granular::scenario::file_overrides(path, &sc);
+    if !absolute.is_empty() {
+        overrides.extend(absolute);
         sc = read(&overrides).map_err(|e| CliError::scenario(path, &text, &overrides, e))?;
     }
     Ok(sc)
@@ -567,9 +572,7 @@ fn dispatch(cli: Cli) -> Result<(), CliError> {
             let dir = out.unwrap_or_else(|| default_dir(&scenario));
             let mut set = set;
             let base = load_with(&scenario, None, &set, insist)?;
-            if let Some(o) = granular::scenario::bath_file_override(&scenario, &base) {
-                set.push(o);
-            }
+            set.extend(granular::scenario::file_overrides(&scenario, &base));
             let args = sweep::SweepArgs {
                 scenario: &scenario,
                 text: &text,

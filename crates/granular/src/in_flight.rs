@@ -29,7 +29,8 @@ pub struct Change {
 
 /// The value of the dotted `key` in the scenario as its TOML writes it, or `unset`.
 fn written_value(scenario: &Scenario, key: &str) -> String {
-    let table: toml::Table = match scenario.to_toml().parse() {
+    // Without the per-grain arrays, which no in-flight key is part of.
+    let table: toml::Table = match scenario.without_arrays().0.to_toml().parse() {
         Ok(t) => t,
         Err(_) => return "unset".into(),
     };

@@ -449,6 +449,17 @@ impl Simulation {
         self.started_as.as_deref().unwrap_or(&self.scenario)
     }
 
+    /// Replaces the scenario as the simulation started by `stored`, the same scenario with
+    /// its per-grain arrays named where a run directory keeps them (`initial_state.npz`), so
+    /// that checkpoints name them too instead of holding them as text.
+    pub(crate) fn keep_initial_scenario(&mut self, stored: Scenario) {
+        debug_assert!(stored == *self.initial_scenario());
+        match &mut self.started_as {
+            Some(s) => **s = stored,
+            None => self.scenario = stored,
+        }
+    }
+
     /// Every quantity derived from the scenario (radii, packing fraction, contact value,
     /// collision frequency, mean free time and path, Haff's time, the DSMC step and cells,
     /// the driving's state), resolved once at the temperature of the drawn initial state.

@@ -9,6 +9,7 @@ mod edmd;
 mod edmd_reference;
 mod engines;
 mod golden;
+mod initial_arrays;
 mod intruder;
 mod intruder_ball;
 mod intruder_scenario;

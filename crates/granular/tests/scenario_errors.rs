@@ -296,7 +296,7 @@ fn bundled_scenarios_resolve_to_their_engine_tables() {
             granular::scenario::EngineKind::Intruder => "[collisions]",
         };
         // What older versions wrote: the other engines' tables with their defaults.
-        let old_style = Scenario::from_resolved_toml(&format!("{resolved}\n{other}\n"))
+        let old_style = Scenario::from_resolved_toml(&format!("{resolved}\n{other}\n"), None)
             .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
         assert_eq!(s, old_style, "{}", path.display());
         assert!(

@@ -505,7 +505,7 @@ pub fn initial_particles<const D: usize>(
             None => Region::whole(&bx),
         };
         let positions = if !sp.positions.is_empty() {
-            sp.positions.iter().map(|p| vector::<D>(p)).collect()
+            sp.positions.iter().map(vector::<D>).collect()
         } else {
             let place_r = r / shrink;
             let radii = vec![place_r; sp.count];
@@ -537,9 +537,7 @@ pub fn initial_particles<const D: usize>(
                 setup::maxwell_boltzmann::<D>(&masses, *temperature, &mut rng)
             }
             VelocitySpec::Given { velocity } => vec![vector::<D>(velocity); sp.count],
-            VelocitySpec::PerGrain { velocities } => {
-                velocities.iter().map(|v| vector::<D>(v)).collect()
-            }
+            VelocitySpec::PerGrain { velocities } => velocities.iter().map(vector::<D>).collect(),
         };
         per_species[s] = Some((positions, velocities));
     }
@@ -616,7 +614,7 @@ pub fn dsmc_setup<const D: usize>(
         };
         let placement = if !sp.positions.is_empty() {
             crate::dsmc::Placement::Given(std::sync::Arc::new(
-                sp.positions.iter().map(|p| vector::<D>(p)).collect(),
+                sp.positions.iter().map(vector::<D>).collect(),
             ))
         } else {
             match scenario.initial().placement {
@@ -647,7 +645,7 @@ pub fn dsmc_setup<const D: usize>(
             }
             VelocitySpec::Given { velocity } => InitialVelocity::Given(vector::<D>(velocity)),
             VelocitySpec::PerGrain { velocities } => InitialVelocity::PerGrain(
-                std::sync::Arc::new(velocities.iter().map(|v| vector::<D>(v)).collect()),
+                std::sync::Arc::new(velocities.iter().map(vector::<D>).collect()),
             ),
         };
         let angular_velocity = match &sp.angular_velocity {

@@ -220,7 +220,7 @@ impl Run {
     /// files is refused, and so is one in which another process runs.
     pub fn create(dir: &Path, scenario: Scenario) -> Result<Run, RunError> {
         let start = Instant::now();
-        let (log, lock) = Recorder::prepare(dir, &scenario)?;
+        let (log, lock, scenario) = Recorder::prepare(dir, scenario)?;
         let simulation = Simulation::new(scenario)?;
         let mut run = Run::with_log(dir, simulation, log, lock);
         run.recorder.log(
@@ -252,7 +252,7 @@ impl Run {
         memory: Option<crate::build::MemoryBudget>,
     ) -> Result<Run, RunError> {
         let start = Instant::now();
-        let (log, lock) = Recorder::prepare(dir, &scenario)?;
+        let (log, lock, scenario) = Recorder::prepare(dir, scenario)?;
         let (engine, resolved) = build_on(&scenario, comm.clone(), memory)?;
         let simulation = Simulation::from_parts(scenario, engine, resolved);
         let mut run = Run::with_log(dir, simulation, log, lock);
@@ -282,8 +282,9 @@ impl Run {
     /// start at its current time. `scenario.toml` is the scenario as the simulation
     /// started (as in its checkpoints); the changes made in flight so far go to `log.txt`
     /// and the summary.
-    pub fn from_simulation(dir: &Path, simulation: Simulation) -> Result<Run, RunError> {
-        let (log, lock) = Recorder::prepare(dir, simulation.initial_scenario())?;
+    pub fn from_simulation(dir: &Path, mut simulation: Simulation) -> Result<Run, RunError> {
+        let (log, lock, stored) = Recorder::prepare(dir, simulation.initial_scenario().clone())?;
+        simulation.keep_initial_scenario(stored);
         Ok(Run::with_log(dir, simulation, log, lock))
     }
 
@@ -363,11 +364,10 @@ impl Run {
             _ => {}
         }
         let cp = run_dir.checkpoint()?;
-        let scenario =
-            Scenario::from_toml_insisting(&cp.scenario, &[]).map_err(|e| RunError::Checkpoint {
-                path: path.clone(),
-                message: e.to_string(),
-            })?;
+        let scenario = stored_scenario(&cp.scenario, dir).map_err(|e| RunError::Checkpoint {
+            path: path.clone(),
+            message: e.to_string(),
+        })?;
         parts::restore(dir, scenario, cp.simulation, cp.parts.as_ref(), None)
     }
 
@@ -424,11 +424,10 @@ impl Run {
         }
         let lock = lock::Lock::acquire(dir)?;
         let cp = run_dir.checkpoint()?;
-        let scenario =
-            Scenario::from_toml_insisting(&cp.scenario, &[]).map_err(|e| RunError::Checkpoint {
-                path: path.clone(),
-                message: e.to_string(),
-            })?;
+        let scenario = stored_scenario(&cp.scenario, dir).map_err(|e| RunError::Checkpoint {
+            path: path.clone(),
+            message: e.to_string(),
+        })?;
         check_scenario_file(dir, &cp.scenario, &scenario)?;
         let mut outputs = cp.outputs;
         outputs.relocate(dir);
@@ -577,12 +576,14 @@ impl Run {
 impl Recorder {
     /// Prepares `dir` for a new run: refuses a directory that is neither empty nor a run
     /// directory, takes its lock, removes the files of an earlier run that a new run would
-    /// not overwrite, writes `scenario.toml`, and opens `log.txt`.
+    /// not overwrite, writes `scenario.toml` (and `initial_state.npz`, with the arrays that
+    /// came from NumPy or another `.npz` file), and opens `log.txt`; returns the scenario as
+    /// stored (naming `initial_state.npz`).
     #[allow(clippy::type_complexity)]
     fn prepare(
         dir: &Path,
-        scenario: &Scenario,
-    ) -> Result<(std::fs::File, (lock::Lock, Option<String>)), RunError> {
+        scenario: Scenario,
+    ) -> Result<(std::fs::File, (lock::Lock, Option<String>), Scenario), RunError> {
         let run_dir = RunDir::new(dir);
         if run_dir.state() == DirectoryState::Other {
             return Err(RunError::Directory {
@@ -596,11 +597,12 @@ impl Recorder {
         std::fs::create_dir_all(dir).map_err(io_err(dir))?;
         let lock = lock::Lock::acquire(dir)?;
         run_dir.clear_earlier_run();
+        let scenario = run_dir.store_initial_state(scenario)?;
         let path = run_dir.file(RunFile::Scenario);
         std::fs::write(&path, scenario.to_toml()).map_err(io_err(&path))?;
         let log_path = run_dir.file(RunFile::Log);
         let log = std::fs::File::create(&log_path).map_err(io_err(&log_path))?;
-        Ok((log, lock))
+        Ok((log, lock, scenario))
     }
 
     fn log(&mut self, wall_seconds: f64, msg: &str) {
@@ -862,6 +864,17 @@ impl RunHooks for DirectoryHooks<'_> {
     }
 }
 
+/// The scenario a checkpoint stores, its `.npz` arrays read from the run directory `dir`
+/// (its `initial_state.npz`).
+fn stored_scenario(text: &str, dir: &Path) -> Result<Scenario, crate::scenario::ScenarioError> {
+    crate::scenario::ScenarioInput {
+        text,
+        base: Some(dir),
+        ..Default::default()
+    }
+    .read()
+}
+
 /// Refuses a resume when `DIR/scenario.toml` says something else than the scenario the
 /// run started with (`stored`, from the checkpoint). Layout and comments may differ: the
 /// file is compared after reading it.
@@ -874,7 +887,8 @@ fn check_scenario_file(dir: &Path, stored: &str, scenario: &Scenario) -> Result<
     if text == stored {
         return Ok(());
     }
-    let same = Scenario::from_resolved_toml(&text).is_ok_and(|s| s.to_toml() == scenario.to_toml());
+    let same = Scenario::from_resolved_toml(&text, Some(dir))
+        .is_ok_and(|s| s.to_toml() == scenario.to_toml());
     if same {
         return Ok(());
     }

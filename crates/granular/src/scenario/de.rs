@@ -58,7 +58,7 @@ struct RawVelocity {
     speed: Option<f64>,
     temperature: Option<f64>,
     velocity: Option<Vec<f64>>,
-    velocities: Option<Vec<Vec<f64>>>,
+    velocities: Option<super::GrainVectors>,
 }
 
 const DISTRIBUTIONS: &str = "\"zero\", \"fixed_speed\" (speed), \"maxwell_boltzmann\" (temperature), \"given\" (velocity) or \"per_grain\" (velocities)";

@@ -81,25 +81,36 @@ pub fn read_text_file(path: &Path) -> Result<String, Error> {
     })
 }
 
-/// The `--set` override (`intruder.bath.file="/abs/path"`) that makes a tabulated intruder
-/// bath's relative `file` absolute, relative to the directory of the scenario file
-/// `scenario_file`, so that validation reads it and run directories, sweeps and resumes
-/// find it from any working directory; `None` when there is nothing to make absolute. The
-/// command line and the Python package both apply it.
-pub fn bath_file_override(scenario_file: &Path, sc: &super::Scenario) -> Option<String> {
-    let super::BathTable::Tabulated { file: Some(f), .. } = sc.intruder()?.bath()? else {
-        return None;
-    };
-    if Path::new(f).is_absolute() {
-        return None;
-    }
+/// The `--set` overrides that make the scenario's relative file paths absolute, relative
+/// to the directory of the scenario file `scenario_file`: a tabulated intruder bath's
+/// `file` (`intruder.bath.file="/abs/path"`) and the `.npz` files of per-grain arrays
+/// (`species[0].positions.npz="/abs/path"`), so that validation reads them and run
+/// directories, sweeps and resumes find them from any working directory; empty when there
+/// is nothing to make absolute. The command line and the Python package both apply them.
+pub fn file_overrides(scenario_file: &Path, sc: &super::Scenario) -> Vec<String> {
     let base = scenario_file
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
         .unwrap_or(Path::new("."));
     let base = std::path::absolute(base).unwrap_or_else(|_| base.to_path_buf());
-    let full = base.join(f).to_string_lossy().into_owned();
-    Some(format!("intruder.bath.file={}", toml::Value::String(full)))
+    let absolute = |key: &str, f: &str| {
+        (!Path::new(f).is_absolute()).then(|| {
+            let full = base.join(f).to_string_lossy().into_owned();
+            format!("{key}={}", toml::Value::String(full))
+        })
+    };
+    let mut out = Vec::new();
+    if let Some(super::BathTable::Tabulated { file: Some(f), .. }) =
+        sc.intruder().and_then(|i| i.bath())
+    {
+        out.extend(absolute("intruder.bath.file", f));
+    }
+    for (key, v) in super::input::arrays_by_key(sc) {
+        if let super::VectorSource::Npz { npz, .. } = v.source() {
+            out.extend(absolute(&format!("{key}.npz"), npz));
+        }
+    }
+    out
 }
 
 #[cfg(test)]

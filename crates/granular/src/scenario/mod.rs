@@ -11,6 +11,8 @@ pub(crate) mod advice;
 mod de;
 mod driving;
 mod file;
+mod grain_vectors;
+mod input;
 mod intruder;
 mod layout;
 mod observables;
@@ -28,7 +30,9 @@ mod validate;
 use crate::dsmc::config::DsmcConfig;
 pub use de::seed::HELP as SEED_HELP;
 pub use driving::{DrivingKind, DrivingSpec};
-pub use file::{MAX_FILE_BYTES, bath_file_override, read_text_file};
+pub use file::{MAX_FILE_BYTES, file_overrides, read_text_file};
+pub use grain_vectors::{GrainVectors, VectorSource};
+pub use input::{ARRAY_KEYS, ScenarioInput, array_key};
 pub use intruder::{BathTable, DsmcTwinTable, IntruderSpec, NeedleTable, OneDTable, bath_file};
 pub use output::{OutputSpacing, OutputSpec};
 pub use overrides::apply_override;
@@ -67,6 +71,7 @@ fn overridden(o: &str, key: &str) -> bool {
 
 use serde::{Deserialize, Serialize};
 use std::fmt;
+use std::path::Path;
 
 /// Which engine runs the scenario.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -463,8 +468,8 @@ pub struct SpeciesSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub region: Option<RegionSpec>,
     /// Fixed positions, one `[x, y(, z)]` per grain (instead of a placement).
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub positions: Vec<Vec<f64>>,
+    #[serde(default, skip_serializing_if = "GrainVectors::is_empty")]
+    pub positions: GrainVectors,
     /// Initial velocities.
     #[serde(default)]
     pub velocity: VelocitySpec,
@@ -515,8 +520,8 @@ pub enum VelocitySpec {
     },
     /// One velocity per grain.
     PerGrain {
-        /// Velocity vectors, one per grain.
-        velocities: Vec<Vec<f64>>,
+        /// Velocity vectors, one per grain (inline, an `.npz` member or given by a program).
+        velocities: GrainVectors,
     },
 }
 
@@ -733,7 +738,7 @@ impl ScenarioError {
     }
 
     /// Adds the line of the key in `source` when it is not known yet.
-    fn at(mut self, source: &str) -> Self {
+    pub(super) fn at(mut self, source: &str) -> Self {
         if self.line.is_none() {
             self.line = locate(source, &self.key);
         }
@@ -762,15 +767,13 @@ impl Scenario {
     /// Parses, applies the overrides and validates; with `limits`, also the cost limits,
     /// of the scenario and of every point of its sweep.
     fn load(source: &str, overrides: &[String], limits: bool) -> Result<Scenario, ScenarioError> {
-        let scenario = Self::parse(source, overrides)?;
-        scenario.validate().map_err(|e| e.at(source))?;
-        if limits {
-            scenario.cost().check_limits().map_err(|e| e.at(source))?;
+        ScenarioInput {
+            text: source,
+            overrides,
+            limits,
+            ..ScenarioInput::default()
         }
-        if let Some(sw) = &scenario.sweep {
-            sweep::check_members(source, overrides, sw, limits)?;
-        }
-        Ok(scenario)
+        .read()
     }
 
     /// The pre-flight estimate of what the run will cost (outputs, snapshots, bytes,
@@ -783,8 +786,11 @@ impl Scenario {
     /// directories): tables that do not apply to its engine, which older versions wrote
     /// with their defaults, are dropped before [`Scenario::from_toml`]'s checks. The cost
     /// limits are not checked again (the run was accepted when it started, perhaps with
-    /// `--insist`).
-    pub fn from_resolved_toml(source: &str) -> Result<Scenario, ScenarioError> {
+    /// `--insist`). Relative `.npz` paths are read from `base` (the run directory).
+    pub fn from_resolved_toml(
+        source: &str,
+        base: Option<&Path>,
+    ) -> Result<Scenario, ScenarioError> {
         let mut table: toml::Table =
             toml::from_str(source).map_err(|e| spans::parse_error(source, source, &e))?;
         if let Some(engine) = table
@@ -793,11 +799,16 @@ impl Scenario {
         {
             layout::strip(&mut table, engine);
         }
-        Self::from_toml_insisting(&toml::to_string(&table).unwrap_or_default(), &[])
+        ScenarioInput {
+            text: &toml::to_string(&table).unwrap_or_default(),
+            base,
+            ..ScenarioInput::default()
+        }
+        .read()
     }
 
     /// Parses and applies the overrides, without validating the values.
-    fn parse(source: &str, overrides: &[String]) -> Result<Scenario, ScenarioError> {
+    pub(super) fn parse(source: &str, overrides: &[String]) -> Result<Scenario, ScenarioError> {
         let mut table: toml::Table =
             toml::from_str(source).map_err(|e| spans::parse_error(source, source, &e))?;
         for o in overrides {

@@ -19,7 +19,7 @@
 //! values. The keys are those of [`IN_FLIGHT_KEYS`]; each entry's values are checked when
 //! the scenario is read, as the scenario with every change up to that entry applied.
 
-use super::{Scenario, ScenarioError};
+use super::{Scenario, ScenarioError, ScenarioInput};
 use serde::{Deserialize, Serialize};
 
 /// The keys that can change once a simulation exists (by [`crate::Simulation::set`] or
@@ -129,7 +129,8 @@ pub fn changed(
     }
     // The scenario without its schedule, so that checking the changed scenario does not
     // check the schedule again (which changes it in turn).
-    let mut base = scenario.clone();
+    // Its per-grain arrays (which cannot change in flight) go along as arrays, not as text.
+    let (mut base, arrays) = scenario.without_arrays();
     let was_rough = scenario.collisions().law().is_rough();
     let schedule = base
         .grains_mut()
@@ -139,7 +140,16 @@ pub fn changed(
         .iter()
         .map(|(k, v)| format!("{k}={v}"))
         .collect();
-    let mut out = match Scenario::from_toml_insisting(&base.to_toml(), &overrides) {
+    let reread = |base: &Scenario| {
+        ScenarioInput {
+            text: &base.to_toml(),
+            overrides: &overrides,
+            arrays: &arrays,
+            ..ScenarioInput::default()
+        }
+        .read()
+    };
+    let mut out = match reread(&base) {
         Ok(out) => out,
         // Rough grains made smooth: their κ and initial spins are no keys of smooth
         // grains (the engine keeps both).
@@ -150,7 +160,7 @@ pub fn changed(
                     sp.angular_velocity = None;
                 }
             }
-            let out = Scenario::from_toml_insisting(&base.to_toml(), &overrides)?;
+            let out = reread(&base)?;
             if out.collisions().law().is_rough() {
                 return Err(e);
             }

@@ -158,13 +158,16 @@ fn positions(sc: &Scenario, s: usize, key: &dyn Fn(&str) -> String) -> Result<()
             ),
         ));
     }
+    if sp.positions.width() != d {
+        return Err(ScenarioError::new(
+            key("positions"),
+            format!(
+                "has {} components per grain; give {d} (one position per grain, in dimension {d})",
+                sp.positions.width()
+            ),
+        ));
+    }
     for (i, p) in sp.positions.iter().enumerate() {
-        if p.len() != d {
-            return Err(ScenarioError::new(
-                key("positions"),
-                format!("position {i} has {} components; give {d}", p.len()),
-            ));
-        }
         for k in 0..d {
             let walled = axes[k] == AxisKind::Wall;
             if !(p[k] >= 0.0 && p[k] <= lengths[k])
@@ -213,20 +216,26 @@ fn velocity(
             Ok(())
         }
         VelocitySpec::PerGrain { velocities } => {
-            if velocities.len() != sp.count || velocities.iter().any(|v| v.len() != d) {
+            if velocities.len() != sp.count || velocities.width() != d {
                 return Err(ScenarioError::new(
                     key("velocity.velocities"),
-                    format!("needs {} vectors of {d} components", sp.count),
+                    format!(
+                        "needs {} vectors of {d} components (has {} of {})",
+                        sp.count,
+                        velocities.len(),
+                        velocities.width()
+                    ),
                 ));
             }
-            for (i, v) in velocities.iter().enumerate() {
-                for (k, &c) in v.iter().enumerate() {
-                    finite(
-                        &format!("{}[{i}][{k}]", key("velocity.velocities")),
-                        c,
-                        "a velocity component",
-                    )?;
-                }
+            // The key is written only for a value at fault (a million grains are checked).
+            let bad = |c: &f64| finite("", *c, "").is_err();
+            if let Some(at) = velocities.values().iter().position(bad) {
+                let (i, k) = (at / d, at % d);
+                finite(
+                    &format!("{}[{i}][{k}]", key("velocity.velocities")),
+                    velocities.values()[at],
+                    "a velocity component",
+                )?;
             }
             Ok(())
         }

@@ -3,7 +3,7 @@
 //! observable that the run writes.
 
 use super::spans::{parse_path, path_text};
-use super::{EngineKind, Scenario, ScenarioError, SweepAxis, SweepMode, SweepSpec};
+use super::{EngineKind, Scenario, ScenarioError, ScenarioInput, SweepAxis, SweepMode, SweepSpec};
 
 /// Most points a sweep may have (the product of the value counts in a grid): beyond it
 /// the scan is an error that suggests `mode = "zip"`, fewer values or several sweeps.
@@ -320,18 +320,16 @@ impl SweepSpec {
 
 /// The scenario of one point of a sweep (without its `[sweep]` table), or the error.
 fn member(
-    source: &str,
-    overrides: &[String],
+    input: &ScenarioInput<'_>,
     set: &[(&str, &toml::Value)],
     limits: bool,
 ) -> Result<Scenario, ScenarioError> {
-    let mut o = overrides.to_vec();
-    o.extend(set.iter().map(|(k, v)| format!("{k}={v}")));
-    let mut s = Scenario::parse(source, &o)?;
+    let extra: Vec<String> = set.iter().map(|(k, v)| format!("{k}={v}")).collect();
+    let mut s = input.assemble(&extra)?;
     s.sweep = None;
-    s.validate().map_err(|e| e.at(source))?;
+    s.validate().map_err(|e| e.at(input.text))?;
     if limits {
-        s.cost().check_limits().map_err(|e| e.at(source))?;
+        s.cost().check_limits().map_err(|e| e.at(input.text))?;
     }
     Ok(s)
 }
@@ -340,22 +338,26 @@ fn member(
 /// the member's seed among them), validated, without its `[sweep]` table (so that a
 /// member directory is a plain run, and building one member does not check every other).
 pub(crate) fn sweep_member(source: &str, overrides: &[String]) -> Result<Scenario, ScenarioError> {
-    member(source, overrides, &[], false)
+    let input = ScenarioInput {
+        text: source,
+        overrides,
+        ..ScenarioInput::default()
+    };
+    member(&input, &[], false)
 }
 
 /// Every value of every key, set alone on the scenario, must give a valid scenario (the
 /// error names `sweep.values[i]` or `sweep.vary[k].values[i]`, or the key itself when
 /// the scenario has no such key); with several keys, so must every point.
 pub(super) fn check_members(
-    source: &str,
-    overrides: &[String],
+    input: &ScenarioInput<'_>,
     sw: &SweepSpec,
-    limits: bool,
 ) -> Result<(), ScenarioError> {
+    let (source, limits) = (input.text, input.limits);
     let axes = sw.axes();
     for (k, a) in axes.iter().enumerate() {
         for (i, v) in a.values.iter().enumerate() {
-            if let Err(e) = member(source, overrides, &[(&a.key, v)], limits) {
+            if let Err(e) = member(input, &[(&a.key, v)], limits) {
                 let last = a.key.rsplit(['.', '[']).next().unwrap_or_default();
                 let unknown = e.message.contains(&format!("unknown field `{last}`"));
                 let (key, what) = if unknown {
@@ -383,7 +385,7 @@ pub(super) fn check_members(
         for (p, point) in sw.points().iter().enumerate() {
             let set: Vec<(&str, &toml::Value)> =
                 axes.iter().map(|a| a.key.as_str()).zip(point).collect();
-            if let Err(e) = member(source, overrides, &set, limits) {
+            if let Err(e) = member(input, &set, limits) {
                 let at: Vec<String> = set.iter().map(|(k, v)| format!("{k} = {v}")).collect();
                 return Err(ScenarioError::new(
                     "sweep.vary",

@@ -18,7 +18,7 @@ pub(super) fn export(run: &RunDir, formats: &[Format]) -> Result<Vec<PathBuf>, T
             scenario_path.display()
         ))
     })?;
-    let scenario = Scenario::from_toml(&text, &[])
+    let scenario = Scenario::from_resolved_toml(&text, Some(run.path()))
         .map_err(|e| TrajectoryError::Export(format!("{}: {e}", scenario_path.display())))?;
     if scenario.kind() == EngineKind::Intruder {
         return Err(TrajectoryError::Export(format!(

@@ -18,8 +18,10 @@
 //! | `.lock` | the process id of the run writing the directory |
 //! | `log.txt` | what happened, with wall-clock times |
 //! | `figures/`, `report.html` | the figures of `granular plot` and the page of `granular report` |
+//! | `initial_state.npz` | per-grain arrays that came from NumPy or another `.npz` file, named by `scenario.toml` |
 
 mod export;
+mod initial_state;
 mod table;
 
 pub use table::{Column, Table};
@@ -73,6 +75,9 @@ pub enum RunFile {
     IntruderArrays,
     /// `report.html`: the page of `granular report`.
     Report,
+    /// `initial_state.npz`: the per-grain arrays of the scenario that were given as NumPy
+    /// arrays or read from an `.npz` file; `scenario.toml` names its members.
+    InitialState,
 }
 
 /// The kinds of result file beside the time series, as the Python package groups them.
@@ -88,7 +93,7 @@ pub enum FileGroup {
 
 impl RunFile {
     /// Every file, in the order of the table above.
-    pub const ALL: [RunFile; 19] = [
+    pub const ALL: [RunFile; 20] = [
         RunFile::Scenario,
         RunFile::Summary,
         RunFile::TimeSeries,
@@ -108,6 +113,7 @@ impl RunFile {
         RunFile::DensityMaps,
         RunFile::IntruderArrays,
         RunFile::Report,
+        RunFile::InitialState,
     ];
 
     /// The file's name in the run directory.
@@ -132,6 +138,7 @@ impl RunFile {
             RunFile::DensityMaps => "density_maps.npz",
             RunFile::IntruderArrays => "intruder_histograms.npz",
             RunFile::Report => "report.html",
+            RunFile::InitialState => "initial_state.npz",
         }
     }
 
@@ -285,7 +292,7 @@ impl RunDir {
     pub fn scenario(&self) -> Result<Scenario, RunError> {
         let path = self.file(RunFile::Scenario);
         let text = read_text(&path)?;
-        Scenario::from_resolved_toml(&text).map_err(|e| read_error(&path, e))
+        Scenario::from_resolved_toml(&text, Some(&self.path)).map_err(|e| read_error(&path, e))
     }
 
     /// `summary.json` (present once the run has finished).
@@ -395,6 +402,9 @@ impl RunDir {
         let _ = std::fs::remove_file(self.file(RunFile::Checkpoint));
         let _ = std::fs::remove_dir_all(self.parts_dir());
         let _ = std::fs::remove_file(self.file(RunFile::Summary));
+        // Written again from memory when the new run's scenario has such arrays (they are
+        // read before the directory is cleared, even from this very file).
+        let _ = std::fs::remove_file(self.file(RunFile::InitialState));
     }
 
     /// Removes the checkpoint of a run that has ended.

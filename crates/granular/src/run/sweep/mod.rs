@@ -389,7 +389,7 @@ pub fn merge(dir: &Path, allow_missing: bool) -> Result<Merged, SweepError> {
             dir: dir.to_path_buf(),
         });
     };
-    let base = Scenario::from_resolved_toml(&text)?;
+    let base = Scenario::from_resolved_toml(&text, Some(dir))?;
     let plan = SweepPlan::new(&base)?;
     let mut missing = Vec::new();
     let mut summaries: Vec<Vec<Option<Summary>>> = Vec::with_capacity(plan.points.len());
