@@ -3,15 +3,16 @@
 
 use crate::convert;
 use crate::errors::scenario_error;
-use granular::scenario::Scenario;
+use granular::scenario::{GrainVectors, Scenario, ScenarioInput};
 use pyo3::exceptions::{PyFileNotFoundError, PyOSError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyMapping};
 use std::path::{Path, PathBuf};
 
 /// A validated scenario: TOML text (from a file, a string or a dict) with `--set`-style
-/// overrides, for any engine (edmd, dsmc, intruder). Every constructor and every override
-/// validates at once and raises ScenarioError with the command line's message.
+/// overrides and per-grain NumPy arrays, for any engine (edmd, dsmc, intruder). Every
+/// constructor and every override validates at once and raises ScenarioError with the
+/// command line's message.
 #[pyclass(name = "Scenario", module = "granular")]
 #[derive(Clone)]
 pub struct PyScenario {
@@ -19,52 +20,99 @@ pub struct PyScenario {
     pub source: String,
     /// Overrides `KEY=VALUE`, in the order given.
     pub overrides: Vec<String>,
-    /// The file it was loaded from (error messages start with it), if any.
+    /// The file it was loaded from (error messages start with it; relative `.npz` paths
+    /// are read from its directory), if any.
     pub origin: Option<String>,
+    /// Per-grain arrays given as NumPy arrays (`species[i].positions`,
+    /// `species[i].velocity.velocities`), put in after the overrides without becoming text.
+    pub arrays: Vec<(String, GrainVectors)>,
     /// The validated scenario.
     pub resolved: Scenario,
 }
 
 impl PyScenario {
-    /// Parses and validates `source` with `overrides`: every check but the pre-flight cost
-    /// limits, which [`PyScenario::within_limits`] applies where a run starts (check(),
-    /// Simulation(), run_sweep()) unless `insist=True`.
+    /// Parses and validates `source` with `overrides` and `arrays`: every check but the
+    /// pre-flight cost limits, which [`PyScenario::within_limits`] applies where a run
+    /// starts (check(), Simulation(), run_sweep()) unless `insist=True`.
     pub fn build(
+        py: Python<'_>,
+        source: String,
+        overrides: Vec<String>,
+        origin: Option<String>,
+    ) -> PyResult<Self> {
+        Self::with_arrays(py, source, overrides, origin, Vec::new())
+    }
+
+    fn with_arrays(
         py: Python<'_>,
         source: String,
         mut overrides: Vec<String>,
         origin: Option<String>,
+        arrays: Vec<(String, GrainVectors)>,
     ) -> PyResult<Self> {
-        let mut resolved = Scenario::from_toml_insisting(&source, &overrides)
-            .map_err(|e| scenario_error(py, &e, origin.as_deref()))?;
-        if let Some(o) = origin
+        let read = |o: &[String]| read(py, &source, origin.as_deref(), &arrays, o, false);
+        let mut resolved = read(&overrides)?;
+        let absolute = origin
             .as_deref()
-            .and_then(|p| granular::scenario::bath_file_override(Path::new(p), &resolved))
-        {
-            overrides.push(o);
-            resolved = Scenario::from_toml_insisting(&source, &overrides)
-                .map_err(|e| scenario_error(py, &e, origin.as_deref()))?;
+            .map(|p| granular::scenario::file_overrides(Path::new(p), &resolved))
+            .unwrap_or_default();
+        if !absolute.is_empty() {
+            overrides.extend(absolute);
+            resolved = read(&overrides)?;
         }
         Ok(Self {
             source,
             overrides,
             origin,
+            arrays,
             resolved,
         })
     }
 
-    /// The same scenario with more overrides (validated).
+    /// A simulation's scenario (resumed, or changed in flight) as a `Scenario`: its arrays
+    /// are kept as arrays, not written as text.
+    pub fn of(py: Python<'_>, scenario: &Scenario, origin: Option<String>) -> PyResult<Self> {
+        let (bare, arrays) = scenario.without_arrays();
+        Self::with_arrays(py, bare.to_toml(), Vec::new(), origin, arrays)
+    }
+
+    /// The scenario of this one's text, arrays and `overrides` (validated; with the cost
+    /// limits when `limits`).
+    fn read(&self, py: Python<'_>, overrides: &[String], limits: bool) -> PyResult<Scenario> {
+        read(
+            py,
+            &self.source,
+            self.origin.as_deref(),
+            &self.arrays,
+            overrides,
+            limits,
+        )
+    }
+
+    /// The same scenario with more overrides (validated); an override of an array's key,
+    /// or of a table above it, replaces the array.
     pub fn with_overrides(&self, py: Python<'_>, more: &[String]) -> PyResult<Self> {
-        let mut o = self.overrides.clone();
-        o.extend_from_slice(more);
-        let resolved = Scenario::from_toml_insisting(&self.source, &o)
-            .map_err(|e| scenario_error(py, &e, self.origin.as_deref()))?;
-        Ok(Self {
-            source: self.source.clone(),
-            overrides: o,
-            origin: self.origin.clone(),
-            resolved,
-        })
+        let mut next = self.clone();
+        next.overrides.extend_from_slice(more);
+        for o in more {
+            let key = canonical_key(o.split('=').next().unwrap_or_default());
+            next.arrays.retain(|(k, _)| {
+                !(k == &key
+                    || k.starts_with(&format!("{key}."))
+                    || k.starts_with(&format!("{key}[")))
+            });
+        }
+        next.resolved = next.read(py, &next.overrides, false)?;
+        Ok(next)
+    }
+
+    /// The same scenario with the NumPy array `vectors` at `key` (validated).
+    fn with_array(&self, py: Python<'_>, key: String, vectors: GrainVectors) -> PyResult<Self> {
+        let mut next = self.clone();
+        next.arrays.retain(|(k, _)| *k != key);
+        next.arrays.push((key, vectors));
+        next.resolved = next.read(py, &next.overrides, false)?;
+        Ok(next)
     }
 
     /// The pre-flight cost limits (outputs, collisions, bytes written; of the scenario and
@@ -74,16 +122,71 @@ impl PyScenario {
         if insist {
             return Ok(());
         }
-        Scenario::from_toml(&self.source, &self.overrides)
-            .map(|_| ())
-            .map_err(|e| scenario_error(py, &e, self.origin.as_deref()))
+        self.read(py, &self.overrides, true).map(|_| ())
     }
+}
+
+/// The scenario of `source` (from the file `origin`, whose directory relative `.npz` paths
+/// are read from), with `arrays` and `overrides`: validated, with the cost limits when
+/// `limits`.
+fn read(
+    py: Python<'_>,
+    source: &str,
+    origin: Option<&str>,
+    arrays: &[(String, GrainVectors)],
+    overrides: &[String],
+    limits: bool,
+) -> PyResult<Scenario> {
+    let base = origin.map(|o| Path::new(o).parent().unwrap_or(Path::new("")).to_path_buf());
+    ScenarioInput {
+        text: source,
+        overrides,
+        base: base.as_deref(),
+        arrays,
+        limits,
+    }
+    .read()
+    .map_err(|e| scenario_error(py, &e, origin))
+}
+
+/// `species.0.positions` as `species[0].positions`, the form the arrays are kept under.
+fn canonical_key(key: &str) -> String {
+    let mut out = String::new();
+    for part in key.trim().split('.') {
+        if !out.is_empty() && !part.is_empty() && part.bytes().all(|b| b.is_ascii_digit()) {
+            out.push_str(&format!("[{part}]"));
+        } else {
+            if !out.is_empty() {
+                out.push('.');
+            }
+            out.push_str(part);
+        }
+    }
+    out
 }
 
 /// `KEY=VALUE` with the value written as TOML.
 fn assignment(key: &str, value: &Bound<'_, PyAny>) -> PyResult<String> {
     let v = convert::to_toml(value, key)?;
     Ok(format!("{key}={v}"))
+}
+
+/// The scenario with `key` set to `value`: a NumPy array at a per-grain key
+/// (`species[i].positions`, `species[i].velocity.velocities`) is kept as an array, anything
+/// else becomes an override.
+fn set_one(
+    py: Python<'_>,
+    scenario: &PyScenario,
+    key: &str,
+    value: &Bound<'_, PyAny>,
+) -> PyResult<PyScenario> {
+    if let Some(v) = crate::state::given_vectors(py, key, value)? {
+        let canonical = granular::scenario::array_key(key)
+            .map(|(s, which)| format!("species[{s}].{which}"))
+            .map_err(|e| scenario_error(py, &e, scenario.origin.as_deref()))?;
+        return scenario.with_array(py, canonical, v);
+    }
+    scenario.with_overrides(py, &[assignment(key, value)?])
 }
 
 #[pymethods]
@@ -124,12 +227,13 @@ impl PyScenario {
     /// `{"engine": "edmd", "species": [{"name": "disk", "count": 100, "radius": 0.01}]}`.
     #[staticmethod]
     fn from_dict(py: Python<'_>, d: &Bound<'_, PyDict>) -> PyResult<Self> {
+        let (d, arrays) = crate::state::take_grain_arrays(py, d)?;
         let toml::Value::Table(table) = convert::to_toml(d.as_any(), "")? else {
             unreachable!("a dict converts to a table")
         };
         let text = toml::to_string(&table)
             .map_err(|e| crate::errors::value_error(format!("the dict has no TOML form: {e}")))?;
-        Self::build(py, text, Vec::new(), None)
+        Self::with_arrays(py, text, Vec::new(), None, arrays)
     }
 
     /// set(key, value) -> None
@@ -140,8 +244,7 @@ impl PyScenario {
     /// validated at once (ScenarioError, and the scenario is left unchanged); use update()
     /// to change keys that only make sense together.
     fn set(&mut self, py: Python<'_>, key: &str, value: &Bound<'_, PyAny>) -> PyResult<()> {
-        let a = assignment(key, value)?;
-        *self = self.with_overrides(py, &[a])?;
+        *self = set_one(py, self, key, value)?;
         Ok(())
     }
 
@@ -152,11 +255,21 @@ impl PyScenario {
     /// "dimension" and "box.lengths").
     fn update(&mut self, py: Python<'_>, overrides: &Bound<'_, PyMapping>) -> PyResult<()> {
         let mut list = Vec::new();
+        let mut next = self.clone();
         for item in overrides.items()?.iter() {
             let (k, v): (String, Bound<'_, PyAny>) = item.extract()?;
-            list.push(assignment(&k, &v)?);
+            match crate::state::given_vectors(py, &k, &v)? {
+                Some(a) => {
+                    let key = granular::scenario::array_key(&k)
+                        .map(|(s, which)| format!("species[{s}].{which}"))
+                        .map_err(|e| scenario_error(py, &e, self.origin.as_deref()))?;
+                    next.arrays.retain(|(k, _)| *k != key);
+                    next.arrays.push((key, a));
+                }
+                None => list.push(assignment(&k, &v)?),
+            }
         }
-        *self = self.with_overrides(py, &list)?;
+        *self = next.with_overrides(py, &list)?;
         Ok(())
     }
 
@@ -169,12 +282,32 @@ impl PyScenario {
 
     /// to_dict() -> dict
     ///
-    /// The resolved scenario as nested dicts and lists (the TOML of to_toml()).
+    /// The resolved scenario as nested dicts and lists (the TOML of to_toml()), with
+    /// per-grain positions and velocities as float64 `(N, D)` NumPy arrays.
     fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let table: toml::Table = toml::from_str(&self.resolved.to_toml()).map_err(|e| {
+        let (bare, arrays) = self.resolved.without_arrays();
+        let table: toml::Table = toml::from_str(&bare.to_toml()).map_err(|e| {
             crate::errors::simulation_error(format!("the resolved scenario did not parse: {e}"))
         })?;
-        convert::table_to_dict(py, &table)
+        let dict = convert::table_to_dict(py, &table)?;
+        let species = dict.get_item("species")?;
+        for (key, v) in arrays {
+            let (s, which) = granular::scenario::array_key(&key)
+                .map_err(|e| crate::errors::simulation_error(e.to_string()))?;
+            let a =
+                numpy::ndarray::Array2::from_shape_vec((v.len(), v.width()), v.values().to_vec())
+                    .map_err(|e| crate::errors::simulation_error(e.to_string()))?;
+            let a = numpy::PyArray2::from_owned_array(py, a);
+            let Some(entry) = species.as_ref().map(|l| l.get_item(s)).transpose()? else {
+                continue;
+            };
+            if which == "positions" {
+                entry.set_item("positions", a)?;
+            } else {
+                entry.get_item("velocity")?.set_item("velocities", a)?;
+            }
+        }
+        Ok(dict)
     }
 
     /// check(insist=False) -> str

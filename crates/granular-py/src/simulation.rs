@@ -467,11 +467,9 @@ impl PySimulation {
         let simulation = py
             .detach(|| guard("Simulation.resume()", || Ok(Run::checkpointed(&dir))))?
             .map_err(simulation_error)?;
-        let text = simulation.scenario().to_toml();
-        let scenario = PyScenario::build(
+        let scenario = PyScenario::of(
             py,
-            text,
-            Vec::new(),
+            simulation.scenario(),
             Some(run_dir.join("scenario.toml").display().to_string()),
         )?;
         let events = simulation.events();
@@ -512,12 +510,7 @@ impl PySimulation {
             // (`scenario::changed`), which the overrides alone cannot say.
             Err(_) => {
                 let changed = self.sim()?.scenario().clone();
-                PyScenario {
-                    source: changed.to_toml(),
-                    overrides: Vec::new(),
-                    origin: self.scenario.origin.clone(),
-                    resolved: changed,
-                }
+                PyScenario::of(py, &changed, self.scenario.origin.clone())?
             }
         };
         let value = serde_json::to_value(&change).map_err(simulation_error)?;

@@ -3,7 +3,7 @@
 //! straight into a NumPy array's own buffer.
 
 use granular::Simulation;
-use numpy::{PyArray2, PyArrayDyn, PyArrayMethods};
+use numpy::{PyArray2, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 
 /// Which per-grain vector.
@@ -142,9 +142,11 @@ shape {}",
     }
     let typed = array.cast::<PyArrayDyn<f64>>()?;
     let view = typed.try_readonly()?;
+    // `as_slice` also takes Fortran-ordered arrays (a transposed array), whose memory is
+    // column-major: only a C-ordered array is copied as it lies.
     Ok(match view.as_slice() {
-        Ok(s) => s.to_vec(),
-        Err(_) => view.as_array().iter().copied().collect(),
+        Ok(s) if typed.is_c_contiguous() => s.to_vec(),
+        _ => view.as_array().iter().copied().collect(),
     })
 }
 
@@ -171,4 +173,96 @@ pub fn box_dict<'py>(
     }
     d.set_item("dimensions", scenario.dimension)?;
     Ok(d)
+}
+
+/// A NumPy array given at a per-grain key of a scenario (`species[i].positions`,
+/// `species[i].velocity.velocities`) as the scenario's vectors, without any text; `None`
+/// when `value` is no NumPy array or `key` takes none (the value then goes through TOML as
+/// before). The array must be float64 `(N, D)` (TypeError, ValueError naming the key).
+pub fn given_vectors(
+    py: Python<'_>,
+    key: &str,
+    value: &Bound<'_, PyAny>,
+) -> PyResult<Option<granular::scenario::GrainVectors>> {
+    let ndarray = py.import("numpy")?.getattr("ndarray")?;
+    if !value.is_instance(&ndarray)? || granular::scenario::array_key(key).is_err() {
+        return Ok(None);
+    }
+    let shape: Vec<usize> = value.getattr("shape")?.extract()?;
+    let [n, d] = shape[..] else {
+        return Err(crate::errors::value_error(format!(
+            "`{key}` has shape {}; give an (N, D) array: one row of D numbers per grain",
+            shape_text(&shape)
+        )));
+    };
+    let what = "one row per grain of the species, in order";
+    let values = values(py, key, value, &[n, d], what)?;
+    granular::scenario::GrainVectors::given(values, d)
+        .map(Some)
+        .ok_or_else(|| {
+            crate::errors::value_error(format!(
+                "`{key}` has shape {}; give at least one column",
+                shape_text(&shape)
+            ))
+        })
+}
+
+/// Per-grain arrays by scenario key.
+pub type GivenArrays = Vec<(String, granular::scenario::GrainVectors)>;
+
+/// A copy of the scenario dict `d` without the NumPy arrays at its per-grain keys, and
+/// those arrays by key. A species' `velocity` table that held per-grain `velocities` goes
+/// with them (the arrays make the velocities per grain).
+pub fn take_grain_arrays<'py>(
+    py: Python<'py>,
+    d: &Bound<'py, pyo3::types::PyDict>,
+) -> PyResult<(Bound<'py, pyo3::types::PyDict>, GivenArrays)> {
+    use pyo3::types::{PyDict, PyList};
+    let out = d.copy()?;
+    let mut arrays = Vec::new();
+    let Some(species) = d.get_item("species")? else {
+        return Ok((out, arrays));
+    };
+    let Ok(list) = species.cast::<PyList>() else {
+        return Ok((out, arrays));
+    };
+    let copied = PyList::empty(py);
+    for (i, entry) in list.iter().enumerate() {
+        let Ok(entry) = entry.cast::<PyDict>() else {
+            copied.append(entry)?;
+            continue;
+        };
+        let entry = entry.copy()?;
+        let key = format!("species[{i}].positions");
+        if let Some(p) = entry.get_item("positions")?
+            && let Some(v) = given_vectors(py, &key, &p)?
+        {
+            entry.del_item("positions")?;
+            arrays.push((key, v));
+        }
+        let key = format!("species[{i}].velocity.velocities");
+        if let Some(velocity) = entry.get_item("velocity")?
+            && let Ok(velocity) = velocity.cast::<PyDict>()
+            && let Some(given) = velocity.get_item("velocities")?
+            && let Some(v) = given_vectors(py, &key, &given)?
+        {
+            let per_grain = velocity.iter().all(|(k, x)| {
+                let k = k.extract::<String>().unwrap_or_default();
+                k == "velocities"
+                    || (k == "distribution"
+                        && x.extract::<String>().is_ok_and(|d| d == "per_grain"))
+            });
+            if !per_grain {
+                return Err(crate::errors::value_error(format!(
+                    "`species[{i}].velocity`: `velocities` (one per grain) goes with \
+                     distribution = \"per_grain\" and nothing else; remove the other keys"
+                )));
+            }
+            entry.del_item("velocity")?;
+            arrays.push((key, v));
+        }
+        copied.append(entry)?;
+    }
+    out.set_item("species", copied)?;
+    Ok((out, arrays))
 }

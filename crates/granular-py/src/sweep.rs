@@ -37,6 +37,13 @@ pub fn run_sweep(
             .map_err(|e| value_error(format!("shard={s:?}: {e}")))?,
     };
     scenario.within_limits(py, insist)?;
+    if let Some((key, _)) = scenario.arrays.first() {
+        return Err(value_error(format!(
+            "run_sweep: `{key}` is a NumPy array, which the members of a sweep cannot share \
+             yet; save the arrays with numpy.savez and name them in the scenario instead \
+             ({key} = {{ npz = \"/path/state.npz\", array = \"name\" }}, docs/scenario.md)"
+        )));
+    }
     let (text, overrides) = (scenario.source.clone(), scenario.overrides.clone());
     let origin = scenario.origin.clone();
     let fail = move |e: sweep::SweepError| match &origin {

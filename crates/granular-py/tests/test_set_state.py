@@ -330,3 +330,14 @@ def test_tangential_restitution_in_flight() -> None:
     with pytest.raises(granular.ScenarioError, match="cannot become rough in flight"):
         smooth.set("collisions.tangential_restitution", 0.5)
     assert smooth.changes == []
+
+
+def test_fortran_ordered_arrays_are_read_by_rows() -> None:
+    """A transposed (Fortran-ordered) array is read row by row, as NumPy indexes it, not as it lies in
+    memory."""
+    sim = granular.Simulation(granular.Scenario.from_toml(DSMC_2D))
+    v = sim.velocities
+    fortran = np.asfortranarray(v[:, ::-1])
+    assert fortran.flags.f_contiguous and not fortran.flags.c_contiguous
+    sim.set_state(velocities=fortran)
+    assert np.array_equal(sim.velocities, v[:, ::-1])
