@@ -220,3 +220,197 @@ def test_export_of_an_intruder_run_says_there_are_no_trajectories(tmp_path: Path
     assert result.returncode == 2
     assert "intruder engine, which has no grain trajectories" in result.stderr
     assert not (out / "trajectory").exists()
+
+
+# Rough grains (docs/rough.md): a 2D event-driven run of two species with their own κ, every
+# format written as it runs, and a 3D DSMC run exported afterwards by the command line.
+ROUGH_2D = """
+engine = "edmd"
+dimension = 2
+seed = 4
+[box]
+lengths = [1.0, 0.5]
+boundary = ["periodic", "wall"]
+[[species]]
+name = "disk"
+count = 150
+radius = 0.005
+velocity = { distribution = "maxwell_boltzmann", temperature = 1.0 }
+angular_velocity = { distribution = "maxwell_boltzmann", temperature = 0.5 }
+[[species]]
+name = "ring"
+count = 50
+radius = 0.01
+mass = 4.0
+inertia = 0.9
+velocity = { distribution = "maxwell_boltzmann", temperature = 1.0 }
+angular_velocity = { distribution = "given", angular_velocity = [3.0] }
+[collisions]
+restitution = 0.9
+tangential_restitution = 0.3
+[stop]
+collisions_per_particle = 8.0
+[output]
+interval = 0.02
+snapshot_every = 3
+trajectory = ["xyz", "lammps", "gsd", "vtk"]
+"""
+
+ROUGH_3D = """
+engine = "dsmc"
+dimension = 3
+seed = 12
+[box]
+lengths = [1.0, 1.0, 1.0]
+boundary = ["periodic", "periodic", "wall"]
+[[species]]
+name = "grain"
+count = 3000
+packing_fraction = 0.02
+velocity = { distribution = "maxwell_boltzmann", temperature = 1.0 }
+angular_velocity = { distribution = "maxwell_boltzmann", temperature = 0.5 }
+[collisions]
+restitution = 0.8
+tangential_restitution = 0.4
+wall_restitution = 0.9
+wall_tangential_restitution = -0.5
+[stop]
+collisions_per_particle = 3.0
+[output]
+interval = 0.02
+snapshot_every = 3
+"""
+
+
+@pytest.fixture(scope="module")
+def rough_2d(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    out = tmp_path_factory.mktemp("rough2d") / "run"
+    granular.Simulation(granular.Scenario.from_toml(ROUGH_2D)).run(out=out)
+    return out
+
+
+@pytest.fixture(scope="module")
+def rough_3d(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    out = tmp_path_factory.mktemp("rough3d") / "run"
+    granular.Simulation(granular.Scenario.from_toml(ROUGH_3D)).run(out=out)
+    cli("export", str(out), "--format", "xyz,lammps,gsd,vtk")
+    return out
+
+
+def spins(shot: granular.Snapshot) -> np.ndarray:
+    """The snapshot's angular velocities as (N, 3): (0, 0, ω_z) for disks."""
+    w = shot.angular_velocities
+    assert w is not None
+    return np.pad(w[:, None], ((0, 0), (2, 0))) if w.ndim == 1 else w
+
+
+def kappas(run: Path) -> np.ndarray:
+    """κ of each species: ``species[i].inertia`` or the uniform grain's (1/2 disk, 2/5 sphere)."""
+    scenario = tomllib.loads((run / "scenario.toml").read_text())
+    uniform = 0.5 if scenario["dimension"] == 2 else 0.4
+    return np.array([sp.get("inertia", uniform) for sp in scenario["species"]])
+
+
+@pytest.mark.parametrize("which", ["rough_2d", "rough_3d"])
+def test_rough_gsd_has_moment_inertia_and_angmom_that_give_back_the_spins(
+    which: str, request: pytest.FixtureRequest
+) -> None:
+    """HOOMD's ``particles/angmom`` is ``P = 2 q ⊗ (0, I ω)`` (identity orientation ``q``):
+    ``ω_k = P_k / (2 I_k)`` from ``particles/moment_inertia``, ``(0, 0, I)`` for disks."""
+    run = request.getfixturevalue(which)
+    shots = snapshots(run)
+    kappa = kappas(run)
+    with gsd_hoomd.open(run / "trajectory" / "trajectory.gsd") as traj:
+        assert len(traj) == len(shots)
+        for frame, shot in zip(traj, shots):
+            dim = frame.configuration.dimensions
+            w = spins(shot)
+            moment = kappa[shot.species] * shot.masses * shot.radii * shot.radii
+            moments = np.stack([moment] * 3, axis=1)
+            if dim == 2:
+                moments[:, :2] = 0.0
+            np.testing.assert_array_equal(frame.particles.moment_inertia, moments.astype(np.float32))
+            angmom = frame.particles.angmom
+            assert angmom.shape == (len(shot.radii), 4)
+            np.testing.assert_array_equal(angmom[:, 0], 0.0)
+            np.testing.assert_array_equal(angmom[:, 1:], (2.0 * moments * w).astype(np.float32))
+            # ω back from the file's two single-precision arrays (two roundings to float32).
+            axes = [2] if dim == 2 else [0, 1, 2]
+            inertia = frame.particles.moment_inertia.astype(np.float64)
+            back = angmom[:, 1:].astype(np.float64)[:, axes] / (2.0 * inertia[:, axes])
+            np.testing.assert_allclose(back, w[:, axes], rtol=3e-7, atol=0)
+            if dim == 2:
+                np.testing.assert_array_equal(angmom[:, 1:3], 0.0)
+            assert np.any(w != 0.0)
+
+
+@pytest.mark.parametrize("which", ["run_2d", "run_3d"])
+def test_smooth_gsd_has_no_spin_chunks(which: str, request: pytest.FixtureRequest) -> None:
+    import gsd.fl
+
+    run = request.getfixturevalue(which)
+    with gsd.fl.open(run / "trajectory" / "trajectory.gsd", "r") as f:
+        for name in ["particles/moment_inertia", "particles/angmom", "particles/orientation"]:
+            assert not f.chunk_exists(frame=0, name=name), name
+
+
+@pytest.mark.parametrize("which", ["rough_2d", "rough_3d"])
+def test_rough_extended_xyz_has_omega_read_exactly_by_ase(which: str, request: pytest.FixtureRequest) -> None:
+    run = request.getfixturevalue(which)
+    shots = snapshots(run)
+    path = run / "trajectory" / "trajectory.xyz"
+    assert path.read_text().count("id:I:1:omega:R:3 ") == len(shots)
+    frames = ase_io.read(path, index=":", format="extxyz")
+    assert len(frames) == len(shots)
+    for atoms, shot in zip(frames, shots):
+        np.testing.assert_array_equal(atoms.arrays["omega"], spins(shot))
+        np.testing.assert_array_equal(atoms.positions, padded(shot.positions))
+
+
+@pytest.mark.parametrize("which", ["rough_2d", "rough_3d"])
+def test_rough_lammps_dump_has_omega_columns(which: str, request: pytest.FixtureRequest) -> None:
+    run = request.getfixturevalue(which)
+    shots = snapshots(run)
+    path = run / "trajectory" / "trajectory.lammpstrj"
+    header = "ITEM: ATOMS id type x y z vx vy vz radius mass omegax omegay omegaz\n"
+    text = path.read_text()
+    blocks = text.split(header)[1:]
+    assert len(blocks) == len(shots)
+    for block, shot in zip(blocks, shots):
+        rows = np.array([line.split() for line in block.splitlines()[: len(shot.radii)]], dtype=float)
+        assert rows.shape[1] == 13
+        np.testing.assert_array_equal(rows[:, 10:13], spins(shot))
+    # ASE still reads the dump (positions as before; it keeps no omega).
+    frames = ase_io.read(path, index=":", format="lammps-dump-text")
+    for atoms, shot in zip(frames, shots):
+        np.testing.assert_array_equal(atoms.positions, padded(shot.positions))
+
+
+@pytest.mark.parametrize("which", ["rough_2d", "rough_3d"])
+def test_rough_vtk_has_the_angular_velocity_array(which: str, request: pytest.FixtureRequest) -> None:
+    vtk_xml = pytest.importorskip("vtkmodules.vtkIOXML", reason="the vtk wheel is missing (scripts/test installs it)")
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    run = request.getfixturevalue(which)
+    shots = snapshots(run)
+    names = sorted((run / "snapshots").glob("snapshot_*.npz"))
+    for shot, name in zip(shots, names):
+        reader = vtk_xml.vtkXMLPolyDataReader()
+        reader.SetFileName(str(run / "trajectory" / "vtp" / f"{name.stem}.vtp"))
+        reader.Update()
+        assert reader.GetErrorCode() == 0
+        points = reader.GetOutput().GetPointData()
+        arrays = {points.GetArrayName(k) for k in range(points.GetNumberOfArrays())}
+        assert arrays == {"id", "species", "v", "radius", "mass", "angular_velocity"}
+        np.testing.assert_array_equal(vtk_to_numpy(points.GetArray("angular_velocity")), spins(shot))
+
+
+def test_rough_export_rewrites_what_the_run_wrote(rough_2d: Path, tmp_path: Path) -> None:
+    import shutil
+
+    copy = tmp_path / "run"
+    shutil.copytree(rough_2d, copy)
+    shutil.rmtree(copy / "trajectory")
+    cli("export", str(copy), "--format", "xyz,lammps,gsd,vtk")
+    for name in ["trajectory.xyz", "trajectory.lammpstrj", "trajectory.gsd", "trajectory.pvd"]:
+        assert (copy / "trajectory" / name).read_bytes() == (rough_2d / "trajectory" / name).read_bytes(), name

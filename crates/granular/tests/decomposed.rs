@@ -947,6 +947,30 @@ fn same_files(a: &std::path::Path, b: &std::path::Path, what: &str) {
             "{what}: {f} differs from the threaded run's"
         );
     }
+    // The other trajectory formats, where the run writes them.
+    let vtp: Vec<String> = std::fs::read_dir(a.join("trajectory/vtp"))
+        .map(|d| {
+            d.flatten()
+                .map(|e| format!("trajectory/vtp/{}", e.file_name().to_string_lossy()))
+                .collect()
+        })
+        .unwrap_or_default();
+    for f in [
+        "trajectory/trajectory.xyz",
+        "trajectory/trajectory.lammpstrj",
+        "trajectory/trajectory.pvd",
+    ]
+    .into_iter()
+    .map(String::from)
+    .chain(vtp)
+    {
+        if a.join(&f).exists() {
+            assert!(
+                std::fs::read(a.join(&f)).unwrap() == std::fs::read(b.join(&f)).unwrap(),
+                "{what}: {f} differs from the threaded run's"
+            );
+        }
+    }
     let mut names: Vec<_> = std::fs::read_dir(a.join("snapshots"))
         .unwrap()
         .flatten()
@@ -999,7 +1023,8 @@ fn per_rank_setup_is_the_threaded_run_for_any_ranks_and_cuts() {
 
 /// Rough grains created by each rank (spinning from the start, walls and gravity): their
 /// angular velocities go to their ranks with the rest of the record, in every round of
-/// the set-up's exchange, and the run writes the threaded run's files bit for bit.
+/// the set-up's exchange, and the run writes the threaded run's files bit for bit (the
+/// trajectories in every format, with the spins that rank 0 reads from the ranks' blocks).
 #[test]
 fn rough_per_rank_setup_is_the_threaded_run() {
     use granular::run::Run;
@@ -1008,6 +1033,7 @@ fn rough_per_rank_setup_is_the_threaded_run() {
         "collisions.tangential_restitution=0.5".to_string(),
         format!("species[0].angular_velocity={spin}"),
         format!("species[1].angular_velocity={spin}"),
+        r#"output.trajectory=["gsd", "xyz", "lammps", "vtk"]"#.to_string(),
     ];
     let set: Vec<&str> = set.iter().map(String::as_str).collect();
     let threaded = crate::common::tmp("rough-threaded");

@@ -68,11 +68,7 @@ pub fn set_spin<const D: usize>(flat: &mut [f64], i: usize, w: &Spin) {
 /// The rotational kinetic energy `I |ω|² / 2 = κ m R² |ω|² / 2` of a grain.
 #[inline(always)]
 pub fn rotational_energy(body: &Body, w: &Spin) -> f64 {
-    0.5 * body.inertia
-        * body.mass
-        * body.radius
-        * body.radius
-        * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2])
+    0.5 * body.moment_of_inertia() * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2])
 }
 
 /// A grain as a collision sees it.
@@ -88,6 +84,12 @@ pub struct Body {
 }
 
 impl Body {
+    /// The moment of inertia `I = κ m R²` about any axis through the centre.
+    #[inline(always)]
+    pub fn moment_of_inertia(&self) -> f64 {
+        self.inertia * self.mass * self.radius * self.radius
+    }
+
     /// `κ m R`, the factor that turns the torque axis `n × J` into a change of angular
     /// velocity (`I / R`).
     #[inline(always)]

@@ -491,8 +491,12 @@ impl crate::trajectory::Pieces for BlockFrame<'_> {
             let mut vel = std::fs::File::open(block_file(self.path, q))?;
             vel.seek(SeekFrom::Start(8 * (rows.len() * d) as u64))?;
             let mut vel = std::io::BufReader::new(vel);
-            let read = |r: &mut dyn Read, m: usize| -> std::io::Result<Vec<f64>> {
-                let mut buf = vec![0u8; 8 * m * d];
+            // Rough grains: the angular velocities follow the velocities.
+            let mut spin = std::fs::File::open(block_file(self.path, q))?;
+            spin.seek(SeekFrom::Start(8 * (2 * rows.len() * d) as u64))?;
+            let mut spin = std::io::BufReader::new(spin);
+            let read = |r: &mut dyn Read, m: usize, width: usize| -> std::io::Result<Vec<f64>> {
+                let mut buf = vec![0u8; 8 * m * width];
                 r.read_exact(&mut buf)?;
                 Ok(buf
                     .chunks_exact(8)
@@ -502,8 +506,9 @@ impl crate::trajectory::Pieces for BlockFrame<'_> {
             let mut first = rows.start;
             while first < rows.end {
                 let m = (rows.end - first).min(PIECE);
-                let positions = read(&mut pos, m)?;
-                let velocities = read(&mut vel, m)?;
+                let positions = read(&mut pos, m, d)?;
+                let velocities = read(&mut vel, m, d)?;
+                let angular_velocities = read(&mut spin, m, self.rotational)?;
                 species.clear();
                 species.extend((first..first + m).map(|id| self.species.of(id as u32)));
                 f(&crate::trajectory::Piece {
@@ -514,6 +519,7 @@ impl crate::trajectory::Pieces for BlockFrame<'_> {
                     radii: &radii[..m],
                     masses: &masses[..m],
                     species: &species,
+                    angular_velocities: &angular_velocities,
                 })?;
                 first += m;
             }

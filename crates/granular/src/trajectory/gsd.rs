@@ -31,6 +31,29 @@
 //! no walls (a HOOMD box is periodic on every axis), hence `log/box/periodic`; readers
 //! that know only the schema (OVITO, HOOMD-blue) see a periodic box. Positions and
 //! velocities are single precision, as the schema 1.x requires.
+//!
+//! # Rough grains
+//!
+//! A rough run's file has two more names, [`SPIN_NAMES`] (ids 13 and 14, after the
+//! others; a smooth run's file has neither name nor chunk), and every frame two more
+//! chunks:
+//!
+//! * `particles/moment_inertia` (N x 3 f32): the principal moments `(I_xx, I_yy, I_zz)`
+//!   with `I = κ m R²` (`κ = 4I/(mσ²)` of the grain's species, `σ = 2R`): `(I, I, I)` for a
+//!   sphere, `(0, 0, I)` for a disk, because HOOMD-blue in two dimensions integrates and
+//!   counts only the rotation about z (`IntegrationMethodTwoStep::getRotationalDOF` in
+//!   glotzerlab/hoomd-blue, `hoomd/md/IntegrationMethodTwoStep.cc`: in 2D only a non-zero
+//!   `moment_inertia.z` is a degree of freedom);
+//! * `particles/angmom` (N x 4 f32): HOOMD's angular momentum conjugate quaternion
+//!   `P = 2 q ⊗ (0, S)`, with `S` the angular momentum in the particle's body frame and
+//!   `q` its orientation, so that `S = ½ Im(q* ⊗ P)` (glotzerlab/hoomd-blue,
+//!   `sphinx-doc/aniso.rst`, "Quaternions for angular momentum", after Kamberaj, Low and
+//!   Neal, J. Chem. Phys. 122, 224114 (2005); `hoomd/md/ComputeThermo.cc` computes the
+//!   rotational kinetic energy from `s = 0.5 conj(q) p` and `s.v.k² / I_k`). Grains have no
+//!   orientation here: the file has no `particles/orientation`, which HOOMD reads as the
+//!   identity `q = (1, 0, 0, 0)`, so the body frame is the box frame and
+//!   `P = (0, 2 I ω_x, 2 I ω_y, 2 I ω_z)` (a disk: `(0, 0, 0, 2 I ω_z)`). A reader gets
+//!   `ω_k = P_k / (2 I_k)` back (in single precision) where `I_k > 0`.
 
 use super::{Frame, Rows};
 use serde::{Deserialize, Serialize};
@@ -290,110 +313,46 @@ pub const HOOMD_NAMES: [&str; 13] = [
     "log/particles/id",
 ];
 
-/// A GSD file with the HOOMD schema (version 1.4) and the names of [`HOOMD_NAMES`].
-pub fn create_hoomd(path: &Path) -> io::Result<GsdFile> {
+/// The chunk names a rough run's frames add after [`HOOMD_NAMES`] (ids 13, 14).
+pub const SPIN_NAMES: [&str; 2] = ["particles/moment_inertia", "particles/angmom"];
+
+/// A GSD file with the HOOMD schema (version 1.4) and the names of [`HOOMD_NAMES`], then,
+/// for `rough` grains, [`SPIN_NAMES`].
+pub fn create_hoomd(path: &Path, rough: bool) -> io::Result<GsdFile> {
     let application = format!("granular {}", env!("CARGO_PKG_VERSION"));
-    GsdFile::create(path, &application, "hoomd", (1, 4), &HOOMD_NAMES)
-}
-
-fn f32s(values: impl Iterator<Item = f64>) -> Vec<u8> {
-    values.flat_map(|v| (v as f32).to_le_bytes()).collect()
-}
-
-/// The chunks of one frame in the HOOMD schema (see the module documentation).
-pub fn frame_chunks(frame: &Frame) -> Vec<Chunk> {
-    let s = frame.snapshot;
-    let n = frame.len();
-    let d = frame.dimension();
-    let l = &frame.cell.lengths;
-    let half = |k: usize| if k < d { 0.5 * l[k] } else { 0.0 };
-    let lz = if d == 3 { l[2] } else { 0.0 };
-    let width = s.species_names.iter().map(String::len).max().unwrap_or(0) + 1;
-    let mut types = Vec::with_capacity(width * s.species_names.len());
-    for name in &s.species_names {
-        let start = types.len();
-        types.extend_from_slice(name.as_bytes());
-        types.resize(start + width, 0);
+    let mut names = HOOMD_NAMES.to_vec();
+    if rough {
+        names.extend_from_slice(&SPIN_NAMES);
     }
-    let vector = |v: &dyn Fn(usize) -> [f64; 3], shift: bool| {
-        f32s((0..n).flat_map(|i| {
-            let x = v(i);
-            (0..3).map(move |k| if shift { x[k] - half(k) } else { x[k] })
-        }))
-    };
-    let chunk = |id: usize, kind, n: usize, m: usize, data: Vec<u8>| Chunk {
-        id: id as u16,
-        kind,
-        n: n as u64,
-        m: m as u32,
-        data,
-    };
-    vec![
-        chunk(0, ChunkType::U64, 1, 1, frame.step.to_le_bytes().to_vec()),
-        chunk(1, ChunkType::U8, 1, 1, vec![d as u8]),
-        chunk(
-            2,
-            ChunkType::F32,
-            6,
-            1,
-            f32s([l[0], l[1], lz, 0.0, 0.0, 0.0].into_iter()),
-        ),
-        chunk(3, ChunkType::U32, 1, 1, (n as u32).to_le_bytes().to_vec()),
-        chunk(4, ChunkType::I8, s.species_names.len(), width, types),
-        chunk(
-            5,
-            ChunkType::U32,
-            n,
-            1,
-            s.species.iter().flat_map(|t| t.to_le_bytes()).collect(),
-        ),
-        chunk(6, ChunkType::F32, n, 1, f32s(s.masses.iter().copied())),
-        chunk(
-            7,
-            ChunkType::F32,
-            n,
-            1,
-            f32s(s.radii.iter().map(|r| 2.0 * r)),
-        ),
-        chunk(
-            8,
-            ChunkType::F32,
-            n,
-            3,
-            vector(&|i| frame.position(i), true),
-        ),
-        chunk(
-            9,
-            ChunkType::F32,
-            n,
-            3,
-            vector(&|i| frame.velocity(i), false),
-        ),
-        chunk(10, ChunkType::F64, 1, 1, s.time.to_le_bytes().to_vec()),
-        chunk(
-            11,
-            ChunkType::U8,
-            3,
-            1,
-            frame.periodic3().iter().map(|&p| u8::from(p)).collect(),
-        ),
-        chunk(
-            12,
-            ChunkType::U64,
-            n,
-            1,
-            (0..n as u64).flat_map(u64::to_le_bytes).collect(),
-        ),
-    ]
+    GsdFile::create(path, &application, "hoomd", (1, 4), &names)
 }
 
-/// The chunks of one frame read piece by piece, in the HOOMD schema: the bytes of
-/// [`frame_chunks`] of the same frame, in memory independent of its size.
+/// The chunks of one frame in the HOOMD schema (see the module documentation), in
+/// memory: the bytes of [`frame_rows`] of the frame.
+pub fn frame_chunks(frame: &Frame) -> io::Result<Vec<Chunk>> {
+    let rows = frame.rows();
+    frame_rows(&rows)
+        .into_iter()
+        .map(|mut c| {
+            let mut data = Vec::with_capacity(c.bytes as usize);
+            (c.write)(&mut data)?;
+            Ok(Chunk {
+                id: c.id,
+                kind: c.kind,
+                n: c.n,
+                m: c.m,
+                data,
+            })
+        })
+        .collect()
+}
+
+/// The chunks of one frame read piece by piece, in the HOOMD schema (see the module
+/// documentation), each written in memory independent of the frame's size.
 pub fn frame_rows<'a>(frame: &'a Rows<'a>) -> Vec<StreamedChunk<'a>> {
     let n = frame.n;
     let d = frame.dimension;
     let l = &frame.cell.lengths;
-    let half = move |k: usize| if k < d { 0.5 * l[k] } else { 0.0 };
     let lz = if d == 3 { l[2] } else { 0.0 };
     let width = frame
         .species_names
@@ -417,7 +376,7 @@ pub fn frame_rows<'a>(frame: &'a Rows<'a>) -> Vec<StreamedChunk<'a>> {
         write: Box::new(move |w: &mut dyn Write| w.write_all(&data)),
     };
     // A per-grain chunk: `m` values of `size` bytes per grain, from the pieces.
-    type Encode = fn(&super::Piece<'_>, usize, &dyn Fn(usize) -> f64, &mut Vec<u8>);
+    type Encode = fn(&Rows<'_>, &super::Piece<'_>, usize, &mut Vec<u8>);
     let grains = |id: usize, kind, m: usize, size: usize, encode: Encode| StreamedChunk {
         id: id as u16,
         kind,
@@ -429,13 +388,13 @@ pub fn frame_rows<'a>(frame: &'a Rows<'a>) -> Vec<StreamedChunk<'a>> {
             frame.grains.each(&mut |p| {
                 buf.clear();
                 for i in 0..p.len() {
-                    encode(p, i, &half, &mut buf);
+                    encode(frame, p, i, &mut buf);
                 }
                 w.write_all(&buf)
             })
         }),
     };
-    vec![
+    let mut chunks = vec![
         fixed(0, ChunkType::U64, 1, 1, frame.step.to_le_bytes().to_vec()),
         fixed(1, ChunkType::U8, 1, 1, vec![d as u8]),
         fixed(
@@ -447,22 +406,22 @@ pub fn frame_rows<'a>(frame: &'a Rows<'a>) -> Vec<StreamedChunk<'a>> {
         ),
         fixed(3, ChunkType::U32, 1, 1, (n as u32).to_le_bytes().to_vec()),
         fixed(4, ChunkType::I8, frame.species_names.len(), width, types),
-        grains(5, ChunkType::U32, 1, 4, |p, i, _, b| {
+        grains(5, ChunkType::U32, 1, 4, |_, p, i, b| {
             b.extend_from_slice(&p.species[i].to_le_bytes())
         }),
-        grains(6, ChunkType::F32, 1, 4, |p, i, _, b| {
+        grains(6, ChunkType::F32, 1, 4, |_, p, i, b| {
             b.extend_from_slice(&(p.masses[i] as f32).to_le_bytes())
         }),
-        grains(7, ChunkType::F32, 1, 4, |p, i, _, b| {
+        grains(7, ChunkType::F32, 1, 4, |_, p, i, b| {
             b.extend_from_slice(&((2.0 * p.radii[i]) as f32).to_le_bytes())
         }),
-        grains(8, ChunkType::F32, 3, 4, |p, i, half, b| {
+        grains(8, ChunkType::F32, 3, 4, |f, p, i, b| {
             let x = p.position(i);
             for (k, xk) in x.iter().enumerate() {
-                b.extend_from_slice(&((xk - half(k)) as f32).to_le_bytes());
+                b.extend_from_slice(&((xk - half(f, k)) as f32).to_le_bytes());
             }
         }),
-        grains(9, ChunkType::F32, 3, 4, |p, i, _, b| {
+        grains(9, ChunkType::F32, 3, 4, |_, p, i, b| {
             for v in p.velocity(i) {
                 b.extend_from_slice(&(v as f32).to_le_bytes());
             }
@@ -475,9 +434,54 @@ pub fn frame_rows<'a>(frame: &'a Rows<'a>) -> Vec<StreamedChunk<'a>> {
             1,
             frame.periodic3().iter().map(|&p| u8::from(p)).collect(),
         ),
-        grains(12, ChunkType::U64, 1, 8, |p, i, _, b| {
+        grains(12, ChunkType::U64, 1, 8, |_, p, i, b| {
             b.extend_from_slice(&((p.first + i) as u64).to_le_bytes())
         }),
+    ];
+    if frame.is_rough() {
+        chunks.push(grains(13, ChunkType::F32, 3, 4, |f, p, i, b| {
+            for moment in principal_moments(f, p, i) {
+                b.extend_from_slice(&(moment as f32).to_le_bytes());
+            }
+        }));
+        chunks.push(grains(14, ChunkType::F32, 4, 4, |f, p, i, b| {
+            for q in angmom(f, p, i) {
+                b.extend_from_slice(&(q as f32).to_le_bytes());
+            }
+        }));
+    }
+    chunks
+}
+
+/// Half the box edge along axis `k` (0 along z in 2D): HOOMD's box is centred on the origin.
+fn half(frame: &Rows<'_>, k: usize) -> f64 {
+    if k < frame.dimension {
+        0.5 * frame.cell.lengths[k]
+    } else {
+        0.0
+    }
+}
+
+/// `particles/moment_inertia` of grain `i`: `(I, I, I)` in 3D, `(0, 0, I)` in 2D.
+fn principal_moments(frame: &Rows<'_>, p: &super::Piece<'_>, i: usize) -> [f64; 3] {
+    let moment = frame.moment_of_inertia(p.species[i], p.masses[i], p.radii[i]);
+    if frame.dimension == 2 {
+        [0.0, 0.0, moment]
+    } else {
+        [moment; 3]
+    }
+}
+
+/// `particles/angmom` of grain `i`: `P = 2 q ⊗ (0, I ω)` with the identity orientation
+/// `q`, `(0, 2 I ω_x, 2 I ω_y, 2 I ω_z)` (module documentation).
+fn angmom(frame: &Rows<'_>, p: &super::Piece<'_>, i: usize) -> [f64; 4] {
+    let moments = principal_moments(frame, p, i);
+    let w = p.angular_velocity(i);
+    [
+        0.0,
+        2.0 * moments[0] * w[0],
+        2.0 * moments[1] * w[1],
+        2.0 * moments[2] * w[2],
     ]
 }
 
@@ -499,15 +503,16 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("t.gsd");
         let (snap, cell) = snapshot_2d();
-        let mut file = create_hoomd(&path).unwrap();
+        let mut file = create_hoomd(&path, false).unwrap();
         let frames = 13; // 143 entries: the index block of 128 is moved once
         for step in 0..frames {
             let frame = Frame {
                 step,
                 snapshot: &snap,
                 cell: &cell,
+                inertia: &[],
             };
-            file.append_frame(&frame_chunks(&frame)).unwrap();
+            file.append_frame(&frame_chunks(&frame).unwrap()).unwrap();
         }
         let bytes = std::fs::read(&path).unwrap();
         assert_eq!(u64_at(&bytes, 0), MAGIC);
@@ -546,19 +551,106 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("t.gsd");
         let (snap, cell) = snapshot_2d();
-        let mut file = create_hoomd(&path).unwrap();
+        let mut file = create_hoomd(&path, false).unwrap();
         let frame = Frame {
             step: 0,
             snapshot: &snap,
             cell: &cell,
+            inertia: &[],
         };
-        file.append_frame(&frame_chunks(&frame)).unwrap();
+        file.append_frame(&frame_chunks(&frame).unwrap()).unwrap();
         let saved = file.clone();
         let before = std::fs::read(&path).unwrap();
         for _ in 0..20 {
-            file.append_frame(&frame_chunks(&frame)).unwrap();
+            file.append_frame(&frame_chunks(&frame).unwrap()).unwrap();
         }
         saved.rewind().unwrap();
         assert_eq!(std::fs::read(&path).unwrap(), before);
+    }
+
+    /// The chunk `id` of the first frame of a file with `names` names: its bytes.
+    fn chunk_of(bytes: &[u8], id: u16) -> (u64, u32, Vec<u8>, u8) {
+        let index = u64_at(bytes, 8) as usize;
+        let entry = (0..)
+            .map(|k| &bytes[index + 32 * k..index + 32 * (k + 1)])
+            .take_while(|e| u64_at(e, 16) != 0)
+            .find(|e| u16::from_le_bytes([e[28], e[29]]) == id)
+            .expect("the chunk is in the index");
+        let (n, m) = (
+            u64_at(entry, 8),
+            u32::from_le_bytes(entry[24..28].try_into().unwrap()),
+        );
+        let at = u64_at(entry, 16) as usize;
+        let size = if entry[30] == ChunkType::U64 as u8 {
+            8
+        } else {
+            4
+        };
+        let data = bytes[at..at + n as usize * m as usize * size].to_vec();
+        (n, m, data, entry[30])
+    }
+
+    fn f32s_in(data: &[u8]) -> Vec<f32> {
+        data.chunks_exact(4)
+            .map(|b| f32::from_le_bytes(b.try_into().unwrap()))
+            .collect()
+    }
+
+    #[test]
+    fn rough_grains_add_moment_inertia_and_angmom_and_smooth_ones_nothing() {
+        use crate::trajectory::test_frame::{rough_2d, rough_3d};
+        let dir = tempfile::tempdir().unwrap();
+        let (snap, cell) = snapshot_2d();
+        let smooth = dir.path().join("smooth.gsd");
+        let mut file = create_hoomd(&smooth, false).unwrap();
+        let frame = Frame {
+            step: 0,
+            snapshot: &snap,
+            cell: &cell,
+            inertia: &[],
+        };
+        file.append_frame(&frame_chunks(&frame).unwrap()).unwrap();
+        let bytes = std::fs::read(&smooth).unwrap();
+        for name in SPIN_NAMES {
+            assert!(!bytes.windows(name.len()).any(|w| w == name.as_bytes()));
+        }
+        for (snap, cell, inertia) in [rough_2d(), rough_3d()] {
+            let d = snap.dimension;
+            let path = dir.path().join(format!("rough{d}.gsd"));
+            let mut file = create_hoomd(&path, true).unwrap();
+            let frame = Frame {
+                step: 0,
+                snapshot: &snap,
+                cell: &cell,
+                inertia: &inertia,
+            };
+            file.append_frame(&frame_chunks(&frame).unwrap()).unwrap();
+            let bytes = std::fs::read(&path).unwrap();
+            let (n, m, data, kind) = chunk_of(&bytes, 13);
+            assert_eq!((n, m, kind), (2, 3, ChunkType::F32 as u8));
+            let moments = f32s_in(&data);
+            let (n, m, data, _) = chunk_of(&bytes, 14);
+            assert_eq!((n, m), (2, 4));
+            let angmom = f32s_in(&data);
+            for i in 0..2 {
+                let s = snap.species[i] as usize;
+                let moment = inertia[s] * snap.masses[i] * snap.radii[i] * snap.radii[i];
+                let want = if d == 2 {
+                    [0.0, 0.0, moment]
+                } else {
+                    [moment; 3]
+                };
+                let w: Vec<f64> = if d == 2 {
+                    vec![0.0, 0.0, snap.angular_velocities[i]]
+                } else {
+                    snap.angular_velocities[3 * i..3 * i + 3].to_vec()
+                };
+                assert_eq!(angmom[4 * i], 0.0);
+                for k in 0..3 {
+                    assert_eq!(moments[3 * i + k], want[k] as f32, "{d}D grain {i}");
+                    assert_eq!(angmom[4 * i + 1 + k], (2.0 * want[k] * w[k]) as f32);
+                }
+            }
+        }
     }
 }

@@ -23,6 +23,12 @@
 //! * `id` counts from 1 (LAMMPS' convention; it is the snapshot order plus one) and `type`
 //!   is the species index plus 1, in the order of the scenario's `[[species]]` (the dump
 //!   has no type names).
+//! * Rough grains add the columns `omegax omegay omegaz`, the angular velocity (radians
+//!   per time unit): the names LAMMPS' `dump custom` gives it for spherical particles, which
+//!   OVITO's LAMMPS dump reader maps to its Angular Velocity property. Disks write all
+//!   three, `0 0 ω_z`, as LAMMPS does for a 2D `atom_style sphere` run (its `omega` is
+//!   always a 3-vector) and as `vz` is written: a reader gets a whole vector property, not
+//!   one component of it. Smooth grains have no such columns.
 //! * Numbers are written with Rust's shortest round-trip formatting.
 
 use super::{Frame, Rows};
@@ -54,12 +60,14 @@ pub fn write_rows(out: &mut impl Write, frame: &Rows) -> io::Result<()> {
     } else {
         writeln!(out, "0 {lz}")?;
     }
-    writeln!(out, "ITEM: ATOMS id type x y z vx vy vz radius mass")?;
+    let rough = frame.is_rough();
+    let spin = if rough { " omegax omegay omegaz" } else { "" };
+    writeln!(out, "ITEM: ATOMS id type x y z vx vy vz radius mass{spin}")?;
     frame.grains.each(&mut |p| {
         for i in 0..p.len() {
             let [x, y, z] = p.position(i);
             let [vx, vy, vz] = p.velocity(i);
-            writeln!(
+            write!(
                 out,
                 "{} {} {x} {y} {z} {vx} {vy} {vz} {} {}",
                 p.first + i + 1,
@@ -67,6 +75,11 @@ pub fn write_rows(out: &mut impl Write, frame: &Rows) -> io::Result<()> {
                 p.radii[i],
                 p.masses[i]
             )?;
+            if rough {
+                let [wx, wy, wz] = p.angular_velocity(i);
+                write!(out, " {wx} {wy} {wz}")?;
+            }
+            writeln!(out)?;
         }
         Ok(())
     })
@@ -84,6 +97,7 @@ mod tests {
             step: 3,
             snapshot: &snap,
             cell: &cell,
+            inertia: &[],
         };
         let mut out = Vec::new();
         write_frame(&mut out, &frame).unwrap();
@@ -93,5 +107,39 @@ mod tests {
             ITEM: ATOMS id type x y z vx vy vz radius mass\n\
             1 1 0.1 0.2 0 1 -0.5 0 0.01 1\n2 2 0.7 0.4 0 0.125 2 0 0.02 4\n";
         assert_eq!(text, expected);
+    }
+
+    #[test]
+    fn rough_grains_add_the_omega_columns() {
+        use crate::trajectory::test_frame::{rough_2d, rough_3d};
+        for ((snap, cell, inertia), rows) in [
+            (
+                rough_2d(),
+                [
+                    "1 1 0.1 0.2 0 1 -0.5 0 0.01 1 0 0 3.5",
+                    "2 2 0.7 0.4 0 0.125 2 0 0.02 4 0 0 -0.25",
+                ],
+            ),
+            (
+                rough_3d(),
+                [
+                    "1 1 0.1 0.2 0.3 1 -0.5 0.25 0.01 1 1.5 -2 0.75",
+                    "2 2 0.7 0.4 0.1 0.125 2 -1 0.02 4 0 10 -4",
+                ],
+            ),
+        ] {
+            let frame = Frame {
+                step: 3,
+                snapshot: &snap,
+                cell: &cell,
+                inertia: &inertia,
+            };
+            let mut out = Vec::new();
+            write_frame(&mut out, &frame).unwrap();
+            let text = String::from_utf8(out).unwrap();
+            let atoms = "ITEM: ATOMS id type x y z vx vy vz radius mass omegax omegay omegaz\n";
+            let tail = format!("{atoms}{}\n{}\n", rows[0], rows[1]);
+            assert!(text.ends_with(&tail), "{text}");
+        }
     }
 }

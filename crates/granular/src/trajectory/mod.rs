@@ -4,7 +4,9 @@
 //! index ([`vtk`], ParaView).
 //!
 //! Every frame carries the time, the box and its periodicity, and per grain its id,
-//! species, position, velocity, radius and mass. The run directory's box is
+//! species, position, velocity, radius and mass; a run of rough grains adds each grain's
+//! angular velocity (and, in GSD, its moment of inertia: [`gsd`]), a smooth run writes
+//! nothing about spin. The run directory's box is
 //! `[0, L_0] x ... x [0, L_{D-1}]`; the formats keep that origin except GSD, whose HOOMD
 //! schema centres the box on the origin (positions are shifted by `-L/2`). A 2D run is
 //! written with `z = 0` (see each module for how the format marks it as two-dimensional).
@@ -51,6 +53,26 @@ impl Cell {
     }
 }
 
+/// The reduced moments of inertia `κ = 4I/(mσ²)` of a scenario's species, in the order of
+/// `[[species]]`, when its grains are rough (`species[i].inertia` or the uniform grain's);
+/// empty for smooth grains: what tells the trajectory formats to write angular velocities.
+/// A rough run made smooth by its schedule keeps its spins in the snapshots, and its
+/// trajectories keep writing them.
+pub fn species_inertia(scenario: &crate::Scenario) -> Vec<f64> {
+    if !scenario.collisions().law().is_rough() {
+        return Vec::new();
+    }
+    let d = scenario.dimension;
+    scenario
+        .species()
+        .iter()
+        .map(|sp| {
+            sp.inertia
+                .unwrap_or(crate::collision_law::rough::uniform_inertia(d))
+        })
+        .collect()
+}
+
 /// One frame: a snapshot, its output index (the step) and the box.
 #[derive(Clone, Copy, Debug)]
 pub struct Frame<'a> {
@@ -61,6 +83,9 @@ pub struct Frame<'a> {
     pub snapshot: &'a Snapshot,
     /// The box.
     pub cell: &'a Cell,
+    /// Rough grains: the reduced moment of inertia κ of each species
+    /// ([`species_inertia`]); empty for smooth grains, whose frames carry no spin.
+    pub inertia: &'a [f64],
 }
 
 impl Frame<'_> {
@@ -144,6 +169,9 @@ pub struct Piece<'a> {
     pub masses: &'a [f64],
     /// Species indices.
     pub species: &'a [u32],
+    /// Angular velocities of rough grains, `d_r` values per grain (`ω_z` in 2D, three
+    /// components in 3D); empty for smooth grains.
+    pub angular_velocities: &'a [f64],
 }
 
 impl Piece<'_> {
@@ -166,6 +194,21 @@ impl Piece<'_> {
     pub fn velocity(&self, i: usize) -> [f64; 3] {
         pad(self.velocities, self.dimension, i)
     }
+
+    /// Angular velocity of the piece's grain `i` with three components (`(0, 0, ω_z)` in
+    /// 2D); zero when the piece carries no angular velocities.
+    pub fn angular_velocity(&self, i: usize) -> [f64; 3] {
+        let w = self.angular_velocities;
+        if self.dimension == 2 {
+            [0.0, 0.0, w.get(i).copied().unwrap_or(0.0)]
+        } else {
+            let mut out = [0.0; 3];
+            if let Some(s) = w.get(3 * i..3 * i + 3) {
+                out.copy_from_slice(s);
+            }
+            out
+        }
+    }
 }
 
 /// The grains of a frame produced piece by piece, in id order (every call from the first
@@ -187,6 +230,7 @@ impl Pieces for Snapshot {
             radii: &self.radii,
             masses: &self.masses,
             species: &self.species,
+            angular_velocities: &self.angular_velocities,
         })
     }
 }
@@ -209,6 +253,8 @@ pub struct Rows<'a> {
     pub max_radius: f64,
     /// The box.
     pub cell: &'a Cell,
+    /// Rough grains: κ of each species ([`species_inertia`]); empty for smooth grains.
+    pub inertia: &'a [f64],
     /// The grains.
     pub grains: &'a dyn Pieces,
 }
@@ -248,6 +294,23 @@ impl Rows<'_> {
             .get(s as usize)
             .map_or("grain", String::as_str)
     }
+
+    /// Whether the grains are rough: the frame carries their angular velocities.
+    pub fn is_rough(&self) -> bool {
+        !self.inertia.is_empty()
+    }
+
+    /// The principal moment of inertia `I = κ m R²` of a grain of species `s`, mass `m`
+    /// and radius `R` (0 for smooth grains).
+    pub fn moment_of_inertia(&self, s: u32, mass: f64, radius: f64) -> f64 {
+        let kappa = self.inertia.get(s as usize).copied().unwrap_or(0.0);
+        crate::collision_law::rough::Body {
+            mass,
+            radius,
+            inertia: kappa,
+        }
+        .moment_of_inertia()
+    }
 }
 
 impl Frame<'_> {
@@ -261,6 +324,7 @@ impl Frame<'_> {
             species_names: &self.snapshot.species_names,
             max_radius: self.snapshot.radii.iter().copied().fold(0.0, f64::max),
             cell: self.cell,
+            inertia: self.inertia,
             grains: self.snapshot,
         }
     }
@@ -322,5 +386,32 @@ pub(crate) mod test_frame {
             periodic: vec![true, false],
         };
         (snap, cell)
+    }
+
+    /// [`snapshot_2d`] with rough grains: their `ω_z` and κ of the two species.
+    pub fn rough_2d() -> (Snapshot, Cell, Vec<f64>) {
+        let (mut snap, cell) = snapshot_2d();
+        snap.angular_velocities = vec![3.5, -0.25];
+        (snap, cell, vec![0.5, 0.25])
+    }
+
+    /// Two rough spheres of two species in a 3D box, spinning about every axis.
+    pub fn rough_3d() -> (Snapshot, Cell, Vec<f64>) {
+        let snap = Snapshot {
+            time: 0.5,
+            dimension: 3,
+            positions: vec![0.1, 0.2, 0.3, 0.7, 0.4, 0.1],
+            velocities: vec![1.0, -0.5, 0.25, 0.125, 2.0, -1.0],
+            radii: vec![0.01, 0.02],
+            masses: vec![1.0, 4.0],
+            species: vec![0, 1],
+            species_names: vec!["bath".into(), "intruder".into()],
+            angular_velocities: vec![1.5, -2.0, 0.75, 0.0, 10.0, -4.0],
+        };
+        let cell = Cell {
+            lengths: vec![1.0, 0.5, 0.5],
+            periodic: vec![true, false, true],
+        };
+        (snap, cell, vec![0.4, 2.0 / 3.0])
     }
 }

@@ -9,7 +9,9 @@
 //! an XML comment), `v` (the velocity, 3 x `Float64`), `radius` and `mass` (`Float64`).
 //! The names `Points`, `v`, `id`, `radius`, `mass` are those of LIGGGHTS' and Aspherix'
 //! particle files, which OVITO's VTP particle reader maps to its position, velocity,
-//! identifier, radius and mass. The field
+//! identifier, radius and mass. Rough grains add the point array `angular_velocity` (3 x
+//! `Float64`, radians per time unit; `(0, 0, ω_z)` for disks); smooth grains have none.
+//! The field
 //! data hold `TimeValue` (the time), `Step` (the output index), `BoxLengths` (3 values;
 //! 0 along z in 2D) and `Periodic` (3 values, 1 periodic, 0 hard walls; PolyData has no
 //! box of its own). Numbers are ASCII with Rust's shortest round-trip formatting, so the
@@ -231,6 +233,11 @@ pub fn write_rows(out: &mut impl Write, frame: &Rows) -> io::Result<()> {
         vec![p.radii[i]]
     })?;
     grain_array(out, frame, ("Float64", "mass", 1), |p, i| vec![p.masses[i]])?;
+    if frame.is_rough() {
+        grain_array(out, frame, ("Float64", "angular_velocity", 3), |p, i| {
+            p.angular_velocity(i).to_vec()
+        })?;
+    }
     writeln!(out, "      </PointData>\n      <Points>")?;
     grain_array(out, frame, ("Float64", "Points", 3), |p, i| {
         p.position(i).to_vec()
@@ -256,6 +263,7 @@ mod tests {
             step: 3,
             snapshot: &snap,
             cell: &cell,
+            inertia: &[],
         };
         let mut out = Vec::new();
         write_frame(&mut out, &frame).unwrap();
@@ -275,6 +283,10 @@ mod tests {
         ] {
             assert!(text.contains(piece), "missing {piece} in\n{text}");
         }
+        assert!(
+            !text.contains("angular_velocity"),
+            "smooth grains have no spin"
+        );
         // Every opened element is closed.
         for tag in [
             "VTKFile",
@@ -304,6 +316,7 @@ mod tests {
                 step,
                 snapshot: &snap,
                 cell: &cell,
+                inertia: &[],
             };
             series.append(&frame).unwrap();
         }
@@ -317,5 +330,28 @@ mod tests {
             )
         );
         assert!(dir.path().join("vtp/snapshot_000005.vtp").is_file());
+    }
+
+    #[test]
+    fn rough_grains_add_the_angular_velocity_array() {
+        use crate::trajectory::test_frame::{rough_2d, rough_3d};
+        for ((snap, cell, inertia), values) in [
+            (rough_2d(), "0 0 3.5 0 0 -0.25"),
+            (rough_3d(), "1.5 -2 0.75 0 10 -4"),
+        ] {
+            let frame = Frame {
+                step: 3,
+                snapshot: &snap,
+                cell: &cell,
+                inertia: &inertia,
+            };
+            let mut out = Vec::new();
+            write_frame(&mut out, &frame).unwrap();
+            let text = String::from_utf8(out).unwrap();
+            let array = format!(
+                "Name=\"angular_velocity\" NumberOfComponents=\"3\" NumberOfTuples=\"2\" format=\"ascii\">{values}<"
+            );
+            assert!(text.contains(&array), "{text}");
+        }
     }
 }

@@ -31,8 +31,10 @@ pub enum Writer {
 }
 
 impl Writer {
-    /// A new, empty trajectory in `dir` (created; an earlier file of the format is replaced).
-    pub fn create(format: Format, dir: &Path) -> Result<Writer, TrajectoryError> {
+    /// A new, empty trajectory in `dir` (created; an earlier file of the format is
+    /// replaced), of `rough` grains (GSD lists the names of their chunks when it is
+    /// created) or smooth ones.
+    pub fn create(format: Format, dir: &Path, rough: bool) -> Result<Writer, TrajectoryError> {
         std::fs::create_dir_all(dir).map_err(io_err(dir))?;
         let path = dir.join(format.file_name());
         let text = || -> Result<TextFile, TrajectoryError> {
@@ -46,7 +48,7 @@ impl Writer {
         Ok(match format {
             Format::Xyz => Writer::Xyz(text()?),
             Format::Lammps => Writer::Lammps(text()?),
-            Format::Gsd => Writer::Gsd(gsd::create_hoomd(&path).map_err(io_err(&path))?),
+            Format::Gsd => Writer::Gsd(gsd::create_hoomd(&path, rough).map_err(io_err(&path))?),
             Format::Vtk => Writer::Vtk(VtkSeries::create(dir)?),
         })
     }

@@ -17,6 +17,11 @@
 //!   symbols and rejects names such as `bath`; both ASE and OVITO read `type` (OVITO as the
 //!   particle type). `velo`, `radius`, `mass` and `id` are the names OVITO maps to its
 //!   velocity, radius, mass and identifier properties. Ids count from 0, in snapshot order.
+//! * Rough grains add the column `omega:R:3`, the angular velocity (radians per time
+//!   unit; `(0, 0, ω_z)` for disks, as `velo` has `v_z = 0`): `omega` is the name OVITO's
+//!   XYZ reader maps to its Angular Velocity property (`XYZImporter::mapVariableToProperty`,
+//!   after the QUIP conventions), and ASE reads it into `atoms.arrays["omega"]` (ASE has no
+//!   angular-velocity property of its own). Smooth grains have no such column.
 //! * Numbers are written with Rust's shortest round-trip formatting: a reader gets the
 //!   `f64` of the snapshot back exactly.
 
@@ -39,9 +44,10 @@ pub fn write_rows(out: &mut impl Write, frame: &Rows) -> io::Result<()> {
     if frame.dimension == 2 {
         write!(out, "Origin=\"0 0 {}\" ", -0.5 * lz)?;
     }
+    let spin = if frame.is_rough() { ":omega:R:3" } else { "" };
     writeln!(
         out,
-        "Properties=type:S:1:pos:R:3:velo:R:3:radius:R:1:mass:R:1:id:I:1 Time={} Step={} pbc=\"{} {} {}\"",
+        "Properties=type:S:1:pos:R:3:velo:R:3:radius:R:1:mass:R:1:id:I:1{spin} Time={} Step={} pbc=\"{} {} {}\"",
         frame.time,
         frame.step,
         flag(px),
@@ -57,6 +63,7 @@ pub fn write_rows(out: &mut impl Write, frame: &Rows) -> io::Result<()> {
                 .collect()
         })
         .collect();
+    let rough = frame.is_rough();
     frame.grains.each(&mut |p| {
         for i in 0..p.len() {
             let [x, y, z] = p.position(i);
@@ -64,13 +71,18 @@ pub fn write_rows(out: &mut impl Write, frame: &Rows) -> io::Result<()> {
             let name = names
                 .get(p.species[i] as usize)
                 .map_or("grain", String::as_str);
-            writeln!(
+            write!(
                 out,
                 "{name} {x} {y} {z} {vx} {vy} {vz} {} {} {}",
                 p.radii[i],
                 p.masses[i],
                 p.first + i
             )?;
+            if rough {
+                let [wx, wy, wz] = p.angular_velocity(i);
+                write!(out, " {wx} {wy} {wz}")?;
+            }
+            writeln!(out)?;
         }
         Ok(())
     })
@@ -79,6 +91,8 @@ pub fn write_rows(out: &mut impl Write, frame: &Rows) -> io::Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::engine::Snapshot;
+    use crate::trajectory::Cell;
     use crate::trajectory::test_frame::snapshot_2d;
 
     #[test]
@@ -88,6 +102,7 @@ mod tests {
             step: 3,
             snapshot: &snap,
             cell: &cell,
+            inertia: &[],
         };
         let mut out = Vec::new();
         write_frame(&mut out, &frame).unwrap();
@@ -99,5 +114,40 @@ mod tests {
         assert!(lines[1].contains(" Time=0.25 Step=3 pbc=\"T F F\""));
         assert_eq!(lines[2], "bath 0.1 0.2 0 1 -0.5 0 0.01 1 0");
         assert_eq!(lines[3], "intruder 0.7 0.4 0 0.125 2 0 0.02 4 1");
+    }
+
+    #[test]
+    fn rough_grains_add_the_omega_column() {
+        use crate::trajectory::test_frame::{rough_2d, rough_3d};
+        let lines = |(snap, cell, inertia): (Snapshot, Cell, Vec<f64>)| {
+            let frame = Frame {
+                step: 3,
+                snapshot: &snap,
+                cell: &cell,
+                inertia: &inertia,
+            };
+            let mut out = Vec::new();
+            write_frame(&mut out, &frame).unwrap();
+            String::from_utf8(out)
+                .unwrap()
+                .lines()
+                .map(String::from)
+                .collect::<Vec<_>>()
+        };
+        let two = lines(rough_2d());
+        assert!(
+            two[1].contains("mass:R:1:id:I:1:omega:R:3 Time="),
+            "{}",
+            two[1]
+        );
+        assert_eq!(two[2], "bath 0.1 0.2 0 1 -0.5 0 0.01 1 0 0 0 3.5");
+        assert_eq!(two[3], "intruder 0.7 0.4 0 0.125 2 0 0.02 4 1 0 0 -0.25");
+        let three = lines(rough_3d());
+        assert!(three[1].contains(":omega:R:3 "));
+        assert_eq!(
+            three[2],
+            "bath 0.1 0.2 0.3 1 -0.5 0.25 0.01 1 0 1.5 -2 0.75"
+        );
+        assert_eq!(three[3], "intruder 0.7 0.4 0.1 0.125 2 -1 0.02 4 1 0 10 -4");
     }
 }

@@ -2,7 +2,7 @@
 
 use super::{RunDir, RunFile};
 use crate::scenario::{EngineKind, Scenario};
-use crate::trajectory::{Cell, Format, Frame, TrajectoryError, Writer};
+use crate::trajectory::{Cell, Format, Frame, TrajectoryError, Writer, species_inertia};
 use std::path::PathBuf;
 
 /// Writes the snapshots `run/snapshots/snapshot_NNNNNN.npz`, in the order of `NNNNNN`, to
@@ -37,18 +37,28 @@ pub(super) fn export(run: &RunDir, formats: &[Format]) -> Result<Vec<PathBuf>, T
         )));
     }
     let cell = Cell::from_scenario(&scenario);
+    let inertia = species_inertia(&scenario);
     let dir = run.trajectory_dir();
     let mut writers = formats
         .iter()
-        .map(|f| Writer::create(*f, &dir))
+        .map(|f| Writer::create(*f, &dir, !inertia.is_empty()))
         .collect::<Result<Vec<_>, _>>()?;
     for file in &snapshots {
         // The library's snapshot reader, its error as before (it names the file).
         let snapshot = crate::output::npz::read_snapshot(&file.path)?;
+        if !inertia.is_empty() && snapshot.angular_velocities.is_empty() {
+            return Err(TrajectoryError::Export(format!(
+                "{} has no `angular_velocities`, but the run's scenario.toml has rough grains \
+                 (collisions.tangential_restitution > -1), whose snapshots carry them; \
+                 export the snapshots with the scenario.toml of the run that wrote them",
+                file.path.display()
+            )));
+        }
         let frame = Frame {
             step: file.index,
             snapshot: &snapshot,
             cell: &cell,
+            inertia: &inertia,
         };
         for w in &mut writers {
             w.append(&frame)?;

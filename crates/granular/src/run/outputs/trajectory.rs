@@ -23,6 +23,10 @@ pub struct Trajectory {
     /// ranks put their blocks of grains for rank 0.
     #[serde(skip)]
     shared: Option<PathBuf>,
+    /// Rough grains: κ of each species ([`crate::trajectory::species_inertia`]); empty for
+    /// smooth grains (and absent from their checkpoints).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    inertia: Vec<f64>,
 }
 
 impl Trajectory {
@@ -36,6 +40,7 @@ impl Trajectory {
             cell: None,
             writers: Vec::new(),
             shared: None,
+            inertia: Vec::new(),
         }
     }
 
@@ -74,6 +79,7 @@ impl Trajectory {
             let folder = self.shared.as_ref().unwrap_or(&self.dir);
             let base = folder.join(format!("frame_{:06}", simulation.outputs_done()));
             let writers = &mut self.writers;
+            let inertia = &self.inertia;
             return crate::run::parts::with_blocks(simulation.engine(), &base, |blocks| {
                 let rows = crate::trajectory::Rows {
                     step: simulation.outputs_done(),
@@ -83,6 +89,7 @@ impl Trajectory {
                     species_names: &blocks.species.names,
                     max_radius: blocks.radius,
                     cell,
+                    inertia,
                     grains: blocks,
                 };
                 for w in writers.iter_mut() {
@@ -98,6 +105,7 @@ impl Trajectory {
             step: simulation.outputs_done(),
             snapshot: &snapshot,
             cell,
+            inertia: &self.inertia,
         };
         for w in &mut self.writers {
             w.append(&frame)?;
@@ -111,10 +119,12 @@ impl Output for Trajectory {
     /// grain ids (no rank gathers a frame).
     fn setup(&mut self, simulation: &Simulation) -> Result<(), RunError> {
         self.cell = Some(Cell::from_scenario(simulation.scenario()));
+        self.inertia = crate::trajectory::species_inertia(simulation.scenario());
+        let rough = !self.inertia.is_empty();
         self.writers = self
             .formats
             .iter()
-            .map(|f| Writer::create(*f, &self.dir))
+            .map(|f| Writer::create(*f, &self.dir, rough))
             .collect::<Result<_, _>>()?;
         Ok(())
     }
