@@ -28,7 +28,10 @@ impl RunDir {
             .collect();
         let mut members = Vec::with_capacity(keys.len());
         for (key, (_, v)) in keys.iter().zip(arrays.iter().filter(|(_, v)| elsewhere(v))) {
-            members.push((*key, NpzArray::f64_2d(v.values().to_vec(), v.len(), v.width())?));
+            members.push((
+                *key,
+                NpzArray::f64_2d(v.values().to_vec(), v.len(), v.width())?,
+            ));
         }
         write_npz(self.file(RunFile::InitialState), &members)?;
         for (key, v) in &arrays {
