@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Figures of rough grains cooling freely (docs/rough.md, docs/figures/rough/): the bundled
-scenario rough-hcs-edmd in 2D (disks) and 3D (spheres), T_t and T_r against the collisions per
-grain s, and their ratio, beside the kinetic theory of the homogeneous cooling state.
+scenarios rough-hcs-edmd (event-driven, 1000 grains) and rough-hcs-dsmc (DSMC, 10^4 grains) in
+2D (disks) and 3D (spheres), T_t and T_r against the collisions per grain s, and their ratio,
+beside the kinetic theory of the homogeneous cooling state.
 
 With s as the clock the theory is a straight line: in the cooling state every temperature decays
 as d ln T / ds = -zeta/nu (RS-5; granular.theory.rough_cooling_rate), and the ratio is constant
@@ -32,61 +33,67 @@ GRANULAR = Path(sys.argv[1]) if len(sys.argv) > 1 else ROOT / "target/release/gr
 OUT = ROOT / "docs/figures/rough"
 START = 20.0
 
+# The --set of each engine's scenario in 3D (the scenario headers').
 CASES = {
-    2: [],
-    3: ["dimension=3", "box.lengths=[1.0,1.0,1.0]", "species[0].packing_fraction=0.01"],
+    ("edmd", 2): [],
+    ("edmd", 3): ["dimension=3", "box.lengths=[1.0,1.0,1.0]", "species[0].packing_fraction=0.01"],
+    ("dsmc", 2): [],
+    ("dsmc", 3): ["dimension=3", "box.lengths=[1.0,1.0,1.0]", "species[0].radius=0.008", "dsmc.cell_size=0.08"],
 }
+LABEL = {"edmd": "event-driven", "dsmc": "DSMC"}
 
 
-def run(d: int) -> pd.DataFrame:
-    out = ROOT / f"runs/rough-hcs-edmd-{d}d"
-    sets = [a for s in CASES[d] for a in ("--set", s)]
+def run(engine: str, d: int) -> pd.DataFrame:
+    out = ROOT / f"runs/rough-hcs-{engine}-{d}d"
+    sets = [a for s in CASES[(engine, d)] for a in ("--set", s)]
+    scenario = ROOT / f"scenarios/rough-hcs-{engine}.toml"
     subprocess.run(
-        [str(GRANULAR), "run", str(ROOT / "scenarios/rough-hcs-edmd.toml"), "--out", str(out), "--replace", "--quiet", *sets],
+        [str(GRANULAR), "run", str(scenario), "--out", str(out), "--replace", "--quiet", *sets],
         check=True,
         stdout=subprocess.DEVNULL,
     )
     return pd.read_csv(out / "timeseries.csv")
 
 
-def figure(d: int, ts: pd.DataFrame) -> None:
+def figure(d: int, runs: dict[str, pd.DataFrame]) -> None:
     alpha, beta = 0.9, 0.0
-    s = ts["collisions_per_particle"].to_numpy()
-    tt, tr = ts["translational_temperature"].to_numpy(), ts["rotational_temperature"].to_numpy()
     zeta = {a: theory.rough_cooling_rate(alpha, beta, dimension=d, approximation=a) for a in ("maxwell", "sonine")}
     theta = {a: theory.rough_temperature_ratio(alpha, beta, dimension=d, approximation=a) for a in ("maxwell", "sonine")}
-    k = int(np.searchsorted(s, START))
-    grid = np.linspace(START, s[-1], 50)
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4))
-    ax1.semilogy(s, tt, ".", ms=3, label="$T_t$ (event-driven)")
-    ax1.semilogy(s, tr, ".", ms=3, label="$T_r$ (event-driven)")
-    for t0 in (tt[k], tr[k]):
-        ax1.semilogy(grid, t0 * np.exp(-zeta["maxwell"] * (grid - s[k])), "k-", lw=0.8)
-        ax1.semilogy(grid, t0 * np.exp(-zeta["sonine"] * (grid - s[k])), "k--", lw=0.8)
+    for (engine, ts), marker in zip(runs.items(), (".", "x")):
+        s = ts["collisions_per_particle"].to_numpy()
+        tt, tr = ts["translational_temperature"].to_numpy(), ts["rotational_temperature"].to_numpy()
+        ax1.semilogy(s, tt, marker, ms=3, label=f"$T_t$ ({LABEL[engine]})")
+        ax1.semilogy(s, tr, marker, ms=3, label=f"$T_r$ ({LABEL[engine]})")
+        ax2.plot(s, tr / tt, marker, ms=3, label=rf"$\theta = T_r/T_t$ ({LABEL[engine]})")
+        k = int(np.searchsorted(s, START))
+        grid = np.linspace(START, s[-1], 50)
+        for t0 in (tt[k], tr[k]):
+            ax1.semilogy(grid, t0 * np.exp(-zeta["maxwell"] * (grid - s[k])), "k-", lw=0.8)
+            ax1.semilogy(grid, t0 * np.exp(-zeta["sonine"] * (grid - s[k])), "k--", lw=0.8)
+        late = s >= START
+        print(f"{d}D {engine}: theta after s = {START}: {np.mean(tr[late] / tt[late]):.4f} (samples {late.sum()});"
+              f" theory Maxwell {theta['maxwell']:.4f}, Sonine {theta['sonine']:.4f}")
     ax1.plot([], [], "k-", lw=0.8, label=rf"Maxwellian $\zeta/\nu$ = {zeta['maxwell']:.4f} (RS-5)")
     ax1.plot([], [], "k--", lw=0.8, label=rf"Sonine $\zeta/\nu$ = {zeta['sonine']:.4f} (RS-8)")
     ax1.set_xlabel("collisions per grain $s$ (dimensionless)")
     ax1.set_ylabel("temperature (energy units, $k_B = 1$)")
-    ax1.legend(fontsize=8)
-    ax2.plot(s, tr / tt, ".", ms=3, label=r"$\theta = T_r/T_t$ (event-driven)")
+    ax1.legend(fontsize=7)
     ax2.axhline(theta["maxwell"], color="k", lw=0.8, label=f"Maxwellian {theta['maxwell']:.4f} (RS-4)")
     ax2.axhline(theta["sonine"], color="k", ls="--", lw=0.8, label=f"Sonine {theta['sonine']:.4f} (RS-8)")
     ax2.set_xlabel("collisions per grain $s$ (dimensionless)")
     ax2.set_ylabel(r"temperature ratio $T_r/T_t$ (dimensionless)")
-    ax2.legend(fontsize=8)
+    ax2.legend(fontsize=7)
     name = "disks" if d == 2 else "spheres"
-    fig.suptitle(rf"Rough {name} cooling freely, $\alpha$ = {alpha}, $\beta$ = {beta} (rough-hcs-edmd)")
+    fig.suptitle(rf"Rough {name} cooling freely, $\alpha$ = {alpha}, $\beta$ = {beta} (rough-hcs-edmd, rough-hcs-dsmc)")
     fig.tight_layout()
     OUT.mkdir(parents=True, exist_ok=True)
     fig.savefig(OUT / f"hcs_{d}d.png", dpi=110)
-    late = s >= START
-    print(f"{d}D: theta after s = {START}: {np.mean(tr[late] / tt[late]):.4f} (samples {late.sum()});"
-          f" theory Maxwell {theta['maxwell']:.4f}, Sonine {theta['sonine']:.4f}")
 
 
 def main() -> None:
-    for d in CASES:
-        figure(d, run(d))
+    for d in (2, 3):
+        figure(d, {engine: run(engine, d) for engine in ("edmd", "dsmc")})
 
 
 if __name__ == "__main__":
