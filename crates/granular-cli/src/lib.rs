@@ -316,14 +316,27 @@ fn automatic_values(sc: &Scenario) -> Vec<(String, f64)> {
                         temperature,
                     ));
                 }
-                out.push(("steady a2 (Sonine, HCS second estimate)".into(), state.a2));
+                let what = if g.rough.is_some() {
+                    "steady a2 (rough grains' Sonine a20, RS-8)"
+                } else {
+                    "steady a2 (Sonine, HCS second estimate)"
+                };
+                out.push((what.into(), state.a2));
             }
             Driving::WhiteNoise { .. } => {
-                out.push(("steady a2 (Sonine, heated gas)".into(), state.a2));
-                out.push((
-                    "steady temperature (energy balance, Sonine loss rate)".into(),
-                    state.temperature,
-                ));
+                let (a2, temperature) = if g.rough.is_some() {
+                    (
+                        "steady a2 (rough grains' Sonine a20, RS-9)",
+                        "steady translational temperature (rough grains' energy balance, RS-6)",
+                    )
+                } else {
+                    (
+                        "steady a2 (Sonine, heated gas)",
+                        "steady temperature (energy balance, Sonine loss rate)",
+                    )
+                };
+                out.push((a2.into(), state.a2));
+                out.push((temperature.into(), state.temperature));
             }
         }
     }

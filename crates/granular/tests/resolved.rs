@@ -131,3 +131,48 @@ fn the_summary_block_is_the_record() {
     assert_eq!(block.radius["disk"], g.species[0].radius);
     assert_eq!(block.contact_value, Some(g.chi));
 }
+
+/// Rough grains' driven state is resolved with the rough gas's theory (RS-6, RS-8, RS-9),
+/// not the smooth gas's KT-11..KT-13: the record that `granular check`, `summary.json`'s
+/// `resolved` and `steady_state` blocks and Python's `resolved` read.
+#[test]
+fn rough_grains_driven_state_is_the_rough_theory() {
+    for (kind, extra) in [
+        ("white_noise", "[driving]\nkind = \"white_noise\"\nstrength = 2.0"),
+        ("rescale", "[driving]\nkind = \"rescale\""),
+    ] {
+        let sc = scenario("dsmc", extra);
+        let sc = Scenario::from_toml(
+            &sc.to_toml(),
+            &["collisions.tangential_restitution=0.5".to_string()],
+        )
+        .expect("rough");
+        let g = sc.resolve().grains.expect("grains");
+        let state = g.driving.clone().expect("driving");
+        let gas = g.rough.as_ref().expect("rough").gas(2, 0.8);
+        match state.driving {
+            Driving::WhiteNoise { strength } => {
+                assert_eq!(kind, "white_noise");
+                let nu = kinetic::collision_frequency(
+                    2,
+                    state.gas.number_density,
+                    state.gas.radius,
+                    1.0,
+                    state.gas.mass,
+                    state.gas.chi,
+                );
+                let t = gas.white_noise_temperature(strength, 1.5, 2000, nu);
+                assert_eq!(state.temperature, t);
+                assert_ne!(state.temperature, state.gas.white_noise_temperature(strength, state.a2));
+                let a20 = gas.sonine_white_noise_state().expect("RS-9").a20;
+                assert_eq!(state.a2, a20);
+            }
+            Driving::Rescale { temperature } => {
+                assert_eq!(state.temperature, temperature);
+                assert_eq!(state.a2, gas.sonine_cooling_state().expect("RS-8").a20);
+                assert_eq!(state.a2_first, None);
+            }
+        }
+        assert_ne!(state.a2, state.gas.a2(&state.driving), "{kind}: not the smooth a2");
+    }
+}

@@ -20,9 +20,8 @@
 //! This module holds the driving's rule (the interval, the kicks); the engine applies it
 //! (`engine/drive.rs`: the stops of the event loop, the new velocities, the predictions).
 
-use crate::driving::{Driving, DrivingState, GasTheory, KICKS};
+use crate::driving::{Driving, DrivingState, KICKS};
 use crate::random::{RESTART, derive_key, std_normal, stream};
-use crate::theory::haff;
 use crate::vector::Vector;
 use serde::{Deserialize, Serialize};
 
@@ -70,36 +69,21 @@ pub struct DrivingRestart {
 
 impl EdmdDriving {
     /// The driving attached at absolute time `start` to a gas of kinetic energy
-    /// `kinetic_energy` and kinetic theory `theory`, with kick streams under `seed` and
-    /// `dt_kick = fraction` mean free times of the Enskog theory at the state's temperature
-    /// (`T*`, or the white-noise energy-balance temperature).
+    /// `kinetic_energy`, with kick streams under `seed`, applied every `interval` (a
+    /// fraction of the mean free time at the state's temperature:
+    /// [`crate::edmd::Edmd::kick_interval`]).
     pub(crate) fn new(
         driving: Driving,
-        theory: &GasTheory,
         kinetic_energy: f64,
         seed: u64,
         start: f64,
-        fraction: f64,
+        interval: f64,
     ) -> Self {
-        let temperature = match driving {
-            Driving::Rescale { temperature } => temperature,
-            Driving::WhiteNoise { strength } => {
-                theory.white_noise_temperature(strength, theory.a2(&driving))
-            }
-        };
-        let omega = haff::collision_frequency(
-            theory.dimension,
-            theory.number_density,
-            theory.radius,
-            temperature,
-            theory.mass,
-            theory.chi,
-        );
         Self {
             state: DrivingState::new(driving, kinetic_energy),
             seed,
             start,
-            interval: fraction / omega,
+            interval,
             restart: None,
         }
     }

@@ -76,12 +76,13 @@ pub struct DrivingResolved {
     pub driving: Driving,
     /// The kinetic theory of the driven gas (one species).
     pub gas: GasTheory,
-    /// The Sonine `a2` of the state (KT-11 for `rescale`, KT-12 for `white_noise`).
+    /// The Sonine `a2` of the state (KT-11 for `rescale`, KT-12 for `white_noise`); for
+    /// rough grains the translational `a20` (RS-8, RS-9; NaN where it has no solution).
     pub a2: f64,
-    /// `rescale`: the HCS's first estimate (KT-10), for comparison.
+    /// `rescale` of smooth grains: the HCS's first estimate (KT-10), for comparison.
     pub a2_first: Option<f64>,
     /// The state's temperature: `rescale`'s fixed one, or the white-noise energy balance
-    /// (KT-13).
+    /// (KT-13; for rough grains the translational temperature of RS-6's balance).
     pub temperature: f64,
 }
 
@@ -346,6 +347,7 @@ impl Grains {
                 impact_bins: spec.impact_bins(),
             }
         });
+        let rough = self.rough.as_ref().map(|r| r.gas(d, e));
         self.driving = sc.driving().map(|spec| {
             let gas = GasTheory {
                 dimension: d,
@@ -357,11 +359,19 @@ impl Grains {
                 particles: self.particles,
             };
             let driving = spec.driving(t);
-            let a2 = gas.a2(&driving);
-            let (temperature, a2_first) = match driving {
-                Driving::Rescale { temperature } => (temperature, Some(first)),
-                Driving::WhiteNoise { strength } => {
-                    (gas.white_noise_temperature(strength, a2), None)
+            let (a2, temperature, a2_first) = match &rough {
+                Some(rough) => {
+                    let (a2, temperature) = rough_steady_state(rough, &gas, &driving);
+                    (a2, temperature, None)
+                }
+                None => {
+                    let a2 = gas.a2(&driving);
+                    match driving {
+                        Driving::Rescale { temperature } => (a2, temperature, Some(first)),
+                        Driving::WhiteNoise { strength } => {
+                            (a2, gas.white_noise_temperature(strength, a2), None)
+                        }
+                    }
                 }
             };
             DrivingResolved {
@@ -372,6 +382,35 @@ impl Grains {
                 temperature,
             }
         });
+    }
+}
+
+/// The steady state of rough grains under `driving` (docs/rough.md), as `(a2,
+/// temperature)`: `a2` is the Sonine `a20` of the state (RS-8 held by rescaling, RS-9 under
+/// white noise; NaN where the Sonine equations have no solution); the temperature is
+/// rescaling's, or under white noise the Maxwellian energy balance at the ratio of RS-6
+/// ([`RoughGas::white_noise_temperature`]), with the collision frequency of `smooth`'s
+/// grains at unit temperature.
+fn rough_steady_state(rough: &RoughGas, smooth: &GasTheory, driving: &Driving) -> (f64, f64) {
+    match *driving {
+        Driving::Rescale { temperature } => (
+            rough.sonine_cooling_state().map_or(f64::NAN, |s| s.a20),
+            temperature,
+        ),
+        Driving::WhiteNoise { strength } => {
+            let nu = kinetic::collision_frequency(
+                smooth.dimension,
+                smooth.number_density,
+                smooth.radius,
+                1.0,
+                smooth.mass,
+                smooth.chi,
+            );
+            (
+                rough.sonine_white_noise_state().map_or(f64::NAN, |s| s.a20),
+                rough.white_noise_temperature(strength, smooth.mass, smooth.particles, nu),
+            )
+        }
     }
 }
 

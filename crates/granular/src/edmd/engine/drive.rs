@@ -30,40 +30,45 @@ impl<const D: usize> Edmd<D> {
             self.driving = None;
             return;
         };
-        let theory = self.gas_theory();
         let energy = self.kinetic_energy_now() + self.rotational_energy_now().unwrap_or(0.0);
-        let mut attached = EdmdDriving::new(
-            driving.clone(),
-            &theory,
-            energy,
-            seed,
-            self.time(),
-            fraction,
-        );
-        if let (Driving::WhiteNoise { strength }, true) = (driving, self.is_rough()) {
-            // Rough grains: the mean free time at the Maxwellian balance with the
-            // translational loss at the steady temperature ratio (RS-6).
-            let law = self.collision_law();
-            let gas = crate::theory::rough::RoughGas {
-                dimension: D,
-                normal_restitution: law.restitution,
-                tangential_restitution: law.tangential_restitution,
-                inertia: self.species_inertia()[0],
-            };
-            let nu = |t: f64| {
-                haff::collision_frequency(
-                    D,
-                    theory.number_density,
-                    theory.radius,
-                    t,
-                    theory.mass,
-                    theory.chi,
-                )
-            };
-            let t = gas.white_noise_temperature(strength, theory.mass, theory.particles, nu(1.0));
-            attached.interval = fraction / nu(t);
-        }
+        let interval = self.kick_interval(&driving, fraction);
+        let attached = EdmdDriving::new(driving, energy, seed, self.time(), interval);
         self.driving = Some(attached);
+    }
+
+    /// `dt_kick = fraction` mean free times of the Enskog theory at the driven state's
+    /// temperature: rescaling's `T*`, or the white-noise energy balance of the smooth gas
+    /// (KT-13) or, for rough grains, of the translational loss at the steady temperature
+    /// ratio (RS-6).
+    pub(crate) fn kick_interval(&self, driving: &Driving, fraction: f64) -> f64 {
+        let theory = self.gas_theory();
+        let nu = |t: f64| {
+            haff::collision_frequency(
+                D,
+                theory.number_density,
+                theory.radius,
+                t,
+                theory.mass,
+                theory.chi,
+            )
+        };
+        let temperature = match *driving {
+            Driving::Rescale { temperature } => temperature,
+            Driving::WhiteNoise { strength } if self.is_rough() => {
+                let law = self.collision_law();
+                let gas = crate::theory::rough::RoughGas {
+                    dimension: D,
+                    normal_restitution: law.restitution,
+                    tangential_restitution: law.tangential_restitution,
+                    inertia: self.species_inertia()[0],
+                };
+                gas.white_noise_temperature(strength, theory.mass, theory.particles, nu(1.0))
+            }
+            Driving::WhiteNoise { strength } => {
+                theory.white_noise_temperature(strength, theory.a2(driving))
+            }
+        };
+        fraction / nu(temperature)
     }
 
     /// The driving and its tally, if any.

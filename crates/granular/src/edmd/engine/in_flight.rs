@@ -44,17 +44,10 @@ impl<const D: usize> Edmd<D> {
             Driving::Rescale { .. } => RESCALE_FRACTION,
         };
         let time = crate::engine::Engine::time(self);
-        let fresh = crate::edmd::driving::EdmdDriving::new(
-            driving.clone(),
-            &self.gas_theory(),
-            self.kinetic_energy_now(),
-            old.seed,
-            time,
-            fraction,
-        );
+        let interval = self.kick_interval(&driving, fraction);
         let mut next = old.restarted(time);
         next.state.driving = driving;
-        next.interval = fresh.interval;
+        next.interval = interval;
         self.driving = Some(next);
     }
 }

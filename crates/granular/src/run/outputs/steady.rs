@@ -41,37 +41,27 @@ pub(super) fn summary(
     Some(block)
 }
 
-/// Rough grains: the theory of the rough gas in place of the smooth one (`docs/rough.md`):
-/// `a2` is the Sonine `a20` (RS-8, RS-9; NaN where it has no solution), the white-noise
-/// temperature the Maxwellian balance of `RoughGas::white_noise_temperature`, and the
-/// cooling rate of the total energy the Maxwellian `ζ/ν` times `ν(T)` at the run's mean
-/// temperature.
+/// Rough grains: the cooling rate of the total energy, the Maxwellian `ζ/ν` at the state's
+/// temperature ratio (RS-4 held by rescaling, RS-6 under white noise) times `ν(T)` at the
+/// run's mean temperature, in place of the smooth gas's (`docs/rough.md`). The state's
+/// `a2` and temperature are already the rough gas's ([`crate::scenario::DrivingResolved`]).
 fn rough(gas: &RoughGas, theory: &GasTheory, driving: &Driving, block: &mut SteadyStateSummary) {
-    let nu = |t: f64| {
-        crate::theory::kinetic::collision_frequency(
-            theory.dimension,
-            theory.number_density,
-            theory.radius,
-            t,
-            theory.mass,
-            theory.chi,
-        )
+    let theta = match driving {
+        Driving::Rescale { .. } => gas.cooling_temperature_ratio(),
+        Driving::WhiteNoise { .. } => Some(gas.white_noise_temperature_ratio()),
     };
-    let (sonine, theta) = match driving {
-        Driving::Rescale { .. } => (gas.sonine_cooling_state(), gas.cooling_temperature_ratio()),
-        Driving::WhiteNoise { strength } => {
-            block.theory_temperature =
-                gas.white_noise_temperature(*strength, theory.mass, theory.particles, nu(1.0));
-            (
-                gas.sonine_white_noise_state(),
-                Some(gas.white_noise_temperature_ratio()),
-            )
-        }
-    };
-    block.theory_a2 = sonine.map_or(f64::NAN, |s| s.a20);
-    block.theory_a2_first = None;
     block.theory_cooling_rate = match (&block.temperature, theta) {
-        (Some(t), Some(theta)) => Some(gas.total_cooling_rate(theta) * nu(t.mean)),
+        (Some(t), Some(theta)) => {
+            let nu = crate::theory::kinetic::collision_frequency(
+                theory.dimension,
+                theory.number_density,
+                theory.radius,
+                t.mean,
+                theory.mass,
+                theory.chi,
+            );
+            Some(gas.total_cooling_rate(theta) * nu)
+        }
         _ => None,
     };
 }
