@@ -95,12 +95,8 @@ impl PyScenario {
         let mut next = self.clone();
         next.overrides.extend_from_slice(more);
         for o in more {
-            let key = canonical_key(o.split('=').next().unwrap_or_default());
-            next.arrays.retain(|(k, _)| {
-                !(k == &key
-                    || k.starts_with(&format!("{key}."))
-                    || k.starts_with(&format!("{key}[")))
-            });
+            next.arrays
+                .retain(|(k, _)| !granular::scenario::overridden(o, k));
         }
         next.resolved = next.read(py, &next.overrides, false)?;
         Ok(next)
@@ -147,22 +143,6 @@ fn read(
     }
     .read()
     .map_err(|e| scenario_error(py, &e, origin))
-}
-
-/// `species.0.positions` as `species[0].positions`, the form the arrays are kept under.
-fn canonical_key(key: &str) -> String {
-    let mut out = String::new();
-    for part in key.trim().split('.') {
-        if !out.is_empty() && !part.is_empty() && part.bytes().all(|b| b.is_ascii_digit()) {
-            out.push_str(&format!("[{part}]"));
-        } else {
-            if !out.is_empty() {
-                out.push('.');
-            }
-            out.push_str(part);
-        }
-    }
-    out
 }
 
 /// `KEY=VALUE` with the value written as TOML.

@@ -138,7 +138,10 @@ fn the_summary_block_is_the_record() {
 #[test]
 fn rough_grains_driven_state_is_the_rough_theory() {
     for (kind, extra) in [
-        ("white_noise", "[driving]\nkind = \"white_noise\"\nstrength = 2.0"),
+        (
+            "white_noise",
+            "[driving]\nkind = \"white_noise\"\nstrength = 2.0",
+        ),
         ("rescale", "[driving]\nkind = \"rescale\""),
     ] {
         let sc = scenario("dsmc", extra);
@@ -163,7 +166,10 @@ fn rough_grains_driven_state_is_the_rough_theory() {
                 );
                 let t = gas.white_noise_temperature(strength, 1.5, 2000, nu);
                 assert_eq!(state.temperature, t);
-                assert_ne!(state.temperature, state.gas.white_noise_temperature(strength, state.a2));
+                assert_ne!(
+                    state.temperature,
+                    state.gas.white_noise_temperature(strength, state.a2)
+                );
                 let a20 = gas.sonine_white_noise_state().expect("RS-9").a20;
                 assert_eq!(state.a2, a20);
             }
@@ -173,6 +179,10 @@ fn rough_grains_driven_state_is_the_rough_theory() {
                 assert_eq!(state.a2_first, None);
             }
         }
-        assert_ne!(state.a2, state.gas.a2(&state.driving), "{kind}: not the smooth a2");
+        assert_ne!(
+            state.a2,
+            state.gas.a2(&state.driving),
+            "{kind}: not the smooth a2"
+        );
     }
 }
