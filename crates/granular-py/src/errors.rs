@@ -1,6 +1,9 @@
 //! Python exceptions with the command line's messages, and the guard that turns a Rust
 //! panic into a Python exception (never an abort).
 
+use granular::engine::EngineError;
+use granular::grain_state::StateError;
+use granular::run::BuildError;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 
@@ -69,5 +72,33 @@ pub fn guard<T>(what: &str, f: impl FnOnce() -> PyResult<T>) -> PyResult<T> {
 the scenario; the simulation object may be inconsistent, build a new one)"
             )))
         }
+    }
+}
+
+/// A failed build as a Python exception: ScenarioError for a scenario value, SimulationError
+/// otherwise (prefixed with the scenario file).
+pub fn build_error(py: Python<'_>, e: BuildError, origin: Option<&str>) -> PyErr {
+    match e {
+        BuildError::Scenario(s) => scenario_error(py, &s, origin),
+        other => simulation_error(match origin {
+            Some(o) => format!("{o}: {other}"),
+            None => other.to_string(),
+        }),
+    }
+}
+
+/// An engine that stopped as a SimulationError.
+pub fn engine_error(e: EngineError) -> PyErr {
+    simulation_error(format!("{e}\n(fix the scenario and rerun)"))
+}
+
+/// A refused state as a Python exception: SimulationError where the engine cannot take
+/// one, ValueError where the arrays are wrong.
+pub fn state_error(e: StateError) -> PyErr {
+    match e {
+        StateError::NoGrains { .. } | StateError::Engine(_) | StateError::Build(_) => {
+            simulation_error(e)
+        }
+        other => value_error(other.to_string()),
     }
 }

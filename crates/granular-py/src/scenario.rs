@@ -274,10 +274,7 @@ impl PyScenario {
         for (key, v) in arrays {
             let (s, which) = granular::scenario::array_key(&key)
                 .map_err(|e| crate::errors::simulation_error(e.to_string()))?;
-            let a =
-                numpy::ndarray::Array2::from_shape_vec((v.len(), v.width()), v.values().to_vec())
-                    .map_err(|e| crate::errors::simulation_error(e.to_string()))?;
-            let a = numpy::PyArray2::from_owned_array(py, a);
+            let a = crate::state::matrix(py, v.values().to_vec(), v.len(), v.width())?;
             let Some(entry) = species.as_ref().map(|l| l.get_item(s)).transpose()? else {
                 continue;
             };

@@ -2,11 +2,15 @@
 //! interpreter lock released and Ctrl-C checked between chunks of events.
 
 use crate::convert::json_to_python;
-use crate::errors::{SimulationError, guard, scenario_error, simulation_error, value_error};
+use crate::errors::{
+    SimulationError, build_error, engine_error, guard, scenario_error, simulation_error,
+    state_error, value_error,
+};
 use crate::scenario::PyScenario;
+use crate::state::{matrix, snapshot_arrays, spins};
 use granular::engine::{EngineError, Progress};
 use granular::grain_state::{GrainState, StateError};
-use granular::run::{BuildError, Run, RunError};
+use granular::run::{Run, RunError};
 use granular::simulation::{RunHooks, Simulation};
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
@@ -66,16 +70,6 @@ impl RunHooks for SignalHooks {
 /// callback cannot return an error).
 struct Interrupted(PyErr);
 
-fn build_error(py: Python<'_>, e: BuildError, origin: Option<&str>) -> PyErr {
-    match e {
-        BuildError::Scenario(s) => scenario_error(py, &s, origin),
-        other => simulation_error(match origin {
-            Some(o) => format!("{o}: {other}"),
-            None => other.to_string(),
-        }),
-    }
-}
-
 /// The error of a simulation that `run(out=...)` took over.
 fn gone(recorded: &Option<PathBuf>) -> PyErr {
     SimulationError::new_err(format!(
@@ -83,39 +77,6 @@ fn gone(recorded: &Option<PathBuf>) -> PyErr {
 there; read it with granular.load_run(...), or build a new Simulation",
         recorded.as_deref().unwrap_or(std::path::Path::new("?"))
     ))
-}
-
-/// A row-major `n x d` vector as a NumPy array of shape `(n, d)`, without copying it again.
-fn matrix<'py>(
-    py: Python<'py>,
-    values: Vec<f64>,
-    n: usize,
-    d: usize,
-) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    let a = numpy::ndarray::Array2::from_shape_vec((n, d), values).map_err(|e| {
-        simulation_error(format!(
-            "internal error: a snapshot array is not {n} x {d}: {e}"
-        ))
-    })?;
-    Ok(PyArray2::from_owned_array(py, a))
-}
-
-/// Angular velocities as NumPy: (n,) for disks, (n, 3) for spheres.
-fn spins<'py>(
-    py: Python<'py>,
-    values: Vec<f64>,
-    n: usize,
-    d: usize,
-) -> PyResult<Bound<'py, PyAny>> {
-    if d == 2 {
-        Ok(PyArray1::from_vec(py, values).into_any())
-    } else {
-        Ok(matrix(py, values, n, 3)?.into_any())
-    }
-}
-
-fn engine_error(e: EngineError) -> PyErr {
-    simulation_error(format!("{e}\n(fix the scenario and rerun)"))
 }
 
 /// The scenario argument of `Simulation(...)` and `Simulation.from_snapshot(...)`: a
@@ -155,97 +116,6 @@ fn same_directory(a: &std::path::Path, b: &std::path::Path) -> bool {
         (Ok(x), Ok(y)) => x == y,
         _ => a == b,
     }
-}
-
-/// A refused state as a Python exception: SimulationError where the engine cannot take
-/// one, ValueError where the arrays are wrong.
-fn state_error(e: StateError) -> PyErr {
-    match e {
-        StateError::NoGrains { .. } | StateError::Engine(_) | StateError::Build(_) => {
-            simulation_error(e)
-        }
-        other => value_error(other.to_string()),
-    }
-}
-
-/// The arrays of a snapshot: time, positions, velocities and, from a rough run, angular
-/// velocities.
-struct SnapshotArrays {
-    time: f64,
-    positions: Vec<f64>,
-    velocities: Vec<f64>,
-    angular_velocities: Option<Vec<f64>>,
-}
-
-/// The arrays of a snapshot given as a path, a `granular.Snapshot` or a dict, checked
-/// against the scenario's grains and dimension.
-fn snapshot_arrays(
-    py: Python<'_>,
-    snapshot: &Bound<'_, PyAny>,
-    scenario: &granular::Scenario,
-) -> PyResult<SnapshotArrays> {
-    if scenario.kind() == granular::scenario::EngineKind::Intruder {
-        return Err(state_error(StateError::NoGrains { engine: "intruder" }));
-    }
-    let n: usize = scenario.species().iter().map(|s| s.count).sum();
-    let d = scenario.dimension;
-    let path: Option<PathBuf> = if snapshot.is_instance_of::<pyo3::types::PyDict>() {
-        None
-    } else {
-        snapshot.extract().ok()
-    };
-    if let Some(path) = path {
-        let s = py
-            .detach(|| granular::run::read_snapshot(&path))
-            .map_err(|e| {
-                pyo3::exceptions::PyOSError::new_err(format!("{}: {e}", path.display()))
-            })?;
-        if s.radii.len() != n || s.dimension != d {
-            return Err(value_error(format!(
-                "{}: the snapshot holds {} grains in {} dimensions; the scenario has {n} in {d}",
-                path.display(),
-                s.radii.len(),
-                s.dimension
-            )));
-        }
-        return Ok(SnapshotArrays {
-            time: s.time,
-            positions: s.positions,
-            velocities: s.velocities,
-            angular_velocities: (!s.angular_velocities.is_empty()).then_some(s.angular_velocities),
-        });
-    }
-    let get = |key: &str| -> PyResult<Bound<'_, PyAny>> {
-        if let Ok(dict) = snapshot.cast::<pyo3::types::PyDict>() {
-            dict.get_item(key)?
-                .ok_or_else(|| value_error(format!("the snapshot dict has no `{key}`")))
-        } else {
-            snapshot.getattr(key).map_err(|_| {
-                pyo3::exceptions::PyTypeError::new_err(format!(
-                    "snapshot must be the path of a snapshot .npz, a granular.Snapshot (granular.load_run(...).snapshot(k)) or the dict of Simulation.snapshot(); it has no `{key}`"
-                ))
-            })
-        }
-    };
-    let time: f64 = get("time")?.extract()?;
-    let positions = crate::state::grain_array(py, "positions", &get("positions")?, n, d)?;
-    let velocities = crate::state::grain_array(py, "velocities", &get("velocities")?, n, d)?;
-    // Angular velocities where the snapshot has them (a rough run's): a dict's key or a
-    // `granular.Snapshot`'s attribute, absent or None otherwise.
-    let spins = match snapshot.cast::<pyo3::types::PyDict>() {
-        Ok(dict) => dict.get_item("angular_velocities")?,
-        Err(_) => snapshot.getattr("angular_velocities").ok(),
-    };
-    let angular_velocities = match spins.filter(|w| !w.is_none()) {
-        Some(w) => Some(crate::state::spin_array(py, &w, n, d)?),
-        None => None,
-    };
-    Ok(SnapshotArrays {
-        time,
-        positions,
-        velocities,
-        angular_velocities,
-    })
 }
 
 impl PySimulation {

@@ -1,10 +1,14 @@
-//! Positions or velocities of every grain in input order, without building a whole
-//! snapshot: the library's `Simulation::positions_into` / `velocities_into`, writing
-//! straight into a NumPy array's own buffer.
+//! Per-grain arrays between NumPy and the library, both ways: positions or velocities of
+//! every grain in input order written straight into a NumPy array's own buffer
+//! (`Simulation::positions_into` / `velocities_into`), the arrays a user gives (checked
+//! float64 `(N, D)`: `set_state`, `from_snapshot`, a scenario's per-grain keys), and
+//! snapshots as NumPy arrays.
 
+use crate::errors::value_error;
 use granular::Simulation;
-use numpy::{PyArray2, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
+use numpy::{PyArray1, PyArray2, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
+use std::path::PathBuf;
 
 /// Which per-grain vector.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -134,7 +138,7 @@ shape {}",
     };
     let given: Vec<usize> = array.getattr("shape")?.extract()?;
     if given != shape {
-        return Err(crate::errors::value_error(format!(
+        return Err(value_error(format!(
             "`{name}` has shape {}; give shape {}: {what}",
             shape_text(&given),
             shape_text(shape)
@@ -190,7 +194,7 @@ pub fn given_vectors(
     }
     let shape: Vec<usize> = value.getattr("shape")?.extract()?;
     let [n, d] = shape[..] else {
-        return Err(crate::errors::value_error(format!(
+        return Err(value_error(format!(
             "`{key}` has shape {}; give an (N, D) array: one row of D numbers per grain",
             shape_text(&shape)
         )));
@@ -200,7 +204,7 @@ pub fn given_vectors(
     granular::scenario::GrainVectors::given(values, d)
         .map(Some)
         .ok_or_else(|| {
-            crate::errors::value_error(format!(
+            value_error(format!(
                 "`{key}` has shape {}; give at least one column",
                 shape_text(&shape)
             ))
@@ -253,7 +257,7 @@ pub fn take_grain_arrays<'py>(
                         && x.extract::<String>().is_ok_and(|d| d == "per_grain"))
             });
             if !per_grain {
-                return Err(crate::errors::value_error(format!(
+                return Err(value_error(format!(
                     "`species[{i}].velocity`: `velocities` (one per grain) goes with \
                      distribution = \"per_grain\" and nothing else; remove the other keys"
                 )));
@@ -265,4 +269,119 @@ pub fn take_grain_arrays<'py>(
     }
     out.set_item("species", copied)?;
     Ok((out, arrays))
+}
+
+/// A row-major `n x d` vector as a NumPy array of shape `(n, d)`, without copying it again.
+pub fn matrix<'py>(
+    py: Python<'py>,
+    values: Vec<f64>,
+    n: usize,
+    d: usize,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let a = numpy::ndarray::Array2::from_shape_vec((n, d), values).map_err(|e| {
+        crate::errors::simulation_error(format!(
+            "internal error: a snapshot array is not {n} x {d}: {e}"
+        ))
+    })?;
+    Ok(PyArray2::from_owned_array(py, a))
+}
+
+/// Angular velocities as NumPy: (n,) for disks, (n, 3) for spheres.
+pub fn spins<'py>(
+    py: Python<'py>,
+    values: Vec<f64>,
+    n: usize,
+    d: usize,
+) -> PyResult<Bound<'py, PyAny>> {
+    if d == 2 {
+        Ok(PyArray1::from_vec(py, values).into_any())
+    } else {
+        Ok(matrix(py, values, n, 3)?.into_any())
+    }
+}
+
+/// The arrays of a snapshot: time, positions, velocities and, from a rough run, angular
+/// velocities.
+pub struct SnapshotArrays {
+    /// The snapshot's time.
+    pub time: f64,
+    /// Positions, row-major `(n, d)`.
+    pub positions: Vec<f64>,
+    /// Velocities, row-major `(n, d)`.
+    pub velocities: Vec<f64>,
+    /// Angular velocities of a rough run's snapshot.
+    pub angular_velocities: Option<Vec<f64>>,
+}
+
+/// The arrays of a snapshot given as a path, a `granular.Snapshot` or a dict, checked
+/// against the scenario's grains and dimension.
+pub fn snapshot_arrays(
+    py: Python<'_>,
+    snapshot: &Bound<'_, PyAny>,
+    scenario: &granular::Scenario,
+) -> PyResult<SnapshotArrays> {
+    if scenario.kind() == granular::scenario::EngineKind::Intruder {
+        return Err(crate::errors::state_error(
+            granular::grain_state::StateError::NoGrains { engine: "intruder" },
+        ));
+    }
+    let n: usize = scenario.species().iter().map(|s| s.count).sum();
+    let d = scenario.dimension;
+    let path: Option<PathBuf> = if snapshot.is_instance_of::<pyo3::types::PyDict>() {
+        None
+    } else {
+        snapshot.extract().ok()
+    };
+    if let Some(path) = path {
+        let s = py
+            .detach(|| granular::run::read_snapshot(&path))
+            .map_err(|e| {
+                pyo3::exceptions::PyOSError::new_err(format!("{}: {e}", path.display()))
+            })?;
+        if s.radii.len() != n || s.dimension != d {
+            return Err(value_error(format!(
+                "{}: the snapshot holds {} grains in {} dimensions; the scenario has {n} in {d}",
+                path.display(),
+                s.radii.len(),
+                s.dimension
+            )));
+        }
+        return Ok(SnapshotArrays {
+            time: s.time,
+            positions: s.positions,
+            velocities: s.velocities,
+            angular_velocities: (!s.angular_velocities.is_empty()).then_some(s.angular_velocities),
+        });
+    }
+    let get = |key: &str| -> PyResult<Bound<'_, PyAny>> {
+        if let Ok(dict) = snapshot.cast::<pyo3::types::PyDict>() {
+            dict.get_item(key)?
+                .ok_or_else(|| value_error(format!("the snapshot dict has no `{key}`")))
+        } else {
+            snapshot.getattr(key).map_err(|_| {
+                pyo3::exceptions::PyTypeError::new_err(format!(
+                    "snapshot must be the path of a snapshot .npz, a granular.Snapshot (granular.load_run(...).snapshot(k)) or the dict of Simulation.snapshot(); it has no `{key}`"
+                ))
+            })
+        }
+    };
+    let time: f64 = get("time")?.extract()?;
+    let positions = grain_array(py, "positions", &get("positions")?, n, d)?;
+    let velocities = grain_array(py, "velocities", &get("velocities")?, n, d)?;
+    // Angular velocities where the snapshot has them (a rough run's): a dict's key or a
+    // `granular.Snapshot`'s attribute, absent or None otherwise.
+    let spins = match snapshot.cast::<pyo3::types::PyDict>() {
+        Ok(dict) => dict.get_item("angular_velocities")?,
+        Err(_) => snapshot.getattr("angular_velocities").ok(),
+    };
+    let angular_velocities = match spins.filter(|w| !w.is_none()) {
+        Some(w) => Some(spin_array(py, &w, n, d)?),
+        None => None,
+    };
+    Ok(SnapshotArrays {
+        time,
+        positions,
+        velocities,
+        angular_velocities,
+    })
 }
