@@ -17,6 +17,7 @@ mod memory_effects;
 mod observables;
 mod preflight;
 mod problems;
+mod public_api;
 mod resolved;
 mod rough;
 mod rough_dsmc;
