@@ -11,9 +11,6 @@ use crate::driving::Driving;
 use crate::scenario::{Scenario, ScenarioError};
 use serde::{Deserialize, Serialize};
 
-/// The keys that can change in flight, in the scenario's words.
-pub use crate::scenario::IN_FLIGHT_KEYS as KEYS;
-
 /// One parameter changed in flight.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Change {

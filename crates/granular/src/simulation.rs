@@ -6,7 +6,7 @@
 use crate::build::{AnyEngine, BuildError, build_resolved};
 use crate::engine::{Engine, EngineError, Progress, Snapshot};
 use crate::grain_state::{self, GrainState, StateError};
-use crate::in_flight::Change;
+pub use crate::in_flight::Change;
 use crate::observation::Observation;
 use crate::scenario::{Resolved, Scenario, ScenarioError, ScheduledChange, StopSpec};
 use crate::stats::Histogram;
@@ -283,7 +283,7 @@ impl Simulation {
     /// `collisions.friction` of rough grains, `collisions.wall_restitution`,
     /// `collisions.wall_tangential_restitution`, `collisions.contact_duration`), the
     /// driving's `driving.strength` or `driving.temperature`, and `gravity` (the keys of
-    /// [`crate::in_flight::KEYS`]). Validated as the same key in a scenario (the scenario
+    /// [`crate::scenario::IN_FLIGHT_KEYS`]). Validated as the same key in a scenario (the scenario
     /// with the new value is checked whole); other keys, and every key of the intruder
     /// engines, are refused saying so. The change is kept ([`Simulation::changes`]) for
     /// `log.txt`, `summary.json` and checkpoints, and [`Simulation::resolved`] is resolved

@@ -156,6 +156,7 @@ pub struct LogLagCorrelator {
 impl LogLagCorrelator {
     /// A correlator for grains of the given species (index per grain, `species_count`
     /// species).
+    #[cfg(test)]
     pub fn new(dimension: usize, species: &[u32], species_count: usize) -> LogLagCorrelator {
         let totals: Vec<usize> = (0..species_count)
             .map(|s| species.iter().filter(|&&x| x as usize == s).count())
@@ -167,8 +168,7 @@ impl LogLagCorrelator {
     /// of ids): `species` per grain of the block, `before[s]` the grains of species `s`
     /// before the block, `totals[s]` those of the whole system. Its sums are the whole
     /// system's when every block's grains are folded in order
-    /// ([`LogLagCorrelator::add_chained`]); [`LogLagCorrelator::new`] is the block of
-    /// all grains.
+    /// ([`LogLagCorrelator::add_chained`]); the whole system is the block of all grains.
     pub fn for_block(
         dimension: usize,
         species: &[u32],
@@ -236,6 +236,7 @@ impl LogLagCorrelator {
     }
 
     /// Feeds one sample: unwrapped positions and velocities (`n * D` each).
+    #[cfg(test)]
     pub fn add(&mut self, positions: &[f64], velocities: &[f64]) {
         self.add_chained(positions, velocities, &mut |acc, fold| fold(acc));
     }
