@@ -125,15 +125,21 @@ impl GasTheory {
     /// [`haff::sonine_cooling_rate`]), with `omega` the Enskog-Boltzmann collision
     /// frequency (KT-5).
     pub fn cooling_rate(&self, temperature: f64, a2: f64) -> f64 {
-        let omega = haff::collision_frequency(
+        let omega = self.collision_frequency(temperature);
+        haff::sonine_cooling_rate(self.dimension, self.restitution, omega, a2)
+    }
+
+    /// The Enskog-Boltzmann collision frequency `omega(T)` of one grain of this gas (KT-5,
+    /// [`haff::collision_frequency`]), per unit time.
+    pub fn collision_frequency(&self, temperature: f64) -> f64 {
+        haff::collision_frequency(
             self.dimension,
             self.number_density,
             self.radius,
             temperature,
             self.mass,
             self.chi,
-        );
-        haff::sonine_cooling_rate(self.dimension, self.restitution, omega, a2)
+        )
     }
 
     /// The steady temperature of the white-noise driven gas, KT-13, from the exact energy balance

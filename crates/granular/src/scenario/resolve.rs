@@ -398,14 +398,7 @@ fn rough_steady_state(rough: &RoughGas, smooth: &GasTheory, driving: &Driving) -
             temperature,
         ),
         Driving::WhiteNoise { strength } => {
-            let nu = kinetic::collision_frequency(
-                smooth.dimension,
-                smooth.number_density,
-                smooth.radius,
-                1.0,
-                smooth.mass,
-                smooth.chi,
-            );
+            let nu = smooth.collision_frequency(1.0);
             (
                 rough.sonine_white_noise_state().map_or(f64::NAN, |s| s.a20),
                 rough.white_noise_temperature(strength, smooth.mass, smooth.particles, nu),

@@ -42,16 +42,7 @@ impl<const D: usize> Edmd<D> {
     /// ratio (RS-6).
     pub(crate) fn kick_interval(&self, driving: &Driving, fraction: f64) -> f64 {
         let theory = self.gas_theory();
-        let nu = |t: f64| {
-            haff::collision_frequency(
-                D,
-                theory.number_density,
-                theory.radius,
-                t,
-                theory.mass,
-                theory.chi,
-            )
-        };
+        let nu = |t: f64| theory.collision_frequency(t);
         let temperature = match *driving {
             Driving::Rescale { temperature } => temperature,
             Driving::WhiteNoise { strength } if self.is_rough() => {

@@ -52,15 +52,7 @@ fn rough(gas: &RoughGas, theory: &GasTheory, driving: &Driving, block: &mut Stea
     };
     block.theory_cooling_rate = match (&block.temperature, theta) {
         (Some(t), Some(theta)) => {
-            let nu = crate::theory::kinetic::collision_frequency(
-                theory.dimension,
-                theory.number_density,
-                theory.radius,
-                t.mean,
-                theory.mass,
-                theory.chi,
-            );
-            Some(gas.total_cooling_rate(theta) * nu)
+            Some(gas.total_cooling_rate(theta) * theory.collision_frequency(t.mean))
         }
         _ => None,
     };
