@@ -105,7 +105,7 @@ pub fn file_overrides(scenario_file: &Path, sc: &super::Scenario) -> Vec<String>
     {
         out.extend(absolute("intruder.bath.file", f));
     }
-    for (key, v) in super::input::arrays_by_key(sc) {
+    for (key, v) in sc.without_arrays().1 {
         if let super::VectorSource::Npz { npz, .. } = v.source() {
             out.extend(absolute(&format!("{key}.npz"), npz));
         }

@@ -140,20 +140,6 @@ impl Scenario {
     }
 }
 
-/// The per-grain arrays of `scenario` with their keys.
-pub(super) fn arrays_by_key(scenario: &Scenario) -> Vec<(String, &GrainVectors)> {
-    let mut out = Vec::new();
-    for (s, sp) in scenario.species().iter().enumerate() {
-        if !sp.positions.is_empty() {
-            out.push((format!("species[{s}].positions"), &sp.positions));
-        }
-        if let VelocitySpec::PerGrain { velocities } = &sp.velocity {
-            out.push((format!("species[{s}].velocity.velocities"), velocities));
-        }
-    }
-    out
-}
-
 /// Reads every `.npz` member the scenario names and has not read yet (each file once).
 fn read_files(scenario: &mut Scenario, base: Option<&Path>) -> Result<(), ScenarioError> {
     let Some(grains) = scenario.grains_mut() else {

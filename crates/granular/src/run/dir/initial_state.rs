@@ -21,15 +21,10 @@ impl RunDir {
             return Ok(scenario);
         }
         let name = RunFile::InitialState.name();
-        let keys: Vec<&str> = arrays
-            .iter()
-            .filter(|(_, v)| elsewhere(v))
-            .map(|(k, _)| k.as_str())
-            .collect();
-        let mut members = Vec::with_capacity(keys.len());
-        for (key, (_, v)) in keys.iter().zip(arrays.iter().filter(|(_, v)| elsewhere(v))) {
+        let mut members = Vec::new();
+        for (key, v) in arrays.iter().filter(|(_, v)| elsewhere(v)) {
             members.push((
-                *key,
+                key.as_str(),
                 NpzArray::f64_2d(v.values().to_vec(), v.len(), v.width())?,
             ));
         }
