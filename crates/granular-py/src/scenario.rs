@@ -102,13 +102,15 @@ impl PyScenario {
         Ok(next)
     }
 
-    /// The same scenario with the NumPy array `vectors` at `key` (validated).
-    fn with_array(&self, py: Python<'_>, key: String, vectors: GrainVectors) -> PyResult<Self> {
-        let mut next = self.clone();
-        next.arrays.retain(|(k, _)| *k != key);
-        next.arrays.push((key, vectors));
-        next.resolved = next.read(py, &next.overrides, false)?;
-        Ok(next)
+    /// Keeps the NumPy array `vectors` at the per-grain `key` (in its canonical form
+    /// `species[i].positions`), replacing one there; not validated.
+    fn stash_array(&mut self, py: Python<'_>, key: &str, vectors: GrainVectors) -> PyResult<()> {
+        let key = granular::scenario::array_key(key)
+            .map(|(s, which)| format!("species[{s}].{which}"))
+            .map_err(|e| scenario_error(py, &e, self.origin.as_deref()))?;
+        self.arrays.retain(|(k, _)| *k != key);
+        self.arrays.push((key, vectors));
+        Ok(())
     }
 
     /// The pre-flight cost limits (outputs, collisions, bytes written; of the scenario and
@@ -161,10 +163,9 @@ fn set_one(
     value: &Bound<'_, PyAny>,
 ) -> PyResult<PyScenario> {
     if let Some(v) = crate::state::given_vectors(py, key, value)? {
-        let canonical = granular::scenario::array_key(key)
-            .map(|(s, which)| format!("species[{s}].{which}"))
-            .map_err(|e| scenario_error(py, &e, scenario.origin.as_deref()))?;
-        return scenario.with_array(py, canonical, v);
+        let mut next = scenario.clone();
+        next.stash_array(py, key, v)?;
+        return next.with_overrides(py, &[]);
     }
     scenario.with_overrides(py, &[assignment(key, value)?])
 }
@@ -239,13 +240,7 @@ impl PyScenario {
         for item in overrides.items()?.iter() {
             let (k, v): (String, Bound<'_, PyAny>) = item.extract()?;
             match crate::state::given_vectors(py, &k, &v)? {
-                Some(a) => {
-                    let key = granular::scenario::array_key(&k)
-                        .map(|(s, which)| format!("species[{s}].{which}"))
-                        .map_err(|e| scenario_error(py, &e, self.origin.as_deref()))?;
-                    next.arrays.retain(|(k, _)| *k != key);
-                    next.arrays.push((key, a));
-                }
+                Some(a) => next.stash_array(py, &k, a)?,
                 None => list.push(assignment(&k, &v)?),
             }
         }
