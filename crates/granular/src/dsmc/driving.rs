@@ -5,8 +5,7 @@
 //! bit-identical for any number of threads or ranks.
 
 use super::engine::DsmcEngine;
-use crate::driving::{Driving, DrivingState, KICKS, rescale_factor};
-use crate::random::{std_normal, stream};
+use crate::driving::{Driving, DrivingState, Kicks, rescale_factor};
 use crate::vector::Vector;
 
 impl<const D: usize> DsmcEngine<D> {
@@ -50,18 +49,11 @@ impl<const D: usize> DsmcEngine<D> {
                 self.grains.scale_spins(lambda);
             }
             Driving::WhiteNoise { strength } => {
-                let width = (strength * dt).sqrt();
                 let (seed, k) = self.kick_seed_and_application();
+                let kicks = Kicks::new(seed, k, strength, dt);
                 // Each grain's kick comes from its own stream, drawn twice (for the mean,
                 // then to apply it) rather than stored: no per-grain buffer.
-                let kick = |id: u32| {
-                    let mut rng = stream(seed, &[KICKS, k, u64::from(id)]);
-                    let mut v = Vector::<D>::zero();
-                    for c in 0..D {
-                        v[c] = width * std_normal(&mut rng);
-                    }
-                    v
-                };
+                let kick = |id: u32| kicks.of::<D>(id);
                 let g = &self.grains;
                 let add = |a: &mut [f64; D], x: &[f64; D]| {
                     for (a, x) in a.iter_mut().zip(x) {

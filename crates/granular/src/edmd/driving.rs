@@ -20,9 +20,8 @@
 //! This module holds the driving's rule (the interval, the kicks); the engine applies it
 //! (`engine/drive.rs`: the stops of the event loop, the new velocities, the predictions).
 
-use crate::driving::{Driving, DrivingState, KICKS};
-use crate::random::{RESTART, derive_key, std_normal, stream};
-use crate::vector::Vector;
+use crate::driving::{Driving, DrivingState, Kicks};
+use crate::random::{RESTART, derive_key};
 use serde::{Deserialize, Serialize};
 
 /// The interval between two white-noise kicks, in mean free times at the state's
@@ -116,17 +115,9 @@ impl EdmdDriving {
         self.start + (k + 1) as f64 * self.interval
     }
 
-    /// The white-noise kick of grain `id` at the next application, for a noise of
-    /// `strength` (each component Gaussian, of variance `strength * dt_kick`), before the
-    /// mean kick is taken off.
-    pub(crate) fn kick<const D: usize>(&self, strength: f64, id: u32) -> Vector<D> {
-        let width = (strength * self.interval).sqrt();
+    /// The white-noise kicks of the next application, for a noise of `strength`.
+    pub(crate) fn kicks(&self, strength: f64) -> Kicks {
         let (k, seed) = self.applications_and_seed();
-        let mut rng = stream(seed, &[KICKS, k, u64::from(id)]);
-        let mut v = Vector::<D>::zero();
-        for c in 0..D {
-            v[c] = width * std_normal(&mut rng);
-        }
-        v
+        Kicks::new(seed, k, strength, self.interval)
     }
 }

@@ -140,7 +140,8 @@ impl<const D: usize> Edmd<D> {
                 self.scale_spins(lambda);
             }
             Driving::WhiteNoise { strength } => {
-                let kick = |id: u32| d.kick::<D>(strength, id);
+                let kicks = d.kicks(strength);
+                let kick = |id: u32| kicks.of::<D>(id);
                 // The mean over ids in id order (independent of the storage order).
                 let mean = (0..n as u32).fold(Vector::<D>::zero(), |a, id| a + kick(id))
                     * (1.0 / n as f64);
