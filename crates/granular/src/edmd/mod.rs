@@ -14,8 +14,8 @@
 //! shared with the overlap check of initial states. `docs/edmd.md` describes them.
 
 mod candidates;
-pub mod driving;
-pub mod engine;
+pub(crate) mod driving;
+pub(crate) mod engine;
 pub mod init;
 pub(crate) mod prediction;
 pub(crate) mod queue;
@@ -29,4 +29,4 @@ pub mod internals {
 }
 
 pub use crate::particles::ParticleSet;
-pub use engine::{Edmd, EdmdOptions, EventKind, Totals};
+pub use engine::{CollisionRecord, Edmd, EdmdOptions, Totals};

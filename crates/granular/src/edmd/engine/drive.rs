@@ -25,7 +25,7 @@ impl<const D: usize> Edmd<D> {
 
     /// [`Edmd::set_driving`] with `dt_kick = fraction` mean free times at the state's
     /// temperature.
-    pub fn set_driving_every(&mut self, driving: Option<Driving>, seed: u64, fraction: f64) {
+    pub(crate) fn set_driving_every(&mut self, driving: Option<Driving>, seed: u64, fraction: f64) {
         let Some(driving) = driving else {
             self.driving = None;
             return;

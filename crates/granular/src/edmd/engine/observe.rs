@@ -53,7 +53,7 @@ impl<const D: usize> Edmd<D> {
     }
 
     /// Kinetic energy and grain count per species.
-    pub fn species_kinetic_energy(&self) -> Vec<(f64, usize)> {
+    pub(crate) fn species_kinetic_energy(&self) -> Vec<(f64, usize)> {
         let mut out = vec![(0.0, 0usize); self.species_names.len().max(1)];
         for i in 0..self.len() {
             let s = self.kind_species[self.grains[i].kind as usize] as usize;
