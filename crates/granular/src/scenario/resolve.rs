@@ -203,7 +203,7 @@ fn velocity_temperature(v: &VelocitySpec, mass: f64, d: f64) -> f64 {
 
 impl Resolved {
     /// Resolves a validated scenario at the initial temperature of its velocities.
-    pub fn of(sc: &Scenario) -> Resolved {
+    pub(crate) fn of(sc: &Scenario) -> Resolved {
         let grains = sc.grains().is_some().then(|| Grains::of(sc));
         let dimension = sc.intruder().map_or(sc.dimension, |i| i.dimension());
         Resolved { dimension, grains }

@@ -156,7 +156,7 @@ impl SweepSpec {
 
     /// Number of points: the product of the value counts (grid) or the common length
     /// (zip).
-    pub fn point_count(&self) -> usize {
+    pub(crate) fn point_count(&self) -> usize {
         let axes = self.axes();
         match self.mode {
             _ if axes.is_empty() => 0,
