@@ -7,20 +7,20 @@ pub mod checkpoint;
 pub mod dir;
 pub(crate) mod grains;
 mod lock;
-pub mod outputs;
-pub mod parts;
+pub(crate) mod outputs;
+pub(crate) mod parts;
 mod recorder;
 pub mod summary;
 pub mod sweep;
 
+pub(crate) use crate::build::build_on;
 /// The intruder engines behind one type (moved to [`crate::build::intruder`]).
 pub use crate::build::intruder;
-pub use crate::build::{
-    AnyEngine, BuildError, MemoryBudget, build, build_on, dsmc_setup, initial_particles,
-};
+pub use crate::build::{AnyEngine, BuildError, MemoryBudget, build, initial_particles};
 pub use crate::output::npz::write_snapshot;
 pub use dir::{DirectoryState, RunDir, RunFile, Table, read_snapshot};
-pub use outputs::{Output, StandardOutputs};
+pub use outputs::Output;
+pub(crate) use outputs::StandardOutputs;
 pub use summary::{AverageValue, AveragesSummary, ResolvedSummary, Summary};
 
 use crate::engine::EngineError;
