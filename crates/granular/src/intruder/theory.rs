@@ -17,8 +17,14 @@ pub fn martin_piasecki_ratio(restitution: f64, mass: f64, bath_mass: f64) -> f64
 /// of the intruder is then the pre-collision velocity of the bath particle, so the
 /// stationary intruder distribution equals the bath distribution, G-19 with the same
 /// `a`, i.e. temperature `T = M <v^2> = alpha T_B`).
-pub(crate) fn power_law_exact_case(restitution: f64, mass: f64, bath_mass: f64) -> bool {
+pub fn power_law_exact_case(restitution: f64, mass: f64, bath_mass: f64) -> bool {
     (mass / bath_mass - restitution).abs() <= 1e-12 * (1.0 + restitution)
+}
+
+/// Temperature ratio `T/T_B = alpha` in the exact case `M/m = alpha` (any bath, in
+/// particular the power law of G-19).
+pub fn power_law_exact_ratio(restitution: f64) -> f64 {
+    restitution
 }
 
 /// Kurtosis `<v^4>/<v^2>^2` of a Gaussian.
