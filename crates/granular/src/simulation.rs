@@ -283,7 +283,7 @@ impl Simulation {
     /// `collisions.friction` of rough grains, `collisions.wall_restitution`,
     /// `collisions.wall_tangential_restitution`, `collisions.contact_duration`), the
     /// driving's `driving.strength` or `driving.temperature`, and `gravity` (the keys of
-    /// [`crate::scenario::IN_FLIGHT_KEYS`]). Validated as the same key in a scenario (the scenario
+    /// `scenario::schedule::IN_FLIGHT_KEYS`). Validated as the same key in a scenario (the scenario
     /// with the new value is checked whole); other keys, and every key of the intruder
     /// engines, are refused saying so. The change is kept ([`Simulation::changes`]) for
     /// `log.txt`, `summary.json` and checkpoints, and [`Simulation::resolved`] is resolved

@@ -243,7 +243,7 @@ pub fn build(scenario: &Scenario) -> Result<AnyEngine, BuildError> {
 
 /// Builds the engine named by the scenario (a DSMC engine checked against this machine's
 /// available memory) and resolves the scenario at the temperature of its drawn initial
-/// state ([`Resolved::at_temperature`]); the engine takes its derived values (the DSMC
+/// state (`Resolved::at_temperature`); the engine takes its derived values (the DSMC
 /// cell size, the driving's reference temperature) from it.
 pub fn build_resolved(scenario: &Scenario) -> Result<(AnyEngine, Resolved), BuildError> {
     build_on(scenario, None, Some(MemoryBudget::this_node(1)))
@@ -276,7 +276,7 @@ impl MemoryBudget {
     }
 
     /// Whether the most loaded rank `load` of a `dimension`-dimensional DSMC run fits
-    /// ([`crate::dsmc::setup::RankLoad::bytes`]); the error names the scenario's key, the
+    /// (`crate::dsmc::setup::RankLoad::bytes`); the error names the scenario's key, the
     /// estimate, what is available, and the number of ranks (at this many per node) that
     /// would fit.
     pub fn check(

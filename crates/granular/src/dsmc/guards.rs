@@ -10,14 +10,14 @@ use serde::{Deserialize, Serialize};
 #[serde(rename_all = "snake_case")]
 pub enum GuardKind {
     /// (i) Not in the collisional regime: the mean free path is not small against the
-    /// system size (Knudsen number `lambda / L_box` above [`MAX_KNUDSEN`]).
+    /// system size (Knudsen number `lambda / L_box` above `MAX_KNUDSEN`).
     NotCollisional,
     /// (ii) The cell edge exceeds the mean free path.
     CellLargerThanMeanFreePath,
     /// (iii) The time step is not well below the mean free time (`tau omega` above
-    /// [`MAX_STEP_FRACTION`]).
+    /// `MAX_STEP_FRACTION`).
     TimeStepTooLong,
-    /// Too few particles per cell on average (below [`MIN_PER_CELL`]): the pair-count
+    /// Too few particles per cell on average (below `MIN_PER_CELL`): the pair-count
     /// statistics of DSMC-1 become poor and spurious correlations grow.
     TooFewParticlesPerCell,
 }

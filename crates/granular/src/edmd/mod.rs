@@ -1,7 +1,7 @@
 //! Event-driven molecular dynamics (EDMD) of hard disks (`D = 2`) and spheres (`D = 3`),
 //! after the hard-disk assignment (`event-driven-hard-disk-gas.txt`).
 //!
-//! * [`engine`]: the event loop ([`Edmd`]);
+//! * `engine`: the event loop ([`Edmd`]);
 //! * [`init`]: compression to dense states (placements and velocities are shared by all
 //!   engines: [`crate::setup`]).
 //!

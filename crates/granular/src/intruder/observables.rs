@@ -44,7 +44,7 @@ pub(crate) fn grid_points_before(next: f64, dt: f64, upto: f64, inclusive: bool)
 /// Number of batches used for batch-means errors.
 pub(crate) const BATCHES: usize = 32;
 
-/// Most block means a [`GridSeries`] keeps: when it has this many, adjacent pairs are
+/// Most block means a `GridSeries` keeps: when it has this many, adjacent pairs are
 /// merged into blocks twice as long. A run's memory and checkpoint therefore stay bounded
 /// (at most `N * MAX_BLOCKS` numbers, 1.5 MB for the needle's six quantities) whatever its
 /// length; runs with fewer than `MAX_BLOCKS * 64` samples (2.1 million, the bundled

@@ -1,5 +1,5 @@
 //! A run: a [`Simulation`] run to its stop rule with the standard outputs of its scenario
-//! attached ([`outputs`]), a log, checkpoints and the summary, recorded into a run
+//! attached (`outputs`), a log, checkpoints and the summary, recorded into a run
 //! directory. The directory's files, their names and their readers are [`dir`]'s
 //! ([`RunDir`]).
 
@@ -473,7 +473,7 @@ impl Run {
     /// outputs hold whole-system values, so rank 0's directory is the run's). `shared` is
     /// the run directory (rank 0's), which every rank must see: each writes its part of
     /// the checkpoints and its block of the snapshots there, so that no rank gathers all
-    /// particles ([`parts`]).
+    /// particles (`parts`).
     pub fn decompose(
         &mut self,
         comm: std::sync::Arc<dyn crate::dsmc::Communicator>,

@@ -157,7 +157,7 @@ impl IntruderSummary {
 }
 
 /// Values the scenario resolved at build time (a packing fraction turned into a radius):
-/// the `resolved` block, written from the simulation's [`crate::scenario::Resolved`].
+/// the `resolved` block, written from the simulation's `crate::scenario::Resolved`.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct ResolvedSummary {
     /// Grain radius per species, by species name.

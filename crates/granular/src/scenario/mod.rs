@@ -4,7 +4,7 @@
 //! `docs/scenario.md`; unknown keys are errors.
 //!
 //! Loading goes: file text → `toml::Table` → `--set` overrides applied to the table →
-//! typed [`Scenario`] (serde, unknown keys rejected) → [`Scenario::validate`]. Every error
+//! typed [`Scenario`] (serde, unknown keys rejected) → `Scenario::validate`. Every error
 //! names the key, the value, the line when it comes from the file, and the fix.
 
 pub(crate) mod advice;

@@ -409,7 +409,7 @@ fn rough_steady_state(rough: &RoughGas, smooth: &GasTheory, driving: &Driving) -
 
 impl Scenario {
     /// Every derived quantity of this (validated) scenario, at the initial temperature its
-    /// velocities describe ([`Resolved`]).
+    /// velocities describe (`Resolved`).
     pub fn resolve(&self) -> Resolved {
         Resolved::of(self)
     }

@@ -224,7 +224,7 @@ pub struct Lattice<const D: usize> {
 impl<const D: usize> Lattice<D> {
     /// The lattice of `n` sites for grains of radius up to `r_max` in `region`. Fails if
     /// its spacing is smaller than a diameter.
-    pub fn new(
+    pub(crate) fn new(
         bx: &SimulationBox<D>,
         region: &Region<D>,
         n: usize,
@@ -292,7 +292,7 @@ impl<const D: usize> Lattice<D> {
     }
 
     /// Site `j` (`0 ..`), row by row with axis 0 fastest.
-    pub fn site(&self, j: usize) -> Vector<D> {
+    pub(crate) fn site(&self, j: usize) -> Vector<D> {
         let mut x = Vector::zero();
         let mut rest = j;
         for k in 0..D {

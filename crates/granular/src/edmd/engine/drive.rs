@@ -12,8 +12,8 @@ use crate::vector::Vector;
 
 impl<const D: usize> Edmd<D> {
     /// Attaches a steady-state driving from now on (replacing any earlier one), with kick
-    /// streams under `seed` and `dt_kick` = [`KICK_FRACTION`] (white noise) or
-    /// [`RESCALE_FRACTION`] (rescale) of the Enskog mean free time at the state's
+    /// streams under `seed` and `dt_kick` = `KICK_FRACTION` (white noise) or
+    /// `RESCALE_FRACTION` (rescale) of the Enskog mean free time at the state's
     /// temperature ([`Edmd::gas_theory`]). Requires a gas without gravity.
     pub fn set_driving(&mut self, driving: Option<Driving>, seed: u64) {
         let fraction = match driving {

@@ -43,7 +43,7 @@ impl<const D: usize> Edmd<D> {
     }
 
     /// The fourth cumulant `a2` of the peculiar velocities, of all grains and per species
-    /// ([`crate::moments::a2_by_species`]).
+    /// (`crate::moments::a2_by_species`).
     pub fn a2_by_species(&self) -> (f64, Vec<f64>) {
         let species = self.species_names.len().max(1);
         crate::moments::a2_by_species::<D>(self.len(), species, |i| {

@@ -2,11 +2,11 @@
 //! of point particles of mass `m`, number density `rho` and isotropic velocity distribution
 //! `f(u)` (`docs/intruder.md`, "Disk and sphere intruders", equations G-31 to G-45).
 //!
-//! * [`bath`]: the isotropic baths (Gaussian, power law G-43, tabulated speeds G-44);
-//! * [`engine`]: the Gillespie engine [`Ball`] (`Ball<2>` a disk, `Ball<3>` a sphere);
+//! * `bath`: the isotropic baths (Gaussian, power law G-43, tabulated speeds G-44);
+//! * `engine`: the Gillespie engine [`Ball`] (`Ball<2>` a disk, `Ball<3>` a sphere);
 //! * [`figures`]: the data of the two figures of `granular reproduce` for disks and spheres;
-//! * [`twin`]: its DSMC twin [`BallDsmcTwin`] (section 4 of the paper in `d` dimensions);
-//! * [`stats`]: the time-grid observables both share.
+//! * `twin`: its DSMC twin [`BallDsmcTwin`] (section 4 of the paper in `d` dimensions);
+//! * `stats`: the time-grid observables both share.
 //!
 //! A collision with a bath particle of velocity `u` at the impact normal `n` (outward)
 //! changes the intruder velocity by G-37,

@@ -168,7 +168,7 @@ pub struct Tabulated {
 
 impl Tabulated {
     /// Builds the table; errors if the points are unsorted, negative, too few, of zero
-    /// integral, or beyond [`MAX_TABLE_MAGNITUDE`] in magnitude.
+    /// integral, or beyond `MAX_TABLE_MAGNITUDE` in magnitude.
     pub fn new(points: &[(f64, f64)]) -> Result<Self, BathError> {
         if points.len() < 2 {
             return Err(BathError::Invalid("need at least two points".into()));

@@ -226,7 +226,7 @@ pub fn run_sweep(
     Ok(merge(dir, false)?.rows)
 }
 
-/// Runs the members of `shard` (see [`Shard::owns`]) into `dir` within the pre-flight
+/// Runs the members of `shard` (see `Shard::owns`) into `dir` within the pre-flight
 /// cost limits; the table is left to [`merge`]. [`run_shard_with`] with
 /// `SweepOptions { threads, shard, insist: false }`.
 pub fn run_shard(
@@ -245,7 +245,7 @@ pub fn run_shard(
     run_shard_with(dir, scenario_text, overrides, &options, on_member)
 }
 
-/// Runs the members of `options.shard` (see [`Shard::owns`]) into `dir` on
+/// Runs the members of `options.shard` (see `Shard::owns`) into `dir` on
 /// `options.threads` worker threads, above the cost limits when `options.insist`; the
 /// table is left to [`merge`] (which reads the members whatever their cost).
 pub fn run_shard_with(

@@ -6,7 +6,7 @@ use std::path::Path;
 
 use crate::intruder::{BathError, Tabulated};
 
-/// Reads the two-column text/CSV file at `path` (see [`parse`]); a path that is not a
+/// Reads the two-column text/CSV file at `path` (see `parse`); a path that is not a
 /// regular file, or one too large for a table, is refused before it is read
 /// ([`crate::scenario::read_text_file`]).
 pub fn read(path: &Path) -> Result<Vec<(f64, f64)>, BathError> {
