@@ -245,7 +245,7 @@ pub fn build(scenario: &Scenario) -> Result<AnyEngine, BuildError> {
 /// available memory) and resolves the scenario at the temperature of its drawn initial
 /// state (`Resolved::at_temperature`); the engine takes its derived values (the DSMC
 /// cell size, the driving's reference temperature) from it.
-pub fn build_resolved(scenario: &Scenario) -> Result<(AnyEngine, Resolved), BuildError> {
+pub(crate) fn build_resolved(scenario: &Scenario) -> Result<(AnyEngine, Resolved), BuildError> {
     build_on(scenario, None, Some(MemoryBudget::this_node(1)))
 }
 
@@ -358,7 +358,7 @@ impl MemoryBudget {
 /// slabs (`None`: no check, as `--insist`). Other engines are refused on several ranks.
 /// Returns the engine and the scenario resolved at the temperature of the drawn initial
 /// state.
-pub fn build_on(
+pub(crate) fn build_on(
     scenario: &Scenario,
     comm: Option<std::sync::Arc<dyn crate::dsmc::Communicator>>,
     memory: Option<MemoryBudget>,
@@ -586,7 +586,7 @@ fn build_edmd<const D: usize>(
 /// each rank only its own grains, the same bits for any number of ranks and threads.
 /// Unlike the event-driven engine's random *sequential* placement, random placement here
 /// draws every grain independently (DSMC grains may overlap).
-pub fn dsmc_setup<const D: usize>(
+pub(crate) fn dsmc_setup<const D: usize>(
     scenario: &Scenario,
 ) -> Result<(SimulationBox<D>, crate::dsmc::GrainSetup<D>), BuildError> {
     use crate::dsmc::{GrainSetup, InitialVelocity, SpeciesSetup};
