@@ -261,7 +261,7 @@ pub struct MemoryBudget {
 }
 
 impl MemoryBudget {
-    /// This node's available memory ([`crate::scenario::available_memory`]) shared by
+    /// This node's available memory (`crate::scenario::available_memory`) shared by
     /// `ranks_on_node` ranks.
     pub fn this_node(ranks_on_node: usize) -> MemoryBudget {
         MemoryBudget {

@@ -43,7 +43,8 @@
 //! command line's `mpi` feature: this crate needs no MPI.
 
 mod balance;
-pub use balance::{Balance, BalanceMode, IMBALANCE, TIME_SHARE_CAP, balanced_cuts, time_cuts};
+pub use balance::{Balance, BalanceMode, TIME_SHARE_CAP};
+pub(crate) use balance::{IMBALANCE, balanced_cuts, time_cuts};
 
 use super::sums::SUM_CHUNK;
 use rayon::prelude::*;
@@ -117,7 +118,7 @@ struct Held {
 /// [`Communicator`] calls; the time is the wall time spent inside them, so it includes
 /// waiting for the slowest rank (load imbalance shows up as communication).
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct Traffic {
+pub(crate) struct Traffic {
     /// Bytes sent to other ranks by migrations (8 per word).
     pub migration_bytes_sent: u64,
     /// Bytes received from other ranks by migrations.

@@ -71,7 +71,7 @@ const SPIN: u64 = 2;
 
 /// How the grains of one species are placed.
 #[derive(Clone, Debug)]
-pub enum Placement<const D: usize> {
+pub(crate) enum Placement<const D: usize> {
     /// Uniformly at random in the region (centres a radius away from walls).
     Random(Region<D>),
     /// On the sites of a lattice filling the region, in order.
@@ -82,7 +82,7 @@ pub enum Placement<const D: usize> {
 
 /// How the grains of one species start moving.
 #[derive(Clone, Debug)]
-pub enum InitialVelocity<const D: usize> {
+pub(crate) enum InitialVelocity<const D: usize> {
     /// At rest.
     Zero,
     /// This speed in a uniformly random direction.
@@ -98,7 +98,7 @@ pub enum InitialVelocity<const D: usize> {
 
 /// How the rough grains of one species start spinning.
 #[derive(Clone, Debug, Default, PartialEq)]
-pub enum InitialSpin {
+pub(crate) enum InitialSpin {
     /// Not spinning.
     #[default]
     Zero,
@@ -111,7 +111,7 @@ pub enum InitialSpin {
 
 /// One species of a DSMC set-up: its name, its grains and how they start.
 #[derive(Clone, Debug)]
-pub struct SpeciesSetup<const D: usize> {
+pub(crate) struct SpeciesSetup<const D: usize> {
     /// The species' name (snapshots, histograms).
     pub name: String,
     /// Grains of the species.
@@ -127,7 +127,7 @@ pub struct SpeciesSetup<const D: usize> {
 /// The initial state of a DSMC run: species of equal grains (one radius, one mass), in
 /// id order.
 #[derive(Clone, Debug)]
-pub struct GrainSetup<const D: usize> {
+pub(crate) struct GrainSetup<const D: usize> {
     /// The species, in id order.
     pub species: Vec<SpeciesSetup<D>>,
     /// Grain radius (every species).
@@ -312,7 +312,7 @@ pub(crate) type Created<const D: usize> = (Vec<Vector<D>>, Vec<Vector<D>>, Vec<f
 type OwnGrains<const D: usize> = (Vec<Vector<D>>, Vec<Vector<D>>, Vec<u32>, Vec<f64>);
 
 /// The most loaded rank of a set-up, as the memory check sees it before any rank
-/// allocates its own grains ([`OwnGrainsCheck`]).
+/// allocates its own grains (`OwnGrainsCheck`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct RankLoad {
     /// Grains of the most loaded rank (every grain on one rank).

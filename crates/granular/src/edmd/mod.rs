@@ -3,7 +3,7 @@
 //!
 //! * `engine`: the event loop ([`Edmd`]);
 //! * [`init`]: compression to dense states (placements and velocities are shared by all
-//!   engines: [`crate::setup`]).
+//!   engines: `crate::setup`).
 //!
 //! The internals are private to the crate: `prediction` (collision and crossing times,
 //! HD-1, HD-2, HD-7 to HD-10), `queue` (the event priority queue: a tournament tree or a

@@ -15,8 +15,7 @@ pub mod sweep;
 
 pub(crate) use crate::build::build_on;
 /// The intruder engines behind one type (moved to [`crate::build::intruder`]).
-pub use crate::build::intruder;
-pub use crate::build::{AnyEngine, BuildError, MemoryBudget, build, initial_particles};
+pub use crate::build::{AnyEngine, BuildError, MemoryBudget, build, initial_particles, intruder};
 pub use crate::output::npz::write_snapshot;
 pub use dir::{DirectoryState, RunDir, RunFile, Table, read_snapshot};
 pub use outputs::Output;
@@ -218,7 +217,7 @@ impl Run {
     }
 
     /// [`Run::create`], split over the ranks of `comm` when it is given (collective):
-    /// every rank creates only its own grains ([`build_on`]); `dir` is this rank's
+    /// every rank creates only its own grains (`build_on`); `dir` is this rank's
     /// directory, `shared` the run directory every rank sees (rank 0's `dir`), where each
     /// rank writes its checkpoint parts and its blocks of the snapshots. With `memory`, a
     /// DSMC run whose most loaded rank would not fit in its share of the node is refused

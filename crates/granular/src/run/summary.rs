@@ -209,7 +209,7 @@ pub struct ScaledSpeedSummary {
 }
 
 /// The mean of one observable over the run after the equilibration time, with its
-/// standard error by blocking ([`crate::averaging`], `docs/output.md`).
+/// standard error by blocking (`crate::averaging`, `docs/output.md`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct AverageValue {
     /// Mean of the samples (one per output time after the equilibration time).

@@ -30,26 +30,31 @@ mod validate;
 
 use crate::dsmc::config::DsmcConfig;
 pub use de::seed::HELP as SEED_HELP;
-pub(crate) use driving::{DrivingKind, DrivingSpec};
-pub use file::{MAX_FILE_BYTES, file_overrides, read_text_file};
-pub(crate) use grain_tables::{
-    BoundarySpec, BoxSpec, CollisionSpec, InitialSpec, Placement, SpeciesSpec, VelocitySpec,
+pub use driving::{DrivingKind, DrivingSpec};
+pub use file::{file_overrides, read_text_file};
+pub use grain_tables::{
+    BoundarySpec, BoxSpec, CollisionSpec, InitialSpec, Placement, RegionSpec, SpeciesSpec,
+    VelocitySpec,
 };
 pub use grain_vectors::{GrainVectors, VectorSource};
-pub use input::{ARRAY_KEYS, ScenarioInput, array_key};
-pub use intruder::{BathTable, DsmcTwinTable, IntruderSpec, NeedleTable, OneDTable, bath_file};
+pub use input::{ScenarioInput, array_key};
+pub use intruder::{
+    BallMethodKey, BallTable, BathTable, DsmcTwinTable, IntruderSpec, NeedleTable, OneDTable,
+    bath_file,
+};
 pub use output::{OutputSpacing, OutputSpec};
 pub(crate) use overrides::apply_override;
-pub use preflight::{
-    Cost, EDMD_EVENTS_PER_COLLISION, FALLBACK_MEMORY, MAX_BYTES, MAX_COLLISIONS, MAX_OUTPUTS,
-    NOMINAL_COLLISIONS_PER_SECOND, WARN_OUTPUTS, available_memory,
+pub(crate) use preflight::available_memory;
+pub use preflight::{Cost, MAX_OUTPUTS};
+pub use resolve::{
+    Cooling, DrivingResolved, DsmcResolved, Grains, Resolved, RoughResolved, SpeciesResolved,
 };
-pub(crate) use resolve::{DsmcResolved, Resolved};
-pub(crate) use rough::AngularVelocitySpec;
-pub(crate) use schedule::{ScheduledChange, changed};
+pub use rough::AngularVelocitySpec;
+pub use schedule::ScheduledChange;
+pub(crate) use schedule::changed;
 pub use spans::locate;
 pub(crate) use sweep::sweep_member;
-pub use sweep::{MAX_SWEEP_POINTS, sweep_observables};
+pub use sweep::sweep_observables;
 #[cfg(test)]
 pub(crate) use validate::MAGNITUDE;
 

@@ -213,7 +213,7 @@ pub fn random_placement<const D: usize>(
 /// spacing is the largest that holds `n` sites. Site `j` is computed on its own
 /// ([`Lattice::site`]), so a rank of a decomposed DSMC run places only its own grains.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Lattice<const D: usize> {
+pub(crate) struct Lattice<const D: usize> {
     counts: [usize; D],
     offsets: [f64; D],
     steps: [f64; D],

@@ -23,8 +23,8 @@ pub(crate) mod twin;
 
 use serde::{Deserialize, Serialize};
 
-pub use bath::IsotropicBathConfig;
-pub(crate) use bath::{IsotropicBath, IsotropicDistribution};
+pub(crate) use bath::IsotropicDistribution;
+pub use bath::{GaussianBath, IsotropicBath, IsotropicBathConfig, PowerLawBath, SpeedTable};
 pub use engine::Ball;
 pub use stats::BallSummary;
 pub use twin::{BallDsmcTwin, BallDsmcTwinConfig};
