@@ -41,6 +41,11 @@ impl<const D: usize> EnginePart<D> {
         self.grains.len()
     }
 
+    /// Whether the part holds no particle.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
     /// Whether the part is consistent (offsets rising from 0 to its length, arrays of one
     /// length): a part that reads but fails this was not written by this engine.
     fn consistent(&self, lattice: &Lattice<D>) -> bool {

@@ -92,7 +92,7 @@ impl GrainVectors {
     }
 
     /// Whether there are none (and no file to read them from).
-    pub(crate) fn is_empty(&self) -> bool {
+    pub fn is_empty(&self) -> bool {
         self.loaded && self.values.is_empty()
     }
 
