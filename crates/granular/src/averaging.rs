@@ -1,7 +1,7 @@
 //! Means and standard errors of correlated time series in constant memory: the blocking
 //! method of H. Flyvbjerg and H. G. Petersen, J. Chem. Phys. 91, 461 (1989), run online.
 //!
-//! Level `k` of a [`Blocking`] accumulator holds the running mean and variance of the
+//! Level `k` of a `Blocking` accumulator holds the running mean and variance of the
 //! means of consecutive blocks of `2^k` samples, and the one half-finished block that
 //! waits for its partner; a sample enters level 0 and, paired with the one waiting there,
 //! goes on to level 1 as the mean of the pair, and so on. Memory is `O(log N)` and the
@@ -12,7 +12,7 @@
 //! stays on a plateau (Flyvbjerg-Petersen). The block length is chosen from the data by
 //! the criterion of M. Lee, G. Drummond and R. Needs (Phys. Rev. B 83, 245114 (2011),
 //! section III; the rule of the `pyblock` package): the smallest `B = 2^k` with
-//! `B³ > 2 N (σ_k / σ_0)⁴`, among the levels with at least [`MIN_BLOCKS`] blocks. No error
+//! `B³ > 2 N (σ_k / σ_0)⁴`, among the levels with at least `MIN_BLOCKS` blocks. No error
 //! is given when no level qualifies, or when a longer block length gives an error larger
 //! than the chosen one by more than three of its own uncertainties
 //! `σ_k' / sqrt(2 (n_k' - 1))` (no plateau: a drift, such as a cooling gas's temperature,
@@ -23,7 +23,7 @@ use serde::{Deserialize, Serialize};
 
 /// Fewest blocks at the chosen level (the error of the error is then at most
 /// `1 / sqrt(2 × 7) ≈ 27 %`).
-pub const MIN_BLOCKS: u64 = 8;
+pub(crate) const MIN_BLOCKS: u64 = 8;
 
 /// One level of the blocking transformation: blocks of `2^k` samples.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -36,13 +36,13 @@ struct Level {
 
 /// The blocking accumulator of one observable (see the module documentation).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct Blocking {
+pub(crate) struct Blocking {
     levels: Vec<Level>,
 }
 
 /// Mean and standard error of a series, with the block length the error comes from.
 #[derive(Clone, Debug, PartialEq)]
-pub struct BlockingEstimate {
+pub(crate) struct BlockingEstimate {
     /// Samples.
     pub samples: u64,
     /// Mean of all samples.
@@ -62,12 +62,12 @@ pub struct BlockingEstimate {
 
 impl Blocking {
     /// An empty accumulator.
-    pub fn new() -> Blocking {
+    pub(crate) fn new() -> Blocking {
         Blocking::default()
     }
 
     /// Adds one sample (non-finite samples are the caller's to leave out).
-    pub fn push(&mut self, x: f64) {
+    pub(crate) fn push(&mut self, x: f64) {
         let mut value = x;
         let mut k = 0;
         loop {
@@ -90,17 +90,17 @@ impl Blocking {
     }
 
     /// Samples pushed.
-    pub fn samples(&self) -> u64 {
+    pub(crate) fn samples(&self) -> u64 {
         self.levels.first().map_or(0, |l| l.stats.count)
     }
 
     /// Mean of all samples (NaN when empty).
-    pub fn mean(&self) -> f64 {
+    pub(crate) fn mean(&self) -> f64 {
         self.levels.first().map_or(f64::NAN, |l| l.stats.mean())
     }
 
     /// `(block length, blocks, standard error)` of every level with at least two blocks.
-    pub fn levels(&self) -> Vec<(u64, u64, f64)> {
+    pub(crate) fn levels(&self) -> Vec<(u64, u64, f64)> {
         self.levels
             .iter()
             .enumerate()
@@ -110,7 +110,7 @@ impl Blocking {
     }
 
     /// Mean and standard error, the block length chosen as the module documentation says.
-    pub fn estimate(&self) -> BlockingEstimate {
+    pub(crate) fn estimate(&self) -> BlockingEstimate {
         let samples = self.samples();
         let mut out = BlockingEstimate {
             samples,

@@ -10,7 +10,7 @@
 
 pub mod rough;
 
-pub use rough::{Body, Spin, Tangential};
+pub(crate) use rough::{Body, Spin, Tangential};
 
 use crate::vector::Vector;
 use serde::{Deserialize, Serialize};
@@ -108,7 +108,7 @@ impl CollisionLaw {
     /// The tangential law of a grain-grain collision at restitution `beta` (the constant
     /// β of RS-1, or Walton's rule RS-7 with sticking value `beta`).
     #[inline(always)]
-    pub fn tangential(&self, beta: f64) -> Tangential {
+    pub(crate) fn tangential(&self, beta: f64) -> Tangential {
         match self.friction {
             None => Tangential::Constant(beta),
             Some(friction) => Tangential::Coulomb {
@@ -126,7 +126,7 @@ impl CollisionLaw {
     /// E 58, 2247 (1998)). A collision so made elastic that would otherwise have lost
     /// energy adds one to `tc_elastic`.
     #[inline(always)]
-    pub fn rough_pair_now(
+    pub(crate) fn rough_pair_now(
         &self,
         now: f64,
         last: &[f64],
@@ -155,7 +155,7 @@ impl CollisionLaw {
 
     /// Whether the TC model is on (`contact_duration > 0`): the engines then keep every
     /// grain's last collision time.
-    pub fn has_tc(&self) -> bool {
+    pub(crate) fn has_tc(&self) -> bool {
         self.contact_duration > 0.0
     }
 
@@ -163,7 +163,7 @@ impl CollisionLaw {
     /// happened at `last` (TC model: elastic within `t_c` of a previous collision).
     /// Times in time units; `last` empty when the engine keeps no collision times.
     #[inline(always)]
-    pub fn effective(&self, coefficient: f64, now: f64, last: &[f64]) -> f64 {
+    pub(crate) fn effective(&self, coefficient: f64, now: f64, last: &[f64]) -> f64 {
         if self.contact_duration > 0.0 && last.iter().any(|&t| now - t < self.contact_duration) {
             1.0
         } else {
@@ -176,7 +176,7 @@ impl CollisionLaw {
     /// restitution ξ of HD-11, or 1 within `t_c` of a previous collision. A collision made
     /// elastic that would otherwise have lost energy (`ξ < 1`) adds one to `tc_elastic`.
     #[inline(always)]
-    pub fn pair_restitution(&self, now: f64, last: &[f64], tc_elastic: &mut u64) -> f64 {
+    pub(crate) fn pair_restitution(&self, now: f64, last: &[f64], tc_elastic: &mut u64) -> f64 {
         let xi = self.effective(self.restitution, now, last);
         if xi == 1.0 && self.restitution != 1.0 {
             *tc_elastic += 1;
@@ -191,7 +191,7 @@ impl CollisionLaw {
     /// whatever the TC model says), and only collisions made elastic that would otherwise
     /// have lost normal energy add one to `tc_elastic`.
     #[inline(always)]
-    pub fn wall_restitution_now(
+    pub(crate) fn wall_restitution_now(
         &self,
         now: f64,
         last: &[f64],
@@ -239,7 +239,7 @@ impl WallRestitution {
     /// wall with `α_w` the normal factor and `β_w = -e_t` (the tangential factor
     /// multiplies the velocity of the contact point). Returns the energy dissipated.
     #[inline]
-    pub fn apply_rough<const D: usize>(
+    pub(crate) fn apply_rough<const D: usize>(
         &self,
         axis: usize,
         upper: bool,
@@ -267,7 +267,7 @@ impl WallRestitution {
 /// `m_j / (m_i + m_j)` of the change along the normal, its partner the rest with the
 /// opposite sign, so that momentum is conserved.
 #[inline(always)]
-pub fn normal_velocity_change(xi: f64, normal_velocity: f64) -> f64 {
+pub(crate) fn normal_velocity_change(xi: f64, normal_velocity: f64) -> f64 {
     -(1.0 + xi) * normal_velocity
 }
 

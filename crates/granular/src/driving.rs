@@ -29,7 +29,7 @@ use serde::{Deserialize, Serialize};
 
 /// Path prefix of the kick streams under the engine's seed (the DSMC collision streams are
 /// `[DYNAMICS, step, cell]`, prefix 1).
-pub const KICKS: u64 = 3;
+pub(crate) const KICKS: u64 = 3;
 
 /// Which steady state is maintained, and its parameter.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -65,7 +65,7 @@ pub struct DrivingState {
 
 impl DrivingState {
     /// A driving attached to a gas of kinetic energy `kinetic_energy`.
-    pub fn new(driving: Driving, kinetic_energy: f64) -> DrivingState {
+    pub(crate) fn new(driving: Driving, kinetic_energy: f64) -> DrivingState {
         DrivingState {
             driving,
             applications: 0,
@@ -120,7 +120,7 @@ impl Kicks {
 
 /// The factor `lambda = sqrt(T* / T)` that brings the temperature `T` to `T*` (1 for a
 /// gas at rest, which cannot be rescaled).
-pub fn rescale_factor(target: f64, temperature: f64) -> f64 {
+pub(crate) fn rescale_factor(target: f64, temperature: f64) -> f64 {
     if temperature > 0.0 && temperature.is_finite() {
         (target / temperature).sqrt()
     } else {
@@ -170,7 +170,7 @@ impl GasTheory {
 
     /// The Enskog-Boltzmann collision frequency `omega(T)` of one grain of this gas (KT-5,
     /// [`haff::collision_frequency`]), per unit time.
-    pub fn collision_frequency(&self, temperature: f64) -> f64 {
+    pub(crate) fn collision_frequency(&self, temperature: f64) -> f64 {
         haff::collision_frequency(
             self.dimension,
             self.number_density,

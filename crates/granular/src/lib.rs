@@ -57,11 +57,11 @@
 //! unit), masses in units of the scenario's mass unit, Boltzmann's constant `k_B = 1`, so
 //! a temperature is an energy, `T = m <|v|^2> / D` in `D` dimensions.
 
-pub mod averaging;
+pub(crate) mod averaging;
 #[doc(hidden)]
 pub mod bench;
 pub mod boundary;
-pub mod build;
+pub(crate) mod build;
 pub mod collision_law;
 pub mod driving;
 pub mod dsmc;
@@ -71,18 +71,18 @@ pub mod grain_state;
 mod host;
 pub(crate) mod in_flight;
 pub mod intruder;
-pub mod moments;
+pub(crate) mod moments;
 pub(crate) mod neighbours;
 pub mod observables;
 mod observation;
 pub mod output;
-pub mod particles;
+pub(crate) mod particles;
 pub(crate) mod prefetch;
 pub mod quadrature;
 pub mod random;
 pub mod run;
 pub mod scenario;
-pub mod setup;
+pub(crate) mod setup;
 pub mod simulation;
 pub mod stats;
 pub(crate) mod structure;

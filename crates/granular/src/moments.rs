@@ -12,7 +12,7 @@ use crate::vector::Vector;
 /// species at one temperature). `grain(i)` gives the species, mass and velocity of grain
 /// `i < n`; it is called twice per grain. NaN for a species without grains or with all
 /// grains at rest.
-pub fn a2_by_species<const D: usize>(
+pub(crate) fn a2_by_species<const D: usize>(
     n: usize,
     species: usize,
     grain: impl Fn(usize) -> (usize, f64, Vector<D>),

@@ -62,7 +62,7 @@ fn half_space_indices<const D: usize>(m: i64) -> Vec<[i64; D]> {
 /// particles are added in order. Cost `O(N (2 max_index + 1)^D / 2)` products, done as a
 /// blocked outer product (see `chunk_sums`): the same numbers as the plain loop over
 /// particles and wave vectors, several times faster.
-pub fn structure_factor<const D: usize>(
+pub(crate) fn structure_factor<const D: usize>(
     pos: &[Vector<D>],
     lengths: &[f64],
     max_index: usize,
@@ -281,7 +281,7 @@ fn chunk_sums<const D: usize>(
 }
 
 /// Number density on a grid of `dims` bins covering the box (axis 0 fastest).
-pub fn density_map<const D: usize>(
+pub(crate) fn density_map<const D: usize>(
     pos: &[Vector<D>],
     lengths: &[f64],
     dims: [usize; D],
@@ -333,7 +333,7 @@ pub(crate) fn vectors<const D: usize>(flat: &[f64]) -> Vec<Vector<D>> {
         .collect()
 }
 
-/// [`structure_factor`] of a snapshot's positions in a box of edges `lengths` (2D or 3D;
+/// `structure_factor` of a snapshot's positions in a box of edges `lengths` (2D or 3D;
 /// `None` for other dimensions or when `lengths` does not have `dimension` entries).
 pub fn structure_factor_of(
     snapshot: &Snapshot,
@@ -358,7 +358,7 @@ pub fn structure_factor_of(
     }
 }
 
-/// [`density_map`] of a snapshot's positions; `dims` has one entry per axis (2D or 3D).
+/// `density_map` of a snapshot's positions; `dims` has one entry per axis (2D or 3D).
 pub fn density_map_of(snapshot: &Snapshot, lengths: &[f64], dims: &[usize]) -> Option<DensityMap> {
     if lengths.len() != snapshot.dimension || dims.len() != snapshot.dimension {
         return None;

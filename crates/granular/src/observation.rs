@@ -19,7 +19,7 @@ pub struct SpeciesObservation {
     /// Granular temperature `T_s = Σ m v² / (D N_s)` (`k_B = 1`), energy units.
     pub temperature: f64,
     /// Fourth cumulant `a2` of the species' peculiar velocities (event-driven engine;
-    /// [`crate::moments::a2_by_species`]).
+    /// `crate::moments::a2_by_species`).
     #[serde(default)]
     pub a2: Option<f64>,
 }
@@ -88,7 +88,7 @@ pub struct Observation {
     /// Total area (2D: length) of the walls, zero in a periodic box.
     pub wall_area: f64,
     /// Fourth cumulant `a2 = D/(D+2) <c⁴>/<c²>² - 1` of the peculiar velocities (DSMC-4;
-    /// the event-driven engine: [`crate::moments::a2_by_species`]).
+    /// the event-driven engine: `crate::moments::a2_by_species`).
     pub a2: Option<f64>,
     /// DSMC counters.
     pub dsmc: Option<DsmcCounters>,

@@ -1,7 +1,7 @@
 //! Numerical quadrature shared by the engines and their tests.
 
 /// Nodes and weights of the 8-point Gauss-Legendre rule on `[-1, 1]`.
-pub const GAUSS_LEGENDRE_8: [(f64, f64); 8] = [
+pub(crate) const GAUSS_LEGENDRE_8: [(f64, f64); 8] = [
     (-0.960_289_856_497_536_3, 0.101_228_536_290_376_26),
     (-0.796_666_477_413_626_7, 0.222_381_034_453_374_47),
     (-0.525_532_409_916_329, 0.313_706_645_877_887_3),

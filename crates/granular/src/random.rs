@@ -8,15 +8,16 @@
 //! bijection of a 64-bit state), and a stream depends only on `(seed, path)`, never on
 //! the number of threads or the order in which work is scheduled.
 
-pub use rand::{RngExt, SeedableRng};
-pub use rand_xoshiro::Xoshiro256PlusPlus;
+pub use rand::RngExt;
+pub(crate) use rand::SeedableRng;
+pub(crate) use rand_xoshiro::Xoshiro256PlusPlus;
 
 /// The generator used everywhere in granular.
-pub type Stream = Xoshiro256PlusPlus;
+pub(crate) type Stream = Xoshiro256PlusPlus;
 
 /// One step of SplitMix64 (Steele, Lea and Flood 2014): a bijective 64-bit mixer.
 #[inline]
-pub fn splitmix64(mut z: u64) -> u64 {
+pub(crate) fn splitmix64(mut z: u64) -> u64 {
     z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
     z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
@@ -33,7 +34,7 @@ pub fn derive_key(seed: u64, path: &[u64]) -> u64 {
 /// loop over many streams that share a prefix (the cells of one DSMC step) hash the
 /// prefix once.
 #[inline]
-pub fn extend_key(h: u64, p: u64) -> u64 {
+pub(crate) fn extend_key(h: u64, p: u64) -> u64 {
     splitmix64(h ^ splitmix64(p.wrapping_add(0x632B_E59B_D9B4_E019)))
 }
 
@@ -50,7 +51,7 @@ pub fn stream(seed: u64, path: &[u64]) -> Stream {
 /// `k = 0 .. 3`, little-endian), then `from_seed`. The same generator bit for bit (unit
 /// test), in about a third of the instructions: for loops that seed a stream per cell.
 #[inline]
-pub fn stream_from_key(key: u64) -> Stream {
+pub(crate) fn stream_from_key(key: u64) -> Stream {
     const PHI: u64 = 0x9E37_79B9_7F4A_7C15;
     let mut seed = [0u8; 32];
     for (k, w) in (0u64..).zip(seed.chunks_exact_mut(8)) {
@@ -66,7 +67,8 @@ pub fn stream_from_key(key: u64) -> Stream {
 /// in registers (unit test against `random_range`). Ranges beyond `u32::MAX` go through
 /// `random_range` itself.
 #[inline(always)]
-pub fn uniform_index(rng: &mut Stream, n: usize) -> usize {
+#[cfg(test)]
+pub(crate) fn uniform_index(rng: &mut Stream, n: usize) -> usize {
     use rand::Rng;
     if n > u32::MAX as usize || n == 0 {
         return rng.random_range(0..n);
@@ -82,16 +84,16 @@ pub fn uniform_index(rng: &mut Stream, n: usize) -> usize {
 }
 
 /// Path prefix for the initial-state construction.
-pub const INITIAL_STATE: u64 = 0;
+pub(crate) const INITIAL_STATE: u64 = 0;
 /// Path prefix for the dynamics of an engine.
-pub const DYNAMICS: u64 = 1;
+pub(crate) const DYNAMICS: u64 = 1;
 /// Path prefix for ensemble members and sweep points.
-pub const MEMBER: u64 = 2;
+pub(crate) const MEMBER: u64 = 2;
 /// Path prefix of an engine's dynamics after its grains were set from outside at time
 /// `t` (`Simulation::set_state`): the streams restart under
 /// `derive_key(seed, [RESTART, t.to_bits()])`, so that what follows depends only on the
 /// state set and its time, not on the history before it. (3 is the driving's `KICKS`.)
-pub const RESTART: u64 = 4;
+pub(crate) const RESTART: u64 = 4;
 
 mod ziggurat_tables;
 use rand::Rng;
@@ -104,7 +106,7 @@ const TWO_POW_M53: f64 = 1.0 / 9_007_199_254_740_992.0;
 /// `rng.random::<f64>()` makes it from one `u64`; the 11 low bits are left free for other
 /// uses (they are independent of the deviate).
 #[inline(always)]
-pub fn unit_f64(bits: u64) -> f64 {
+pub(crate) fn unit_f64(bits: u64) -> f64 {
     (bits >> 11) as f64 * TWO_POW_M53
 }
 
@@ -115,7 +117,7 @@ pub fn unit_f64(bits: u64) -> f64 {
 /// line, taking and returning the generator by value, so a loop that owns its generator can
 /// keep the state in registers.
 #[inline(always)]
-pub fn exp1(rng: &mut Stream) -> f64 {
+pub(crate) fn exp1(rng: &mut Stream) -> f64 {
     let bits = rng.next_u64();
     let i = (bits & 0xff) as usize;
     let u = f64::from_bits((bits >> 12) | 0x3FF0_0000_0000_0000) - (1.0 - f64::EPSILON / 2.0);
@@ -151,7 +153,7 @@ fn exp1_slow(mut rng: Stream, mut i: usize, mut x: f64) -> (f64, Stream) {
 
 /// A standard normal deviate: the ziggurat of `rand_distr::StandardNormal`, same tables and
 /// same use of random bits, so exactly the values `rng.sample(StandardNormal)` would return
-/// (checked bit for bit by a unit test); fast path inlined as in [`exp1`].
+/// (checked bit for bit by a unit test); fast path inlined as in `exp1`.
 #[inline(always)]
 pub fn std_normal(rng: &mut Stream) -> f64 {
     let bits = rng.next_u64();
@@ -210,7 +212,7 @@ fn std_normal_slow(mut rng: Stream, mut i: usize, mut u: f64, mut x: f64) -> (f6
 
 /// A uniform deviate in the open interval (0, 1): never 0, so that `-ln(u)` is finite.
 #[inline]
-pub fn open01(rng: &mut Stream) -> f64 {
+pub(crate) fn open01(rng: &mut Stream) -> f64 {
     // 53 random bits, shifted by half an ulp: values are (k + 0.5) / 2^53, k = 0 .. 2^53 - 1.
     let bits = rng.random::<u64>() >> 11;
     (bits as f64 + 0.5) * (1.0 / 9_007_199_254_740_992.0)

@@ -217,7 +217,7 @@ impl Simulation {
     /// the same, bit for bit, as that of any simulation of the same scenario whose state
     /// was set to the same arrays at the same time, for instance one that ran up to `time`
     /// and took a snapshot there: the engines rebuild everything from the arrays and key
-    /// their random streams by `time` (see [`crate::random::RESTART`]).
+    /// their random streams by `time` (see `crate::random::RESTART`).
     pub fn from_state(
         scenario: Scenario,
         time: f64,
@@ -262,7 +262,7 @@ impl Simulation {
     /// lets the engine rebuild what depends on them: the event-driven engine synchronises
     /// every grain to the current time and predicts every event again, DSMC sorts its
     /// cells again, and both key their random streams by the current time
-    /// ([`crate::random::RESTART`]), so that the run goes on exactly as
+    /// (`crate::random::RESTART`), so that the run goes on exactly as
     /// [`Simulation::from_grain_state`] of the same arrays at this time. Checked before
     /// anything changes: the lengths, finite values, centres inside the box (and, for the
     /// event-driven engine, at least a radius from a wall and no two grains overlapping),
@@ -283,7 +283,7 @@ impl Simulation {
     /// `collisions.friction` of rough grains, `collisions.wall_restitution`,
     /// `collisions.wall_tangential_restitution`, `collisions.contact_duration`), the
     /// driving's `driving.strength` or `driving.temperature`, and `gravity` (the keys of
-    /// [`crate::scenario::IN_FLIGHT_KEYS`]). Validated as the same key in a scenario (the scenario
+    /// `scenario::schedule::IN_FLIGHT_KEYS`). Validated as the same key in a scenario (the scenario
     /// with the new value is checked whole); other keys, and every key of the intruder
     /// engines, are refused saying so. The change is kept ([`Simulation::changes`]) for
     /// `log.txt`, `summary.json` and checkpoints, and [`Simulation::resolved`] is resolved

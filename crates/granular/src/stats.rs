@@ -47,7 +47,7 @@ impl RunningStats {
     }
 
     /// The unbiased sample variance (NaN with fewer than two samples).
-    pub fn variance(&self) -> f64 {
+    pub(crate) fn variance(&self) -> f64 {
         if self.count < 2 {
             f64::NAN
         } else {

@@ -5,13 +5,13 @@
 
 use granular::collision_law::{CollisionLaw, WallRestitution};
 use granular::dsmc::{DsmcConfig, DsmcEngine};
+use granular::edmd::ParticleSet;
+use granular::edmd::init::{self as setup, Region};
 use granular::edmd::{Edmd, EdmdOptions};
 use granular::engine::{Engine, EngineError};
-use granular::particles::ParticleSet;
 use granular::random::stream;
 use granular::run::{AnyEngine, build};
 use granular::scenario::Scenario;
-use granular::setup::{self, Region};
 use granular::{AxisKind, SimulationBox, Vector};
 
 /// One grain heading for the corner of a walled unit square: it hits the wall `x = 1`

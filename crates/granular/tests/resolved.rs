@@ -4,11 +4,11 @@
 //! packing fraction of the summary. Compared bit for bit where the engine applies the same
 //! rule to its own state, so that a second copy of a formula cannot drift unnoticed.
 
-use granular::build::AnyEngine;
 use granular::driving::Driving;
 use granular::dsmc::DsmcEngine;
 use granular::dsmc::config::{DsmcConfig, automatic_time_step};
 use granular::prelude::*;
+use granular::run::AnyEngine;
 use granular::theory::kinetic;
 
 fn scenario(engine: &str, extra: &str) -> Scenario {

@@ -30,7 +30,7 @@ pub struct BenchResult {
     /// Collisions suffered per particle per step, `2 C / (N steps)` (about 0.1 by construction).
     pub collisions_per_particle_step: f64,
     /// Bytes the engine holds per grain (its records, the sort's scratch column and
-    /// destinations, the cells' offsets: [`DsmcEngine::held_bytes`] over `N`).
+    /// destinations, the cells' offsets: `DsmcEngine::held_bytes` over `N`).
     #[serde(default)]
     pub bytes_per_grain: f64,
     /// This machine's copy bandwidth measured right after, bytes read plus bytes written

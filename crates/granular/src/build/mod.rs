@@ -243,9 +243,9 @@ pub fn build(scenario: &Scenario) -> Result<AnyEngine, BuildError> {
 
 /// Builds the engine named by the scenario (a DSMC engine checked against this machine's
 /// available memory) and resolves the scenario at the temperature of its drawn initial
-/// state ([`Resolved::at_temperature`]); the engine takes its derived values (the DSMC
+/// state (`Resolved::at_temperature`); the engine takes its derived values (the DSMC
 /// cell size, the driving's reference temperature) from it.
-pub fn build_resolved(scenario: &Scenario) -> Result<(AnyEngine, Resolved), BuildError> {
+pub(crate) fn build_resolved(scenario: &Scenario) -> Result<(AnyEngine, Resolved), BuildError> {
     build_on(scenario, None, Some(MemoryBudget::this_node(1)))
 }
 
@@ -261,7 +261,7 @@ pub struct MemoryBudget {
 }
 
 impl MemoryBudget {
-    /// This node's available memory ([`crate::scenario::available_memory`]) shared by
+    /// This node's available memory (`crate::scenario::available_memory`) shared by
     /// `ranks_on_node` ranks.
     pub fn this_node(ranks_on_node: usize) -> MemoryBudget {
         MemoryBudget {
@@ -276,7 +276,7 @@ impl MemoryBudget {
     }
 
     /// Whether the most loaded rank `load` of a `dimension`-dimensional DSMC run fits
-    /// ([`crate::dsmc::setup::RankLoad::bytes`]); the error names the scenario's key, the
+    /// (`crate::dsmc::setup::RankLoad::bytes`); the error names the scenario's key, the
     /// estimate, what is available, and the number of ranks (at this many per node) that
     /// would fit.
     pub fn check(
@@ -358,7 +358,7 @@ impl MemoryBudget {
 /// slabs (`None`: no check, as `--insist`). Other engines are refused on several ranks.
 /// Returns the engine and the scenario resolved at the temperature of the drawn initial
 /// state.
-pub fn build_on(
+pub(crate) fn build_on(
     scenario: &Scenario,
     comm: Option<std::sync::Arc<dyn crate::dsmc::Communicator>>,
     memory: Option<MemoryBudget>,
@@ -586,7 +586,7 @@ fn build_edmd<const D: usize>(
 /// each rank only its own grains, the same bits for any number of ranks and threads.
 /// Unlike the event-driven engine's random *sequential* placement, random placement here
 /// draws every grain independently (DSMC grains may overlap).
-pub fn dsmc_setup<const D: usize>(
+pub(crate) fn dsmc_setup<const D: usize>(
     scenario: &Scenario,
 ) -> Result<(SimulationBox<D>, crate::dsmc::GrainSetup<D>), BuildError> {
     use crate::dsmc::{GrainSetup, InitialVelocity, SpeciesSetup};

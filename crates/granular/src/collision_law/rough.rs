@@ -18,23 +18,23 @@
 //! Derivation in `docs/rough.md`.
 //!
 //! Disks (2D) spin about the axis normal to their plane: their angular velocity is the
-//! third component of a [`Spin`], the other two stay zero.
+//! third component of a `Spin`, the other two stay zero.
 
 use crate::vector::Vector;
 
 /// Angular velocity of a grain (radians per time unit) as a vector in three dimensions; a
 /// disk spins about the `z` axis, `[0, 0, ω]`.
-pub type Spin = [f64; 3];
+pub(crate) type Spin = [f64; 3];
 
 /// Rotational degrees of freedom `d_r` of a grain in `dimension` dimensions: 1 for a disk
 /// (rotation in its plane), 3 for a sphere; `d_r = D (D - 1) / 2`.
-pub const fn rotational_dof(dimension: usize) -> usize {
+pub(crate) const fn rotational_dof(dimension: usize) -> usize {
     dimension * (dimension - 1) / 2
 }
 
 /// The reduced moment of inertia of a uniform grain: 1/2 for a disk, 2/5 for a sphere
 /// (the default of `species[i].inertia`).
-pub const fn uniform_inertia(dimension: usize) -> f64 {
+pub(crate) const fn uniform_inertia(dimension: usize) -> f64 {
     if dimension == 2 { 0.5 } else { 0.4 }
 }
 
@@ -47,7 +47,7 @@ pub const fn max_inertia(dimension: usize) -> f64 {
 /// The spin of grain `i` from a flat array of `d_r` values per grain (the `z` component
 /// alone for disks).
 #[inline(always)]
-pub fn spin_at<const D: usize>(flat: &[f64], i: usize) -> Spin {
+pub(crate) fn spin_at<const D: usize>(flat: &[f64], i: usize) -> Spin {
     if D == 2 {
         [0.0, 0.0, flat[i]]
     } else {
@@ -57,7 +57,7 @@ pub fn spin_at<const D: usize>(flat: &[f64], i: usize) -> Spin {
 
 /// Stores the spin of grain `i` into a flat array of `d_r` values per grain.
 #[inline(always)]
-pub fn set_spin<const D: usize>(flat: &mut [f64], i: usize, w: &Spin) {
+pub(crate) fn set_spin<const D: usize>(flat: &mut [f64], i: usize, w: &Spin) {
     if D == 2 {
         flat[i] = w[2];
     } else {
@@ -67,13 +67,13 @@ pub fn set_spin<const D: usize>(flat: &mut [f64], i: usize, w: &Spin) {
 
 /// The rotational kinetic energy `I |ω|² / 2 = κ m R² |ω|² / 2` of a grain.
 #[inline(always)]
-pub fn rotational_energy(body: &Body, w: &Spin) -> f64 {
+pub(crate) fn rotational_energy(body: &Body, w: &Spin) -> f64 {
     0.5 * body.moment_of_inertia() * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2])
 }
 
 /// A grain as a collision sees it.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Body {
+pub(crate) struct Body {
     /// Mass `m` (mass units).
     pub mass: f64,
     /// Radius `R` (length units): the lever arm of the contact point.
@@ -86,7 +86,7 @@ pub struct Body {
 impl Body {
     /// The moment of inertia `I = κ m R²` about any axis through the centre.
     #[inline(always)]
-    pub fn moment_of_inertia(&self) -> f64 {
+    pub(crate) fn moment_of_inertia(&self) -> f64 {
         self.inertia * self.mass * self.radius * self.radius
     }
 
@@ -100,7 +100,7 @@ impl Body {
 
 /// The tangential law of a collision.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Tangential {
+pub(crate) enum Tangential {
     /// A constant tangential restitution β in `[-1, 1]` (RS-1).
     Constant(f64),
     /// Walton's rule (RS-7): the grains stick with restitution `sticking` (β₀) when the
@@ -122,7 +122,7 @@ impl Tangential {
     /// tangential impulse `M_t (1 + β) |g_t|` is `μ_f` times the normal one
     /// `μ (1 + α) |g_n|`.
     #[inline(always)]
-    pub fn restitution(
+    pub(crate) fn restitution(
         &self,
         alpha: f64,
         normal_speed: f64,
@@ -147,7 +147,7 @@ impl Tangential {
 /// `ω × n` in `D` dimensions: the velocity of the point at unit lever arm `n` of a grain
 /// spinning at `ω` (for a disk `ω_z (-n_y, n_x)`).
 #[inline(always)]
-pub fn spin_cross<const D: usize>(w: &Spin, n: &Vector<D>) -> Vector<D> {
+pub(crate) fn spin_cross<const D: usize>(w: &Spin, n: &Vector<D>) -> Vector<D> {
     let mut out = Vector::<D>::zero();
     if D == 2 {
         out[0] = -w[2] * n[1];
@@ -162,7 +162,7 @@ pub fn spin_cross<const D: usize>(w: &Spin, n: &Vector<D>) -> Vector<D> {
 
 /// `n × J` as a spin vector (only the `z` component for disks).
 #[inline(always)]
-pub fn torque_axis<const D: usize>(n: &Vector<D>, j: &Vector<D>) -> Spin {
+pub(crate) fn torque_axis<const D: usize>(n: &Vector<D>, j: &Vector<D>) -> Spin {
     if D == 2 {
         [0.0, 0.0, n[0] * j[1] - n[1] * j[0]]
     } else {
@@ -181,7 +181,7 @@ pub fn torque_axis<const D: usize>(n: &Vector<D>, j: &Vector<D>) -> Spin {
 /// caller has checked that the grains approach (`(v_i - v_j)·n > 0`).
 #[inline]
 #[allow(clippy::too_many_arguments)]
-pub fn collide_pair<const D: usize>(
+pub(crate) fn collide_pair<const D: usize>(
     alpha: f64,
     tangential: Tangential,
     n: &Vector<D>,
@@ -224,7 +224,7 @@ pub fn collide_pair<const D: usize>(
 /// restitution `alpha` (`e_w`), tangential law `tangential` (`β_w`). Updates `v` and `w`
 /// in place and returns the energy dissipated.
 #[inline]
-pub fn collide_wall<const D: usize>(
+pub(crate) fn collide_wall<const D: usize>(
     alpha: f64,
     tangential: Tangential,
     n: &Vector<D>,

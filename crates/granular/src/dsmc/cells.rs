@@ -38,14 +38,14 @@ pub struct CellGrid<const D: usize> {
 /// Cells along an axis of length `length` for the requested edge `cell_size`: as many as
 /// fit (at least one; a length within 1e-9 of a multiple of the edge counts as that
 /// multiple), so that the cells' edge `length / n` is at least `cell_size`.
-pub fn cells_along(length: f64, cell_size: f64) -> usize {
+pub(crate) fn cells_along(length: f64, cell_size: f64) -> usize {
     ((length / cell_size) * (1.0 + 1e-9)).floor().max(1.0) as usize
 }
 
 impl<const D: usize> CellGrid<D> {
     /// Cells of requested edge `cell_size`: `n_k = max(1, floor(L_k / cell_size))` (with a
     /// relative tolerance of 1e-9 so that exact multiples are not rounded down).
-    pub fn new(sim_box: &SimulationBox<D>, cell_size: f64) -> Self {
+    pub(crate) fn new(sim_box: &SimulationBox<D>, cell_size: f64) -> Self {
         let mut dims = [1usize; D];
         let mut edges = [0.0; D];
         let mut inv_edges = [0.0; D];
@@ -76,8 +76,8 @@ impl<const D: usize> CellGrid<D> {
 
     /// Linear index of the cell holding `x` (axis 0 fastest); positions on or beyond the
     /// upper face are put in the last cell.
-    #[inline(always)]
-    pub fn index(&self, x: &[f64; D]) -> u32 {
+    #[cfg(test)]
+    pub(crate) fn index(&self, x: &[f64; D]) -> u32 {
         let mut idx = 0usize;
         let mut stride = 1usize;
         for ((&xk, &inv), &n) in x.iter().zip(&self.inv_edges).zip(&self.dims) {

@@ -104,7 +104,7 @@ impl Default for DsmcConfig {
 pub const STEP_FRACTION: f64 = 0.1;
 
 /// The time step of a gas that does not collide (at rest): one time unit, until it moves.
-pub const AT_REST_TIME_STEP: f64 = 1.0;
+pub(crate) const AT_REST_TIME_STEP: f64 = 1.0;
 
 /// The automatic time step, [`STEP_FRACTION`] of the mean free time `1 / omega` at the
 /// collision frequency `omega` (KT-5, 1/time); `None` when `omega` gives no finite step (a
@@ -118,6 +118,6 @@ pub fn automatic_time_step(collision_frequency: f64) -> Option<f64> {
 /// The default cell edge: the smaller of the mean free path `mean_free_path` (KT-6) and
 /// the edge of a cell holding 10 grains on average at number density `number_density`,
 /// `(10 / n)^(1/D)` (length units).
-pub fn default_cell_size(dimension: usize, number_density: f64, mean_free_path: f64) -> f64 {
+pub(crate) fn default_cell_size(dimension: usize, number_density: f64, mean_free_path: f64) -> f64 {
     mean_free_path.min((10.0 / number_density).powf(1.0 / dimension as f64))
 }

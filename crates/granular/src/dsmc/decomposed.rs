@@ -37,12 +37,12 @@ impl<const D: usize> DsmcEngine<D> {
     }
 
     /// Grains this engine holds (its rank's own when decomposed).
-    pub fn local_len(&self) -> usize {
+    pub(crate) fn local_len(&self) -> usize {
         self.grains.len()
     }
 
     /// This rank's share, when the engine is decomposed.
-    pub fn domain(&self) -> Option<&Domain> {
+    pub(crate) fn domain(&self) -> Option<&Domain> {
         self.domain.as_ref()
     }
 
@@ -123,7 +123,7 @@ impl<const D: usize> DsmcEngine<D> {
 
     /// How the slab cuts follow the grains (see [`super::domain::Balance`]); nothing
     /// when the engine is not decomposed.
-    pub fn set_balance(&mut self, balance: super::domain::Balance) {
+    pub(crate) fn set_balance(&mut self, balance: super::domain::Balance) {
         if let Some(d) = self.domain.as_mut() {
             d.balance = balance;
         }

@@ -43,7 +43,8 @@
 //! command line's `mpi` feature: this crate needs no MPI.
 
 mod balance;
-pub use balance::{Balance, BalanceMode, IMBALANCE, TIME_SHARE_CAP, balanced_cuts, time_cuts};
+pub use balance::{Balance, BalanceMode, TIME_SHARE_CAP};
+pub(crate) use balance::{IMBALANCE, balanced_cuts, time_cuts};
 
 use super::sums::SUM_CHUNK;
 use rayon::prelude::*;
@@ -117,7 +118,7 @@ struct Held {
 /// [`Communicator`] calls; the time is the wall time spent inside them, so it includes
 /// waiting for the slowest rank (load imbalance shows up as communication).
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct Traffic {
+pub(crate) struct Traffic {
     /// Bytes sent to other ranks by migrations (8 per word).
     pub migration_bytes_sent: u64,
     /// Bytes received from other ranks by migrations.
@@ -144,7 +145,7 @@ pub struct Traffic {
 
 impl Traffic {
     /// The counters accumulated since `earlier` (`self - earlier`, field by field).
-    pub fn since(&self, earlier: &Traffic) -> Traffic {
+    pub(crate) fn since(&self, earlier: &Traffic) -> Traffic {
         Traffic {
             migration_bytes_sent: self.migration_bytes_sent - earlier.migration_bytes_sent,
             migration_bytes_received: self.migration_bytes_received
@@ -254,14 +255,14 @@ impl Domain {
     }
 
     /// The planes each rank owns: `cuts[r] .. cuts[r + 1]` for rank `r`.
-    pub fn cuts(&self) -> Vec<usize> {
+    pub(crate) fn cuts(&self) -> Vec<usize> {
         (0..=self.size())
             .map(|r| self.plane_owner.partition_point(|&o| (o as usize) < r))
             .collect()
     }
 
     /// Cell planes along the last axis.
-    pub fn planes(&self) -> usize {
+    pub(crate) fn planes(&self) -> usize {
         self.plane_owner.len()
     }
 
@@ -283,7 +284,7 @@ impl Domain {
 
     /// Every rank's peak grains ([`Domain::peak_grains`]) and its grains now (`local`), by
     /// rank (collective).
-    pub fn peaks(&self, local: usize) -> Vec<(usize, usize)> {
+    pub(crate) fn peaks(&self, local: usize) -> Vec<(usize, usize)> {
         self.comm
             .all_gather(&[self.peak_grains() as f64, local as f64])
             .iter()
@@ -295,7 +296,7 @@ impl Domain {
     /// (`local`) and the share of the wall time it spent inside communication, which
     /// includes waiting for the slowest rank. Returns `(largest / mean grains, the
     /// smallest and the largest share of time in communication, cuts moved so far)`.
-    pub fn load_report(&self, local: usize) -> (f64, f64, f64, u64) {
+    pub(crate) fn load_report(&self, local: usize) -> (f64, f64, f64, u64) {
         let t = self.traffic();
         let comm = t.migration_seconds + t.reduction_seconds;
         let share = {
@@ -439,15 +440,8 @@ impl Domain {
         self.comm.size()
     }
 
-    /// Bytes this rank has sent to the others so far (8 per word; migration and
-    /// reductions), for the benchmarks.
-    pub fn bytes_sent(&self) -> u64 {
-        let t = self.traffic();
-        t.migration_bytes_sent + t.reduction_bytes_sent
-    }
-
     /// What this rank has communicated so far (see [`Traffic`]).
-    pub fn traffic(&self) -> Traffic {
+    pub(crate) fn traffic(&self) -> Traffic {
         *self.traffic.lock().unwrap_or_else(|e| e.into_inner())
     }
 

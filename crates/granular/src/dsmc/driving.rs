@@ -19,7 +19,7 @@ impl<const D: usize> DsmcEngine<D> {
     /// Replaces the driving's rule (a new white-noise strength or rescaling temperature)
     /// from the next step on, keeping its tally and its kick streams' count. Without a
     /// driving, nothing (the caller checks that there is one).
-    pub fn change_driving(&mut self, driving: Driving) {
+    pub(crate) fn change_driving(&mut self, driving: Driving) {
         if let Some(state) = self.driving.as_mut() {
             state.driving = driving;
         }

@@ -89,7 +89,7 @@ pub struct DsmcEngine<const D: usize> {
 /// The rotation of rough grains at construction: κ and the angular velocities (`d_r`
 /// values per grain, in the order of the positions given with them).
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct Rotation {
+pub(crate) struct Rotation {
     /// The reduced moment of inertia κ = 4I/(mσ²), in (0, 1] for disks and (0, 2/3] for
     /// spheres.
     pub inertia: f64,
@@ -317,7 +317,7 @@ impl<const D: usize> DsmcEngine<D> {
     /// The engine without its particles (what a checkpoint's manifest holds beside the
     /// parts): every parameter, the time, the counters. [`DsmcEngine::load_parts`] puts
     /// the particles back.
-    pub fn shell(&self) -> DsmcEngine<D> {
+    pub(crate) fn shell(&self) -> DsmcEngine<D> {
         DsmcEngine {
             config: self.config.clone(),
             sim_box: self.sim_box.clone(),
@@ -393,13 +393,8 @@ impl<const D: usize> DsmcEngine<D> {
     }
 
     /// Whether the grains are rough (they carry angular velocities).
-    pub fn is_rough(&self) -> bool {
+    pub(crate) fn is_rough(&self) -> bool {
         self.inertia.is_some()
-    }
-
-    /// The reduced moment of inertia κ of rough grains (`None` for smooth ones).
-    pub fn inertia(&self) -> Option<f64> {
-        self.inertia
     }
 
     /// The grains as a rough collision sees them (`κ` 0 for smooth grains).
@@ -475,11 +470,6 @@ impl<const D: usize> DsmcEngine<D> {
         self.steps
     }
 
-    /// Number of candidate pairs drawn so far (DSMC-1).
-    pub fn candidates(&self) -> u64 {
-        self.tally.candidates
-    }
-
     /// Collisions (pair and wall) made elastic by the TC rule so far (section 2.3 of the
     /// hard-disk assignment; counted by [`CollisionLaw`]): those that would otherwise have lost
     /// energy. Zero without the TC model.
@@ -493,7 +483,7 @@ impl<const D: usize> DsmcEngine<D> {
     }
 
     /// The species of the grains: their names and id ranges.
-    pub fn species(&self) -> &super::species::SpeciesTable {
+    pub(crate) fn species(&self) -> &super::species::SpeciesTable {
         &self.species
     }
 
@@ -512,7 +502,7 @@ impl<const D: usize> DsmcEngine<D> {
     /// cells, from the capacities of its buffers: the grains' records and the sort's
     /// scratch column ([`Grains::bytes`]), each grain's destination of the step (4 bytes)
     /// and the owned cells' offsets (4 bytes a cell).
-    pub fn held_bytes(&self) -> usize {
+    pub(crate) fn held_bytes(&self) -> usize {
         self.grains.bytes() + 4 * self.dest.capacity() + 4 * self.start.capacity()
     }
 
@@ -532,7 +522,7 @@ impl<const D: usize> DsmcEngine<D> {
     }
 
     /// The grains' records (this rank's, when decomposed), in storage order.
-    pub fn grains(&self) -> &Grains<D> {
+    pub(crate) fn grains(&self) -> &Grains<D> {
         &self.grains
     }
 
@@ -613,7 +603,7 @@ impl<const D: usize> DsmcEngine<D> {
     /// any number of threads. A gas at rest keeps the step it had. A fixed step (0.1 of
     /// the *initial* mean free time) made a cooling gas take ever more steps per collision:
     /// 180 908 steps for 250 collisions per grain of `dsmc-cooling`.
-    pub fn follow_mean_free_time(&mut self) {
+    pub(crate) fn follow_mean_free_time(&mut self) {
         let omega = haff::collision_frequency(
             D,
             self.number_density(),

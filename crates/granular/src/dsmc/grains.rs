@@ -28,7 +28,7 @@ use std::ops::Range;
 
 /// The grains' records in storage order.
 #[derive(Debug, Serialize, Deserialize)]
-pub struct Grains<const D: usize> {
+pub(crate) struct Grains<const D: usize> {
     /// The mapping between positions and lattice words (and the identity bits).
     lattice: Lattice<D>,
     /// Lattice words, one column per axis.
@@ -68,12 +68,12 @@ impl<const D: usize> Clone for Grains<D> {
 impl<const D: usize> Grains<D> {
     /// No grains on `lattice`; `collision_times`: whether the records carry the TC
     /// model's last collision time.
-    pub fn new(lattice: Lattice<D>, collision_times: bool) -> Self {
+    pub(crate) fn new(lattice: Lattice<D>, collision_times: bool) -> Self {
         Self::with_capacity(lattice, 0, collision_times)
     }
 
     /// Room for `n` grains without reallocation.
-    pub fn with_capacity(lattice: Lattice<D>, n: usize, collision_times: bool) -> Self {
+    pub(crate) fn with_capacity(lattice: Lattice<D>, n: usize, collision_times: bool) -> Self {
         Self {
             lattice,
             pos: std::array::from_fn(|_| Vec::with_capacity(n)),
@@ -87,7 +87,7 @@ impl<const D: usize> Grains<D> {
 
     /// Grains `ids` at positions `pos` (in the box) with velocities `vel` (equal
     /// lengths), no previous collision.
-    pub fn from_parts(
+    pub(crate) fn from_parts(
         lattice: Lattice<D>,
         pos: &[Vector<D>],
         vel: &[Vector<D>],
@@ -102,7 +102,7 @@ impl<const D: usize> Grains<D> {
     }
 
     /// The lattice of the positions.
-    pub fn lattice(&self) -> &Lattice<D> {
+    pub(crate) fn lattice(&self) -> &Lattice<D> {
         &self.lattice
     }
 
@@ -111,19 +111,14 @@ impl<const D: usize> Grains<D> {
         self.vel[0].len()
     }
 
-    /// Whether there is no grain.
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-
     /// Whether the records carry last collision times (the TC model).
-    pub fn has_collision_times(&self) -> bool {
+    pub(crate) fn has_collision_times(&self) -> bool {
         self.collision_times
     }
 
     /// Turns the last collision times on (every grain without a previous collision) or
     /// off (forgotten).
-    pub fn set_collision_times(&mut self, on: bool) {
+    pub(crate) fn set_collision_times(&mut self, on: bool) {
         if !on {
             self.last = Vec::new();
         } else if !self.collision_times {
@@ -133,14 +128,14 @@ impl<const D: usize> Grains<D> {
     }
 
     /// Whether the grains are rough (the records carry angular velocities).
-    pub fn is_rough(&self) -> bool {
+    pub(crate) fn is_rough(&self) -> bool {
         !self.spin.is_empty()
     }
 
     /// Gives the records angular velocities (rough grains): `flat` holds `d_r` values per
     /// grain in storage order (`ω_z` in 2D; `ω_x, ω_y, ω_z` in 3D); `None` takes them
     /// away (smooth grains).
-    pub fn set_spins(&mut self, flat: Option<&[f64]>) {
+    pub(crate) fn set_spins(&mut self, flat: Option<&[f64]>) {
         self.spin = match flat {
             None => Vec::new(),
             Some(flat) => {
@@ -155,7 +150,7 @@ impl<const D: usize> Grains<D> {
     /// The angular velocity of grain `i` (`[0, 0, ω_z]` for a disk); zero for smooth
     /// grains.
     #[inline]
-    pub fn spin(&self, i: usize) -> Spin {
+    pub(crate) fn spin(&self, i: usize) -> Spin {
         match self.spin.len() {
             0 => [0.0; 3],
             1 => [0.0, 0.0, self.spin[0][i]],
@@ -163,23 +158,9 @@ impl<const D: usize> Grains<D> {
         }
     }
 
-    /// Sets the angular velocity of grain `i` (nothing for smooth grains).
-    #[inline]
-    pub fn set_spin(&mut self, i: usize, w: &Spin) {
-        match self.spin.len() {
-            0 => {}
-            1 => self.spin[0][i] = w[2],
-            _ => {
-                for (c, col) in self.spin.iter_mut().enumerate() {
-                    col[i] = w[c];
-                }
-            }
-        }
-    }
-
     /// Multiplies every angular velocity by `factor` (in parallel; nothing for smooth
     /// grains).
-    pub fn scale_spins(&mut self, factor: f64) {
+    pub(crate) fn scale_spins(&mut self, factor: f64) {
         use rayon::prelude::*;
         for col in &mut self.spin {
             col.par_chunks_mut(4096)
@@ -189,7 +170,7 @@ impl<const D: usize> Grains<D> {
 
     /// Bytes held per grain: the record's columns and the sort's scratch column, from
     /// their capacities (the destination cells of a step are the engine's).
-    pub fn bytes(&self) -> usize {
+    pub(crate) fn bytes(&self) -> usize {
         let words: usize = self.pos.iter().map(Vec::capacity).sum::<usize>()
             + self.vel.iter().map(Vec::capacity).sum::<usize>()
             + self.last.capacity()
@@ -200,60 +181,46 @@ impl<const D: usize> Grains<D> {
 
     /// The lattice words of grain `i`.
     #[inline]
-    pub fn words_of(&self, i: usize) -> [u64; D] {
+    pub(crate) fn words_of(&self, i: usize) -> [u64; D] {
         std::array::from_fn(|k| self.pos[k][i])
     }
 
     /// Position of grain `i` (box coordinates: the nearest `f64` to its lattice point).
     #[inline]
-    pub fn position(&self, i: usize) -> Vector<D> {
+    pub(crate) fn position(&self, i: usize) -> Vector<D> {
         self.lattice.position(&self.words_of(i))
     }
 
     /// Velocity of grain `i`.
     #[inline]
-    pub fn velocity(&self, i: usize) -> Vector<D> {
+    pub(crate) fn velocity(&self, i: usize) -> Vector<D> {
         Vector(std::array::from_fn(|k| self.vel[k][i]))
-    }
-
-    /// Sets the velocity of grain `i`.
-    #[inline]
-    pub fn set_velocity(&mut self, i: usize, v: Vector<D>) {
-        for k in 0..D {
-            self.vel[k][i] = v[k];
-        }
     }
 
     /// Identity of grain `i` (its index at construction).
     #[inline]
-    pub fn id(&self, i: usize) -> u32 {
+    pub(crate) fn id(&self, i: usize) -> u32 {
         self.lattice.id(&self.words_of(i))
     }
 
-    /// Time of grain `i`'s last collision (TC model), `None` without collision times.
-    #[inline]
-    pub fn last_collision(&self, i: usize) -> Option<f64> {
-        self.last.get(i).copied()
-    }
-
     /// Every position, in storage order.
-    pub fn positions(&self) -> Vec<Vector<D>> {
+    pub(crate) fn positions(&self) -> Vec<Vector<D>> {
         (0..self.len()).map(|i| self.position(i)).collect()
     }
 
     /// Every velocity, in storage order.
-    pub fn velocities(&self) -> Vec<Vector<D>> {
+    pub(crate) fn velocities(&self) -> Vec<Vector<D>> {
         (0..self.len()).map(|i| self.velocity(i)).collect()
     }
 
     /// Every identity, in storage order.
-    pub fn ids(&self) -> Vec<u32> {
+    pub(crate) fn ids(&self) -> Vec<u32> {
         (0..self.len()).map(|i| self.id(i)).collect()
     }
 
     /// Replaces every velocity `v` (of the grain with identity `id`) by `f(id, v)`, in
     /// parallel.
-    pub fn update_velocities(&mut self, f: impl Fn(u32, Vector<D>) -> Vector<D> + Sync) {
+    pub(crate) fn update_velocities(&mut self, f: impl Fn(u32, Vector<D>) -> Vector<D> + Sync) {
         use rayon::prelude::*;
         let lattice = self.lattice;
         let n = self.len();
@@ -278,12 +245,12 @@ impl<const D: usize> Grains<D> {
     }
 
     /// Velocity components along axis `k` of every grain, in storage order.
-    pub fn velocity_column(&self, k: usize) -> &[f64] {
+    pub(crate) fn velocity_column(&self, k: usize) -> &[f64] {
         &self.vel[k]
     }
 
     /// Appends grain `id` at `x` (in the box) with velocity `v` (no previous collision).
-    pub fn push(&mut self, id: u32, x: Vector<D>, v: Vector<D>) {
+    pub(crate) fn push(&mut self, id: u32, x: Vector<D>, v: Vector<D>) {
         let w = self.lattice.words(&x, id);
         for k in 0..D {
             self.pos[k].push(w[k]);
@@ -298,7 +265,7 @@ impl<const D: usize> Grains<D> {
     }
 
     /// 64-bit words per packed record ([`Self::pack`]).
-    pub fn words(&self) -> usize {
+    pub(crate) fn words(&self) -> usize {
         2 * D + usize::from(self.collision_times) + self.spin.len()
     }
 
@@ -311,7 +278,7 @@ impl<const D: usize> Grains<D> {
     /// lattice words, the velocity, the last collision time, the angular velocity; a
     /// record restored by
     /// [`Self::push_packed`] or [`Self::set_packed`] is the same bits).
-    pub fn pack(&self, i: usize, out: &mut Vec<f64>) {
+    pub(crate) fn pack(&self, i: usize, out: &mut Vec<f64>) {
         for k in 0..D {
             out.push(f64::from_bits(self.pos[k][i]));
         }
@@ -326,14 +293,8 @@ impl<const D: usize> Grains<D> {
         }
     }
 
-    /// The identity of the record packed in `words`.
-    pub fn packed_id(&self, words: &[f64]) -> u32 {
-        self.lattice
-            .id(&std::array::from_fn(|k| words[k].to_bits()))
-    }
-
     /// Appends the record packed in `words` (exactly [`Self::words`] of them).
-    pub fn push_packed(&mut self, words: &[f64]) {
+    pub(crate) fn push_packed(&mut self, words: &[f64]) {
         for k in 0..D {
             self.pos[k].push(words[k].to_bits());
             self.vel[k].push(words[D + k]);
@@ -347,79 +308,8 @@ impl<const D: usize> Grains<D> {
         }
     }
 
-    /// Overwrites grain `i` with the record packed in `words`.
-    pub fn set_packed(&mut self, i: usize, words: &[f64]) {
-        for k in 0..D {
-            self.pos[k][i] = words[k].to_bits();
-            self.vel[k][i] = words[D + k];
-        }
-        if let Some(t) = self.last.get_mut(i) {
-            *t = words[2 * D];
-        }
-        let at = self.spin_word();
-        for (c, col) in self.spin.iter_mut().enumerate() {
-            col[i] = words[at + c];
-        }
-    }
-
-    /// Copies the records `src` to `dest ..` (as `slice::copy_within`).
-    pub fn copy_within(&mut self, src: Range<usize>, dest: usize) {
-        for k in 0..D {
-            self.pos[k].copy_within(src.clone(), dest);
-            self.vel[k].copy_within(src.clone(), dest);
-        }
-        if self.collision_times {
-            self.last.copy_within(src.clone(), dest);
-        }
-        for col in &mut self.spin {
-            col.copy_within(src.clone(), dest);
-        }
-    }
-
-    /// Copies record `from` over record `to`.
-    #[inline]
-    pub fn copy(&mut self, from: usize, to: usize) {
-        for k in 0..D {
-            self.pos[k][to] = self.pos[k][from];
-            self.vel[k][to] = self.vel[k][from];
-        }
-        if self.collision_times {
-            self.last[to] = self.last[from];
-        }
-        for col in &mut self.spin {
-            col[to] = col[from];
-        }
-    }
-
-    /// Shortens or lengthens to `n` grains (new records: identity 0 at the origin, at
-    /// rest; to be overwritten).
-    pub fn resize(&mut self, n: usize) {
-        for k in 0..D {
-            self.pos[k].resize(n, 0);
-            self.vel[k].resize(n, 0.0);
-        }
-        if self.collision_times {
-            self.last.resize(n, f64::NEG_INFINITY);
-        }
-        for col in &mut self.spin {
-            col.resize(n, 0.0);
-        }
-    }
-
-    /// Keeps the first `n` grains.
-    pub fn truncate(&mut self, n: usize) {
-        for k in 0..D {
-            self.pos[k].truncate(n);
-            self.vel[k].truncate(n);
-        }
-        self.last.truncate(n);
-        for col in &mut self.spin {
-            col.truncate(n);
-        }
-    }
-
     /// A copy of the records `r`.
-    pub fn range(&self, r: Range<usize>) -> Grains<D> {
+    pub(crate) fn range(&self, r: Range<usize>) -> Grains<D> {
         let mut g = Self::with_capacity(self.lattice, r.len(), self.collision_times);
         g.spin = vec![Vec::with_capacity(r.len()); self.spin.len()];
         g.extend_from(self, r);
@@ -428,7 +318,7 @@ impl<const D: usize> Grains<D> {
 
     /// Appends copies of `other`'s records `r` (both with or both without collision
     /// times, both rough or both smooth, on the same lattice).
-    pub fn extend_from(&mut self, other: &Grains<D>, r: Range<usize>) {
+    pub(crate) fn extend_from(&mut self, other: &Grains<D>, r: Range<usize>) {
         for k in 0..D {
             self.pos[k].extend_from_slice(&other.pos[k][r.clone()]);
             self.vel[k].extend_from_slice(&other.vel[k][r.clone()]);
@@ -443,7 +333,7 @@ impl<const D: usize> Grains<D> {
 
     /// Whether the columns have one length and the lattice is `lattice` (a store read from
     /// a file that fails this was not written by this engine).
-    pub fn consistent(&self, lattice: &Lattice<D>) -> bool {
+    pub(crate) fn consistent(&self, lattice: &Lattice<D>) -> bool {
         let n = self.len();
         self.lattice == *lattice
             && self.pos.iter().all(|c| c.len() == n)

@@ -10,14 +10,14 @@ use serde::{Deserialize, Serialize};
 #[serde(rename_all = "snake_case")]
 pub enum GuardKind {
     /// (i) Not in the collisional regime: the mean free path is not small against the
-    /// system size (Knudsen number `lambda / L_box` above [`MAX_KNUDSEN`]).
+    /// system size (Knudsen number `lambda / L_box` above `MAX_KNUDSEN`).
     NotCollisional,
     /// (ii) The cell edge exceeds the mean free path.
     CellLargerThanMeanFreePath,
     /// (iii) The time step is not well below the mean free time (`tau omega` above
-    /// [`MAX_STEP_FRACTION`]).
+    /// `MAX_STEP_FRACTION`).
     TimeStepTooLong,
-    /// Too few particles per cell on average (below [`MIN_PER_CELL`]): the pair-count
+    /// Too few particles per cell on average (below `MIN_PER_CELL`): the pair-count
     /// statistics of DSMC-1 become poor and spurious correlations grow.
     TooFewParticlesPerCell,
 }
@@ -36,15 +36,15 @@ pub struct ValidityWarning {
 }
 
 /// Largest accepted Knudsen number `lambda / L_box`.
-pub const MAX_KNUDSEN: f64 = 0.1;
+pub(crate) const MAX_KNUDSEN: f64 = 0.1;
 /// Largest accepted `tau / t_free` (expected collisions per particle per step).
-pub const MAX_STEP_FRACTION: f64 = 0.2;
+pub(crate) const MAX_STEP_FRACTION: f64 = 0.2;
 /// Smallest accepted mean number of particles per cell.
-pub const MIN_PER_CELL: f64 = 5.0;
+pub(crate) const MIN_PER_CELL: f64 = 5.0;
 
 /// The state the guards look at.
 #[derive(Clone, Debug)]
-pub struct GuardInput {
+pub(crate) struct GuardInput {
     /// 2 or 3.
     pub dimension: usize,
     /// `N / V`.
@@ -68,12 +68,12 @@ pub struct GuardInput {
 }
 
 /// Mean free path `lambda = 1 / (sqrt 2 chi n sigma)`.
-pub fn mean_free_path(g: &GuardInput) -> f64 {
+pub(crate) fn mean_free_path(g: &GuardInput) -> f64 {
     haff::mean_free_path(g.dimension, g.number_density, g.radius, g.chi)
 }
 
 /// Mean free time `1 / omega`.
-pub fn mean_free_time(g: &GuardInput) -> f64 {
+pub(crate) fn mean_free_time(g: &GuardInput) -> f64 {
     1.0 / haff::collision_frequency(
         g.dimension,
         g.number_density,
@@ -85,7 +85,7 @@ pub fn mean_free_time(g: &GuardInput) -> f64 {
 }
 
 /// All violated conditions (empty when the set-up is within the validity range).
-pub fn check(g: &GuardInput) -> Vec<ValidityWarning> {
+pub(crate) fn check(g: &GuardInput) -> Vec<ValidityWarning> {
     let mut out = Vec::new();
     let lambda = mean_free_path(g);
     let kn = lambda / g.system_size;

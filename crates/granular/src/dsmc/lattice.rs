@@ -39,7 +39,7 @@ pub(crate) const WALL_END: u64 = 1 << 63;
 /// The mapping between box coordinates and lattice words (see the module docs): the same
 /// for every grain of an engine.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Lattice<const D: usize> {
+pub(crate) struct Lattice<const D: usize> {
     /// Identity bits per word.
     id_bits: u32,
     /// Box lengths.
@@ -52,7 +52,7 @@ pub struct Lattice<const D: usize> {
 
 impl<const D: usize> Lattice<D> {
     /// The lattice of `n` grains (ids `0 .. n - 1`, `n < 2^32`) in `sim_box`.
-    pub fn new(sim_box: &SimulationBox<D>, n: usize) -> Self {
+    pub(crate) fn new(sim_box: &SimulationBox<D>, n: usize) -> Self {
         let top = (n.max(1) - 1) as u64;
         let bits = 64 - top.leading_zeros();
         Self {
@@ -63,7 +63,8 @@ impl<const D: usize> Lattice<D> {
     }
 
     /// Identity bits per word.
-    pub fn id_bits(&self) -> u32 {
+    #[cfg(test)]
+    pub(crate) fn id_bits(&self) -> u32 {
         self.id_bits
     }
 
@@ -98,13 +99,13 @@ impl<const D: usize> Lattice<D> {
 
     /// The box coordinate of word `w` along axis `k` (nearest `f64`).
     #[inline]
-    pub fn coordinate(&self, k: usize, w: u64) -> f64 {
+    pub(crate) fn coordinate(&self, k: usize, w: u64) -> f64 {
         (w & self.position_mask()) as f64 * (self.lengths[k] / self.units(k))
     }
 
     /// The position of a grain from its words.
     #[inline]
-    pub fn position(&self, words: &[u64; D]) -> Vector<D> {
+    pub(crate) fn position(&self, words: &[u64; D]) -> Vector<D> {
         let mut x = Vector::zero();
         for k in 0..D {
             x[k] = self.coordinate(k, words[k]);
@@ -116,7 +117,7 @@ impl<const D: usize> Lattice<D> {
     /// `x` must lie in the box (periodic: `[0, L)`, values at `L` wrap to 0; walled:
     /// `[0, L]`); values outside are clamped to the box.
     #[inline]
-    pub fn word(&self, k: usize, x: f64) -> u64 {
+    pub(crate) fn word(&self, k: usize, x: f64) -> u64 {
         let units = self.units(k);
         let f = x / self.lengths[k] * units;
         let w = if self.periodic[k] {
@@ -132,7 +133,7 @@ impl<const D: usize> Lattice<D> {
     }
 
     /// The words of a grain at `x` with identity `id`.
-    pub fn words(&self, x: &Vector<D>, id: u32) -> [u64; D] {
+    pub(crate) fn words(&self, x: &Vector<D>, id: u32) -> [u64; D] {
         let mut w = [0u64; D];
         for k in 0..D {
             w[k] = self.word(k, x[k]) | self.id_part(k, id);
@@ -152,7 +153,7 @@ impl<const D: usize> Lattice<D> {
 
     /// The identity held in the low bits of a grain's words.
     #[inline]
-    pub fn id(&self, words: &[u64; D]) -> u32 {
+    pub(crate) fn id(&self, words: &[u64; D]) -> u32 {
         let b = self.id_bits;
         if b == 0 {
             return 0;

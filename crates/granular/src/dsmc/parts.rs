@@ -32,7 +32,7 @@ pub struct EnginePart<const D: usize> {
 
 impl<const D: usize> EnginePart<D> {
     /// The cells the part covers (linear cell indices).
-    pub fn cells(&self) -> Range<usize> {
+    pub(crate) fn cells(&self) -> Range<usize> {
         self.first_cell..self.first_cell + self.start.len().saturating_sub(1)
     }
 
@@ -43,7 +43,7 @@ impl<const D: usize> EnginePart<D> {
 
     /// Whether the part holds no particle.
     pub fn is_empty(&self) -> bool {
-        self.grains.is_empty()
+        self.len() == 0
     }
 
     /// Whether the part is consistent (offsets rising from 0 to its length, arrays of one
@@ -59,7 +59,7 @@ impl<const D: usize> EnginePart<D> {
 
 /// Where a part of a checkpoint is and what it covers (in the checkpoint's manifest).
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub struct PartInfo {
+pub(crate) struct PartInfo {
     /// Its file name, relative to the run directory.
     pub file: String,
     /// The first cell it covers.
@@ -94,7 +94,7 @@ impl<const D: usize> DsmcEngine<D> {
     /// engine from every part. `parts` lists the parts in the order of their cells, which
     /// must cover the grid once; `read` loads one. `n_global` is the particle count of
     /// the whole engine.
-    pub fn load_parts(
+    pub(crate) fn load_parts(
         &mut self,
         comm: Option<Arc<dyn Communicator>>,
         n_global: usize,
@@ -168,7 +168,7 @@ impl<const D: usize> DsmcEngine<D> {
     /// `lo = r N / K`), positions and velocities in id order: every rank sends its
     /// particles to the owners of their ids (collective). Together the blocks are a
     /// snapshot's rows; no rank holds more than its block. Not decomposed: every grain.
-    pub fn id_block(&self) -> IdBlock<D> {
+    pub(crate) fn id_block(&self) -> IdBlock<D> {
         let Some(domain) = self.domain.as_ref() else {
             let (positions, velocities) = self.state_by_id();
             return IdBlock {
@@ -238,7 +238,7 @@ impl<const D: usize> DsmcEngine<D> {
 /// A block of consecutive grain ids with their positions and velocities
 /// ([`DsmcEngine::id_block`]).
 #[derive(Clone, Debug)]
-pub struct IdBlock<const D: usize> {
+pub(crate) struct IdBlock<const D: usize> {
     /// The first id of the block.
     pub first: usize,
     /// Positions of ids `first ..`.

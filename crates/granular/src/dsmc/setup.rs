@@ -58,10 +58,10 @@ use std::sync::Arc;
 
 /// Grains per key chunk: the grains `c KEY_CHUNK .. (c + 1) KEY_CHUNK` of a species draw
 /// from the streams of chunk `c`.
-pub const KEY_CHUNK: usize = 1024;
+pub(crate) const KEY_CHUNK: usize = 1024;
 
 /// Most grains a rank sends in one round of the set-up's migration.
-pub const ROUND: usize = 1 << 20;
+pub(crate) const ROUND: usize = 1 << 20;
 
 /// The path element of the keyed initial streams (after `INITIAL_STATE`).
 const GRAINS: u64 = 7;
@@ -71,7 +71,7 @@ const SPIN: u64 = 2;
 
 /// How the grains of one species are placed.
 #[derive(Clone, Debug)]
-pub enum Placement<const D: usize> {
+pub(crate) enum Placement<const D: usize> {
     /// Uniformly at random in the region (centres a radius away from walls).
     Random(Region<D>),
     /// On the sites of a lattice filling the region, in order.
@@ -82,7 +82,7 @@ pub enum Placement<const D: usize> {
 
 /// How the grains of one species start moving.
 #[derive(Clone, Debug)]
-pub enum InitialVelocity<const D: usize> {
+pub(crate) enum InitialVelocity<const D: usize> {
     /// At rest.
     Zero,
     /// This speed in a uniformly random direction.
@@ -98,7 +98,7 @@ pub enum InitialVelocity<const D: usize> {
 
 /// How the rough grains of one species start spinning.
 #[derive(Clone, Debug, Default, PartialEq)]
-pub enum InitialSpin {
+pub(crate) enum InitialSpin {
     /// Not spinning.
     #[default]
     Zero,
@@ -111,7 +111,7 @@ pub enum InitialSpin {
 
 /// One species of a DSMC set-up: its name, its grains and how they start.
 #[derive(Clone, Debug)]
-pub struct SpeciesSetup<const D: usize> {
+pub(crate) struct SpeciesSetup<const D: usize> {
     /// The species' name (snapshots, histograms).
     pub name: String,
     /// Grains of the species.
@@ -127,7 +127,7 @@ pub struct SpeciesSetup<const D: usize> {
 /// The initial state of a DSMC run: species of equal grains (one radius, one mass), in
 /// id order.
 #[derive(Clone, Debug)]
-pub struct GrainSetup<const D: usize> {
+pub(crate) struct GrainSetup<const D: usize> {
     /// The species, in id order.
     pub species: Vec<SpeciesSetup<D>>,
     /// Grain radius (every species).
@@ -149,13 +149,8 @@ impl<const D: usize> GrainSetup<D> {
         self.species.iter().map(|s| s.count).sum()
     }
 
-    /// Whether there are no grains.
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-
     /// The species table of the grains.
-    pub fn table(&self) -> SpeciesTable {
+    pub(crate) fn table(&self) -> SpeciesTable {
         let mut end = 0u32;
         SpeciesTable {
             names: self.species.iter().map(|s| s.name.clone()).collect(),
@@ -173,7 +168,7 @@ impl<const D: usize> GrainSetup<D> {
     /// Positions, velocities and (rough grains; empty otherwise) angular velocities (`d_r`
     /// values each) of the grains `ids` (consecutive ids), in id order. An error names the
     /// first grain that cannot be created.
-    pub fn grains(
+    pub(crate) fn grains(
         &self,
         sim_box: &SimulationBox<D>,
         ids: Range<usize>,
@@ -304,20 +299,20 @@ fn fixed_speed<const D: usize>(speed: f64, rng: &mut Stream) -> Vector<D> {
 }
 
 /// The block of ids `r N / K .. (r + 1) N / K` of rank `r` of `K`.
-pub fn id_block(n: usize, rank: usize, ranks: usize) -> Range<usize> {
+pub(crate) fn id_block(n: usize, rank: usize, ranks: usize) -> Range<usize> {
     rank * n / ranks..(rank + 1) * n / ranks
 }
 
 /// Grains created from a set-up: positions, velocities and angular velocities (`d_r`
 /// values each; empty for smooth grains), in id order.
-pub type Created<const D: usize> = (Vec<Vector<D>>, Vec<Vector<D>>, Vec<f64>);
+pub(crate) type Created<const D: usize> = (Vec<Vector<D>>, Vec<Vector<D>>, Vec<f64>);
 
 /// A rank's own grains: positions, velocities, ids and angular velocities (`d_r` values
 /// each; empty for smooth grains), in id order.
 type OwnGrains<const D: usize> = (Vec<Vector<D>>, Vec<Vector<D>>, Vec<u32>, Vec<f64>);
 
 /// The most loaded rank of a set-up, as the memory check sees it before any rank
-/// allocates its own grains ([`OwnGrainsCheck`]).
+/// allocates its own grains (`OwnGrainsCheck`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct RankLoad {
     /// Grains of the most loaded rank (every grain on one rank).
@@ -337,16 +332,16 @@ pub struct RankLoad {
 /// trajectory frame's block of ids with its exchange buffers. Measured peak resident
 /// memory over own grains of `granular run` on 2 ranks with snapshots every output
 /// (docs/cluster.md, "Memory"), rounded up.
-pub const fn bytes_per_own_grain(dimension: usize) -> f64 {
+pub(crate) const fn bytes_per_own_grain(dimension: usize) -> f64 {
     if dimension == 2 { 170.0 } else { 230.0 }
 }
 
 /// Bytes a rank holds per own cell of its slab.
-pub const BYTES_PER_CELL: f64 = 64.0;
+pub(crate) const BYTES_PER_CELL: f64 = 64.0;
 
 impl RankLoad {
     /// Estimated bytes of the most loaded rank in `D` dimensions.
-    pub fn bytes(&self, dimension: usize) -> f64 {
+    pub(crate) fn bytes(&self, dimension: usize) -> f64 {
         self.own as f64 * bytes_per_own_grain(dimension) + self.cells as f64 * BYTES_PER_CELL
     }
 }
@@ -354,11 +349,11 @@ impl RankLoad {
 /// What a rank may hold, checked once the ranks know how many grains each will own
 /// (before any allocates them), with the most loaded rank: an error refuses the run on
 /// every rank.
-pub type OwnGrainsCheck<'a> = &'a (dyn Fn(&RankLoad) -> Result<(), String> + Sync);
+pub(crate) type OwnGrainsCheck<'a> = &'a (dyn Fn(&RankLoad) -> Result<(), String> + Sync);
 
 /// The ranks a DSMC engine is split over from its set-up.
 #[derive(Clone)]
-pub struct OnRanks {
+pub(crate) struct OnRanks {
     /// The ranks.
     pub comm: Arc<dyn Communicator>,
     /// How the slab cuts follow the grains; with a balance other than
@@ -385,7 +380,7 @@ impl<const D: usize> DsmcEngine<D> {
     /// (the same on every rank) as [`DsmcEngine::from_state`], when a given position lies
     /// outside the box, when there are more ranks than cell planes, and when `check`
     /// refuses.
-    pub fn from_setup(
+    pub(crate) fn from_setup(
         config: DsmcConfig,
         sim_box: SimulationBox<D>,
         setup: &GrainSetup<D>,

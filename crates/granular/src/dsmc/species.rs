@@ -2,12 +2,11 @@
 //! are contiguous in id order, as the set-up numbers the grains, `setup`).
 
 use serde::{Deserialize, Serialize};
-use std::ops::Range;
 
 /// The species of an engine's grains: names, and the id ranges (species are contiguous
 /// in id order).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct SpeciesTable {
+pub(crate) struct SpeciesTable {
     /// Names, in id order.
     pub names: Vec<String>,
     /// One past the last id of each species.
@@ -16,7 +15,7 @@ pub struct SpeciesTable {
 
 impl SpeciesTable {
     /// One species of `n` grains called `name`.
-    pub fn one(name: &str, n: usize) -> SpeciesTable {
+    pub(crate) fn one(name: &str, n: usize) -> SpeciesTable {
         SpeciesTable {
             names: vec![name.to_string()],
             ends: vec![n as u32],
@@ -25,13 +24,7 @@ impl SpeciesTable {
 
     /// The species of grain `id`.
     #[inline]
-    pub fn of(&self, id: u32) -> u32 {
+    pub(crate) fn of(&self, id: u32) -> u32 {
         (self.ends.partition_point(|&e| e <= id) as u32).min(self.names.len() as u32 - 1)
-    }
-
-    /// The ids of species `s`.
-    pub fn ids(&self, s: usize) -> Range<usize> {
-        let start = if s == 0 { 0 } else { self.ends[s - 1] as usize };
-        start..self.ends[s] as usize
     }
 }

@@ -29,18 +29,18 @@ use serde::{Deserialize, Serialize};
 /// kicks approximate the continuous noise closely, while the predictions recomputed at
 /// every kick cost about as much as the collisions (`N` per kick). The bias this leaves on
 /// `a2` and `T` is measured in `docs/edmd.md` (halving the interval).
-pub const KICK_FRACTION: f64 = 0.05;
+pub(crate) const KICK_FRACTION: f64 = 0.05;
 
 /// The interval between two rescalings, in mean free times at `T*`. A uniform scaling of
 /// all peculiar velocities does not change the shape of the velocity distribution, and the
 /// hard-core dynamics at another temperature is the same dynamics on another clock, so the
 /// sampled state does not depend on this interval; it only bounds the temperature's
 /// excursion between rescalings (`1 - exp(-zeta dt)`, 4 % at `e = 0.5`).
-pub const RESCALE_FRACTION: f64 = 0.1;
+pub(crate) const RESCALE_FRACTION: f64 = 0.1;
 
 /// A driving attached to the event-driven engine.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct EdmdDriving {
+pub(crate) struct EdmdDriving {
     /// The driving and its tally (the application count indexes the kick streams).
     pub state: DrivingState,
     /// Seed of the kick streams.
@@ -59,7 +59,7 @@ pub struct EdmdDriving {
 /// times start again from the restart time (`EdmdDriving::start`) and the kicks come from
 /// the streams `(derive_key(seed, [RESTART, t]), [KICKS, k - applications, id])`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct DrivingRestart {
+pub(crate) struct DrivingRestart {
     /// The applications before the restart.
     pub applications: u64,
     /// The seed of the streams after it.

@@ -52,7 +52,6 @@ mod restart;
 mod velocities;
 
 pub use collide::CollisionRecord;
-pub use events::EventKind;
 
 use super::candidates::Grain;
 use super::queue::EventQueue;

@@ -1,6 +1,6 @@
 //! Compression of an initial state to high densities with the event engine itself
 //! (Lubachevsky-Stillinger). Placements and velocities are shared by every engine and live
-//! in [`crate::setup`]; they are re-exported here so that `edmd::init::...` paths keep
+//! in `crate::setup`; they are re-exported here so that `edmd::init::...` paths keep
 //! working.
 
 use super::engine::{Edmd, EdmdOptions};

@@ -1,9 +1,9 @@
 //! Event-driven molecular dynamics (EDMD) of hard disks (`D = 2`) and spheres (`D = 3`),
 //! after the hard-disk assignment (`event-driven-hard-disk-gas.txt`).
 //!
-//! * [`engine`]: the event loop ([`Edmd`]);
+//! * `engine`: the event loop ([`Edmd`]);
 //! * [`init`]: compression to dense states (placements and velocities are shared by all
-//!   engines: [`crate::setup`]).
+//!   engines: `crate::setup`).
 //!
 //! The internals are private to the crate: `prediction` (collision and crossing times,
 //! HD-1, HD-2, HD-7 to HD-10), `queue` (the event priority queue: a tournament tree or a
@@ -14,8 +14,8 @@
 //! shared with the overlap check of initial states. `docs/edmd.md` describes them.
 
 mod candidates;
-pub mod driving;
-pub mod engine;
+pub(crate) mod driving;
+pub(crate) mod engine;
 pub mod init;
 pub(crate) mod prediction;
 pub(crate) mod queue;
@@ -29,4 +29,4 @@ pub mod internals {
 }
 
 pub use crate::particles::ParticleSet;
-pub use engine::{Edmd, EdmdOptions, EventKind, Totals};
+pub use engine::{CollisionRecord, Edmd, EdmdOptions, Totals};

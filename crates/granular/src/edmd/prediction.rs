@@ -13,7 +13,7 @@
 /// * overlapping (`|dx| < sigma`) and approaching: collide now (returns `Some(0.0)`);
 /// * overlapping and receding, or never touching: `None`.
 #[inline(always)]
-pub fn pair_contact_time(
+pub(crate) fn pair_contact_time(
     dx_dv: f64,
     dx2: f64,
     dv2: f64,
@@ -67,7 +67,7 @@ pub fn pair_contact_time(
 /// `b > 0` it is evaluated as `-2c / (b + s)`, which has no cancellation and also covers
 /// `a = 0` (uniform motion).
 #[inline(always)]
-pub fn upward_crossing(c: f64, b: f64, a: f64) -> Option<f64> {
+pub(crate) fn upward_crossing(c: f64, b: f64, a: f64) -> Option<f64> {
     if a == 0.0 {
         if b <= 0.0 {
             return None;
@@ -97,7 +97,7 @@ pub fn upward_crossing(c: f64, b: f64, a: f64) -> Option<f64> {
 /// Smallest `t >= 0` at which `c + b t + a t^2` crosses zero *downwards* (mirror image of
 /// [`upward_crossing`]).
 #[inline(always)]
-pub fn downward_crossing(c: f64, b: f64, a: f64) -> Option<f64> {
+pub(crate) fn downward_crossing(c: f64, b: f64, a: f64) -> Option<f64> {
     upward_crossing(-c, -b, -a)
 }
 

@@ -16,14 +16,20 @@ use crate::random::{RngExt, Stream};
 mod gaussian;
 mod power_law;
 mod tabulated;
-pub use gaussian::{Gaussian, gaussian_h, sample_w_gaussian};
-pub use power_law::{PowerLaw, power_law_cdf_scaled};
-pub use tabulated::{MAX_TABLE_MAGNITUDE, Tabulated, sample_linear_product};
+pub(crate) use gaussian::gaussian_h;
+pub use gaussian::{Gaussian, sample_w_gaussian};
+pub use power_law::PowerLaw;
+#[cfg(test)]
+pub(crate) use power_law::power_law_cdf_scaled;
+#[cfg(test)]
+pub(crate) use tabulated::MAX_TABLE_MAGNITUDE;
+pub use tabulated::Tabulated;
+pub(crate) use tabulated::sample_linear_product;
 
 /// `1/sqrt(pi)`.
-pub const FRAC_1_SQRT_PI: f64 = 0.5 * FRAC_2_SQRT_PI;
+pub(crate) const FRAC_1_SQRT_PI: f64 = 0.5 * FRAC_2_SQRT_PI;
 /// `sqrt(pi)`.
-pub const SQRT_PI: f64 = 1.772_453_850_905_516;
+pub(crate) const SQRT_PI: f64 = 1.772_453_850_905_516;
 
 /// The side of the intruder hit by a bath particle.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -193,7 +199,7 @@ pub enum Bath {
 
 impl BathConfig {
     /// Builds the bath for bath particles of mass `m`.
-    pub fn build(&self, m: f64) -> Result<Bath, BathError> {
+    pub(crate) fn build(&self, m: f64) -> Result<Bath, BathError> {
         Ok(match self {
             BathConfig::Gaussian { temperature } => {
                 Bath::Gaussian(Gaussian::with_temperature(*temperature, m)?)

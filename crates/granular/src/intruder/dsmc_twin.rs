@@ -124,7 +124,7 @@ impl DsmcTwin {
     }
 
     /// Time discarded before the first sample (the resolved `transient`).
-    pub fn transient(&self) -> f64 {
+    pub(crate) fn transient(&self) -> f64 {
         self.transient
     }
 
@@ -172,23 +172,13 @@ impl DsmcTwin {
         }
     }
 
-    /// Current intruder velocity.
-    pub fn velocity(&self) -> f64 {
-        self.v1
-    }
-
-    /// The mechanical parameters.
-    pub fn params(&self) -> &Intruder1dParams {
-        &self.params
-    }
-
     /// Number of times `omega_max` had to be raised.
-    pub fn bound_raises(&self) -> u64 {
+    pub(crate) fn bound_raises(&self) -> u64 {
         self.bound_raises
     }
 
     /// Trials per accepted collision.
-    pub fn trials_per_collision(&self) -> f64 {
+    pub(crate) fn trials_per_collision(&self) -> f64 {
         self.trials as f64 / self.collisions.max(1) as f64
     }
 

@@ -22,9 +22,8 @@ pub mod observables;
 pub mod one_d;
 pub mod theory;
 
-pub use bath::{
-    Bath, BathConfig, BathDistribution, BathError, Gaussian, PowerLaw, Side, Tabulated,
-};
+pub(crate) use bath::{BathConfig, BathError, Tabulated};
+pub use bath::{BathDistribution, Gaussian, PowerLaw};
 
-pub use needle::{Needle, NeedleConfig};
-pub use one_d::{Intruder1d, Intruder1dConfig};
+pub(crate) use needle::{Needle, NeedleConfig};
+pub(crate) use one_d::{Intruder1d, Intruder1dConfig};

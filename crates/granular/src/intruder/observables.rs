@@ -15,7 +15,7 @@ pub struct Estimate {
 
 impl Estimate {
     /// Scales mean and error by a constant.
-    pub fn scaled(self, k: f64) -> Self {
+    pub(crate) fn scaled(self, k: f64) -> Self {
         Self {
             mean: self.mean * k,
             error: self.error * k.abs(),
@@ -31,7 +31,7 @@ impl Estimate {
 /// time, as the samplers always did) that lie before `upto`, or at it when `inclusive`:
 /// returns their number and the first grid point after them.
 #[inline]
-pub fn grid_points_before(next: f64, dt: f64, upto: f64, inclusive: bool) -> (u64, f64) {
+pub(crate) fn grid_points_before(next: f64, dt: f64, upto: f64, inclusive: bool) -> (u64, f64) {
     let mut t = next;
     let mut n = 0u64;
     while t < upto || (inclusive && t == upto) {
@@ -42,9 +42,9 @@ pub fn grid_points_before(next: f64, dt: f64, upto: f64, inclusive: bool) -> (u6
 }
 
 /// Number of batches used for batch-means errors.
-pub const BATCHES: usize = 32;
+pub(crate) const BATCHES: usize = 32;
 
-/// Most block means a [`GridSeries`] keeps: when it has this many, adjacent pairs are
+/// Most block means a `GridSeries` keeps: when it has this many, adjacent pairs are
 /// merged into blocks twice as long. A run's memory and checkpoint therefore stay bounded
 /// (at most `N * MAX_BLOCKS` numbers, 1.5 MB for the needle's six quantities) whatever its
 /// length; runs with fewer than `MAX_BLOCKS * 64` samples (2.1 million, the bundled
@@ -58,7 +58,7 @@ pub const MAX_BLOCKS: usize = 1 << 15;
 /// stay means of equally long runs of consecutive samples.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(into = "GridSeriesData", try_from = "GridSeriesData")]
-pub struct GridSeries<const N: usize> {
+pub(crate) struct GridSeries<const N: usize> {
     block_len: u32,
     in_block: u32,
     sums: [f64; N],
@@ -72,7 +72,7 @@ pub struct GridSeries<const N: usize> {
 /// Serialised form of a [`GridSeries`] (serde derives do not cover `[f64; N]` for a
 /// generic `N`): the fixed-size arrays as vectors, blocks flattened block-major.
 #[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct GridSeriesData {
+pub(crate) struct GridSeriesData {
     block_len: u32,
     in_block: u32,
     sums: Vec<f64>,
@@ -124,7 +124,7 @@ impl<const N: usize> TryFrom<GridSeriesData> for GridSeries<N> {
 
 impl<const N: usize> GridSeries<N> {
     /// Blocks of `block_len` samples.
-    pub fn new(block_len: u32) -> Self {
+    pub(crate) fn new(block_len: u32) -> Self {
         Self {
             block_len: block_len.max(1),
             in_block: 0,
@@ -137,7 +137,7 @@ impl<const N: usize> GridSeries<N> {
 
     /// Adds one grid sample.
     #[inline]
-    pub fn push(&mut self, values: [f64; N]) {
+    pub(crate) fn push(&mut self, values: [f64; N]) {
         for (s, x) in self.sums.iter_mut().zip(values) {
             *s += x;
         }
@@ -152,7 +152,7 @@ impl<const N: usize> GridSeries<N> {
     /// collisions): the same sums and block boundaries as `n` calls of [`Self::push`], up to
     /// floating-point rounding (`n x` instead of `x + ... + x`).
     #[inline]
-    pub fn push_n(&mut self, values: [f64; N], n: u64) {
+    pub(crate) fn push_n(&mut self, values: [f64; N], n: u64) {
         let mut left = n;
         loop {
             // Samples that fit in the current block (may be 0: then nothing changes).
@@ -223,12 +223,12 @@ impl<const N: usize> GridSeries<N> {
     }
 
     /// Number of samples.
-    pub fn samples(&self) -> u64 {
+    pub(crate) fn samples(&self) -> u64 {
         self.count
     }
 
     /// Mean of quantity `q` over all samples (NaN when empty).
-    pub fn mean(&self, q: usize) -> f64 {
+    pub(crate) fn mean(&self, q: usize) -> f64 {
         if self.count == 0 {
             f64::NAN
         } else {
@@ -237,13 +237,13 @@ impl<const N: usize> GridSeries<N> {
     }
 
     /// Block means of quantity `q`.
-    pub fn block_means(&self, q: usize) -> Vec<f64> {
+    pub(crate) fn block_means(&self, q: usize) -> Vec<f64> {
         self.blocks.iter().map(|b| b[q]).collect()
     }
 
     /// Mean of quantity `q` over all samples and its batch-means standard error (NaN error
     /// with fewer than 2 complete blocks).
-    pub fn estimate(&self, q: usize) -> Estimate {
+    pub(crate) fn estimate(&self, q: usize) -> Estimate {
         let blocks = self.block_means(q);
         let (_, error) = if blocks.len() >= 2 {
             batch_means(&blocks, BATCHES)
@@ -258,7 +258,7 @@ impl<const N: usize> GridSeries<N> {
 
     /// Estimate of `g(means of the quantities)` from per-batch values of `g` (batch means
     /// of a smooth function; its bias is of order 1/(samples per batch)).
-    pub fn estimate_fn(&self, g: impl Fn(&[f64; N]) -> f64) -> Estimate {
+    pub(crate) fn estimate_fn(&self, g: impl Fn(&[f64; N]) -> f64) -> Estimate {
         let nblocks = self.blocks.len();
         let mut overall = [0.0; N];
         for (q, o) in overall.iter_mut().enumerate() {
@@ -294,7 +294,7 @@ impl<const N: usize> GridSeries<N> {
 /// Adds `x` to a histogram with a precomputed `1/bin_width` (same binning as
 /// [`Histogram::push`], without its division).
 #[inline]
-pub fn hist_push(h: &mut Histogram, inv_width: f64, x: f64) {
+pub(crate) fn hist_push(h: &mut Histogram, inv_width: f64, x: f64) {
     if x < h.min {
         h.underflow += 1;
     } else {
@@ -312,7 +312,7 @@ pub fn hist_push(h: &mut Histogram, inv_width: f64, x: f64) {
 /// `usize` conversion takes about ten instructions): the same index for every
 /// `x >= h.min`, huge values still fall in `overflow` and NaN in bin 0, as with `usize`.
 #[inline]
-pub fn hist_push_n(h: &mut Histogram, inv_width: f64, x: f64, n: u64) {
+pub(crate) fn hist_push_n(h: &mut Histogram, inv_width: f64, x: f64, n: u64) {
     if x < h.min {
         h.underflow += n;
     } else {
@@ -335,14 +335,14 @@ pub struct Table {
 
 impl Table {
     /// Empty table.
-    pub fn new(title: impl Into<String>) -> Self {
+    pub(crate) fn new(title: impl Into<String>) -> Self {
         Self {
             title: title.into(),
             columns: Vec::new(),
         }
     }
     /// Adds a column.
-    pub fn push(&mut self, name: impl Into<String>, values: Vec<f64>) {
+    pub(crate) fn push(&mut self, name: impl Into<String>, values: Vec<f64>) {
         self.columns.push((name.into(), values));
     }
     /// The column named `name`.

@@ -96,7 +96,7 @@ impl Default for Intruder1dConfig {
 
 impl Intruder1dConfig {
     /// Checks the parameters.
-    pub fn validate(&self) -> Result<(), BathError> {
+    pub(crate) fn validate(&self) -> Result<(), BathError> {
         let bad = |m: String| Err(BathError::Parameter(m));
         if !(self.mass > 0.0 && self.mass.is_finite()) {
             return bad(format!("mass must be positive, got {}", self.mass));
@@ -164,7 +164,7 @@ pub struct Intruder1dParams {
 
 impl Intruder1dParams {
     /// From a configuration.
-    pub fn new(cfg: &Intruder1dConfig) -> Result<Self, BathError> {
+    pub(crate) fn new(cfg: &Intruder1dConfig) -> Result<Self, BathError> {
         cfg.validate()?;
         let bath = cfg.bath.build(cfg.bath_mass)?;
         let mean_speed = bath.mean_speed();
@@ -182,7 +182,7 @@ impl Intruder1dParams {
     }
 
     /// Velocity relaxation time `(m + M)/((1 + alpha) m rho <|v|>)`.
-    pub fn relaxation_time(&self) -> f64 {
+    pub(crate) fn relaxation_time(&self) -> f64 {
         1.0 / (self.kick * self.rho * self.mean_speed)
     }
 
@@ -296,7 +296,7 @@ impl Intruder1d {
     }
 
     /// A new intruder from prepared parameters and a given stream and initial velocity.
-    pub fn with_params(
+    pub(crate) fn with_params(
         params: Intruder1dParams,
         cfg: &Intruder1dConfig,
         mut rng: Stream,
@@ -328,22 +328,22 @@ impl Intruder1d {
     }
 
     /// Current intruder velocity.
-    pub fn velocity(&self) -> f64 {
+    pub(crate) fn velocity(&self) -> f64 {
         self.v1
     }
 
     /// Averaging grid spacing.
-    pub fn sample_interval(&self) -> f64 {
+    pub(crate) fn sample_interval(&self) -> f64 {
         self.dt
     }
 
     /// Start of the averaging window.
-    pub fn transient(&self) -> f64 {
+    pub(crate) fn transient(&self) -> f64 {
         self.transient
     }
 
     /// Upper edge `h` of the velocity histogram `[-h, h]`.
-    pub fn histogram_max(&self) -> f64 {
+    pub(crate) fn histogram_max(&self) -> f64 {
         self.histogram.max
     }
 
@@ -462,7 +462,7 @@ impl Intruder1d {
     }
 
     /// Advances to `until` without any averaging (used by ensembles).
-    pub fn evolve_to(&mut self, until: f64) {
+    pub(crate) fn evolve_to(&mut self, until: f64) {
         // Errors only signal a non-finite velocity, impossible for finite parameters; the
         // state is left at the failing event in that case.
         let _ = self.drive_dispatch(until, u64::MAX, u64::MAX, false);

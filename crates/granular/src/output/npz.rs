@@ -30,8 +30,10 @@ use npyz::{DType, TypeStr, WriterBuilder};
 
 mod read;
 mod stream;
-pub use read::{read_npy, read_npz, read_snapshot};
-pub use stream::{Fill, StreamedSnapshot, write_snapshot_streamed};
+#[cfg(test)]
+pub(crate) use read::read_npy;
+pub use read::{read_npz, read_snapshot};
+pub(crate) use stream::{Fill, StreamedSnapshot, write_snapshot_streamed};
 
 use crate::engine::Snapshot;
 
@@ -92,7 +94,7 @@ impl NpzData {
     }
 
     /// NumPy's name for the element type (`"float64"`, `"uint32"`, …).
-    pub fn type_name(&self) -> &'static str {
+    pub(crate) fn type_name(&self) -> &'static str {
         match self {
             NpzData::F64(_) => "float64",
             NpzData::U32(_) => "uint32",
@@ -114,7 +116,7 @@ pub struct NpzArray {
 
 impl NpzArray {
     /// A 0-d (scalar) `float64` array.
-    pub fn scalar(value: f64) -> Self {
+    pub(crate) fn scalar(value: f64) -> Self {
         Self {
             shape: vec![],
             data: NpzData::F64(vec![value]),
@@ -138,7 +140,7 @@ impl NpzArray {
     }
 
     /// A 1-d `uint64` array.
-    pub fn u64_1d(values: Vec<u64>) -> Self {
+    pub(crate) fn u64_1d(values: Vec<u64>) -> Self {
         Self {
             shape: vec![values.len() as u64],
             data: NpzData::U64(values),
@@ -146,7 +148,7 @@ impl NpzArray {
     }
 
     /// A 1-d string array.
-    pub fn strings(values: Vec<String>) -> Self {
+    pub(crate) fn strings(values: Vec<String>) -> Self {
         Self {
             shape: vec![values.len() as u64],
             data: NpzData::Str(values),
@@ -191,7 +193,7 @@ impl NpzArray {
     }
 
     /// The values as strings if the array is a string array.
-    pub fn as_strings(&self) -> Option<&[String]> {
+    pub(crate) fn as_strings(&self) -> Option<&[String]> {
         match &self.data {
             NpzData::Str(v) => Some(v),
             _ => None,
@@ -312,7 +314,8 @@ fn zip_error(path: &Path) -> impl Fn(zip::result::ZipError) -> NpzError + '_ {
 /// # Errors
 /// [`NpzError::Io`] if the file cannot be written, [`NpzError::Format`] if the shape does not
 /// match the number of values.
-pub fn write_npy(path: impl AsRef<Path>, array: &NpzArray) -> Result<(), NpzError> {
+#[cfg(test)]
+pub(crate) fn write_npy(path: impl AsRef<Path>, array: &NpzArray) -> Result<(), NpzError> {
     let path = path.as_ref();
     array.check(&path.display().to_string())?;
     let file = File::create(path).map_err(io_error(path))?;

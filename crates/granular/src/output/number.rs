@@ -3,9 +3,9 @@
 //! `1e-4 <= |x| < 1e6`; `NaN`, `inf` and `-inf` spelt out.
 
 /// Significant digits of [`format_number`].
-pub const SIGNIFICANT_DIGITS: usize = 6;
+pub(crate) const SIGNIFICANT_DIGITS: usize = 6;
 
-/// `x` with [`SIGNIFICANT_DIGITS`] significant digits: `0.83` (not
+/// `x` with `SIGNIFICANT_DIGITS` significant digits: `0.83` (not
 /// `0.8300000000000001`), `28000`, `2.25e6`, `1.5e-7`, `0`, `NaN`, `inf`.
 pub fn format_number(x: f64) -> String {
     if x.is_nan() {

@@ -47,7 +47,7 @@ impl TrajectoryFormat {
     }
 
     /// The file (relative to the trajectory folder) a viewer opens.
-    pub fn file_name(self) -> &'static str {
+    pub(crate) fn file_name(self) -> &'static str {
         match self {
             TrajectoryFormat::Xyz => "trajectory.xyz",
             TrajectoryFormat::Lammps => "trajectory.lammpstrj",

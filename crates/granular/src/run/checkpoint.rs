@@ -15,12 +15,12 @@ pub const MAGIC: &[u8; 8] = b"GRANCKPT";
 const HEADER_LEN: usize = 8 + 4 + 8 + 4;
 
 /// The checkpoint file of the run directory `dir`.
-pub fn path(dir: &Path) -> PathBuf {
+pub(crate) fn path(dir: &Path) -> PathBuf {
     super::RunDir::new(dir).file(super::RunFile::Checkpoint)
 }
 
 /// The header and payload of a checkpoint.
-pub fn encode(payload: &[u8]) -> Vec<u8> {
+pub(crate) fn encode(payload: &[u8]) -> Vec<u8> {
     let mut out = Vec::with_capacity(HEADER_LEN + payload.len());
     out.extend_from_slice(MAGIC);
     out.extend_from_slice(&CHECKPOINT_FORMAT.to_le_bytes());
@@ -46,7 +46,7 @@ fn damaged(path: &Path, what: String) -> RunError {
 }
 
 /// The payload of the checkpoint `bytes` read from `path`, checked against its header.
-pub fn decode<'a>(path: &Path, bytes: &'a [u8]) -> Result<&'a [u8], RunError> {
+pub(crate) fn decode<'a>(path: &Path, bytes: &'a [u8]) -> Result<&'a [u8], RunError> {
     if !bytes.starts_with(MAGIC) {
         // Formats up to 7 were a bare MessagePack map that began with its format number.
         #[derive(serde::Deserialize)]
@@ -135,7 +135,7 @@ pub fn decode<'a>(path: &Path, bytes: &'a [u8]) -> Result<&'a [u8], RunError> {
 
 /// Writes `bytes` to `path` atomically: to `path.tmp`, flushed to the disk, then renamed.
 /// On failure the temporary file is removed and `path` is as it was.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), RunError> {
+pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), RunError> {
     let mut tmp_name = path.as_os_str().to_owned();
     tmp_name.push(".tmp");
     let tmp = PathBuf::from(tmp_name);

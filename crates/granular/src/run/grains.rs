@@ -39,7 +39,7 @@ pub(crate) struct Grains {
 impl Grains {
     /// The grains of `simulation` (collective when it is decomposed: every rank sends
     /// its particles to the owners of their ids); `None` for the intruder engines.
-    pub fn of(simulation: &Simulation) -> Option<Grains> {
+    pub(crate) fn of(simulation: &Simulation) -> Option<Grains> {
         match simulation.engine() {
             AnyEngine::Dsmc2(e) if e.domain().is_some() => Some(block_of(e)),
             AnyEngine::Dsmc3(e) if e.domain().is_some() => Some(block_of(e)),
@@ -58,7 +58,7 @@ impl Grains {
     }
 
     /// `|v_i|²` of the block's grain `i`.
-    pub fn speed_squared(&self, i: usize) -> f64 {
+    pub(crate) fn speed_squared(&self, i: usize) -> f64 {
         let d = self.snap.dimension;
         self.snap.velocities[i * d..(i + 1) * d]
             .iter()
@@ -70,7 +70,11 @@ impl Grains {
     /// continues the accumulator `acc` (words) over the block's grains in order. Rank 0
     /// starts from `init`, each rank continues from the one before; every rank returns
     /// the final accumulator, bit for bit the one the loop over all grains gives.
-    pub fn chain(&self, init: Vec<f64>, fold: impl FnOnce(Vec<f64>) -> Vec<f64>) -> Vec<f64> {
+    pub(crate) fn chain(
+        &self,
+        init: Vec<f64>,
+        fold: impl FnOnce(Vec<f64>) -> Vec<f64>,
+    ) -> Vec<f64> {
         let Some(domain) = &self.domain else {
             return fold(init);
         };
@@ -101,7 +105,12 @@ impl Grains {
     /// chunk that runs on into later blocks are sent by their ranks to the rank where it
     /// starts). Not decomposed: every chunk. A fold per chunk, then over the chunks in
     /// order ([`Grains::chain`]), is then the threaded run's chunked fold.
-    pub fn chunks_starting_here(&self, rows: &[f64], width: usize, chunk: usize) -> Vec<Vec<f64>> {
+    pub(crate) fn chunks_starting_here(
+        &self,
+        rows: &[f64],
+        width: usize,
+        chunk: usize,
+    ) -> Vec<Vec<f64>> {
         let n = self.len();
         let lead = match self.first % chunk {
             0 => 0,
@@ -130,7 +139,7 @@ impl Grains {
     }
 
     /// Integer counters summed over the ranks (exact).
-    pub fn sum_u64(&self, local: Vec<u64>) -> Vec<u64> {
+    pub(crate) fn sum_u64(&self, local: Vec<u64>) -> Vec<u64> {
         match &self.domain {
             Some(d) => d.sum_u64(&local),
             None => local,
@@ -139,7 +148,7 @@ impl Grains {
 
     /// Histograms filled with this rank's grains, summed over the ranks (bins,
     /// underflow and overflow: integers, exact).
-    pub fn sum_histograms(&self, histograms: &mut [Histogram]) {
+    pub(crate) fn sum_histograms(&self, histograms: &mut [Histogram]) {
         if self.domain.is_none() {
             return;
         }

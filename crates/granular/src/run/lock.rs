@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 
 /// The lock of a run directory; removed on drop.
 #[derive(Debug)]
-pub struct Lock {
+pub(crate) struct Lock {
     path: PathBuf,
     /// The open lock file holding the system lock (released when it closes).
     _file: File,
@@ -65,7 +65,7 @@ fn in_use(dir: &Path, path: &Path, holder: &str) -> RunError {
 impl Lock {
     /// Takes the lock of `dir` (which exists). Returns the lock and, when a stale lock
     /// (left by a run that no longer runs) was taken over, a line for the log.
-    pub fn acquire(dir: &Path) -> Result<(Lock, Option<String>), RunError> {
+    pub(crate) fn acquire(dir: &Path) -> Result<(Lock, Option<String>), RunError> {
         let path = dir.join(crate::run::RunFile::Lock.name());
         let io = |source| RunError::Io {
             path: path.clone(),

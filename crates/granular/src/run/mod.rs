@@ -1,5 +1,5 @@
 //! A run: a [`Simulation`] run to its stop rule with the standard outputs of its scenario
-//! attached ([`outputs`]), a log, checkpoints and the summary, recorded into a run
+//! attached (`outputs`), a log, checkpoints and the summary, recorded into a run
 //! directory. The directory's files, their names and their readers are [`dir`]'s
 //! ([`RunDir`]).
 
@@ -7,20 +7,19 @@ pub mod checkpoint;
 pub mod dir;
 pub(crate) mod grains;
 mod lock;
-pub mod outputs;
-pub mod parts;
+pub(crate) mod outputs;
+pub(crate) mod parts;
 mod recorder;
 pub mod summary;
 pub mod sweep;
 
+pub(crate) use crate::build::build_on;
 /// The intruder engines behind one type (moved to [`crate::build::intruder`]).
-pub use crate::build::intruder;
-pub use crate::build::{
-    AnyEngine, BuildError, MemoryBudget, build, build_on, dsmc_setup, initial_particles,
-};
+pub use crate::build::{AnyEngine, BuildError, MemoryBudget, build, initial_particles, intruder};
 pub use crate::output::npz::write_snapshot;
 pub use dir::{DirectoryState, RunDir, RunFile, Table, read_snapshot};
-pub use outputs::{Output, StandardOutputs};
+pub use outputs::Output;
+pub(crate) use outputs::StandardOutputs;
 pub use summary::{AverageValue, AveragesSummary, ResolvedSummary, Summary};
 
 use crate::engine::EngineError;
@@ -218,7 +217,7 @@ impl Run {
     }
 
     /// [`Run::create`], split over the ranks of `comm` when it is given (collective):
-    /// every rank creates only its own grains ([`build_on`]); `dir` is this rank's
+    /// every rank creates only its own grains (`build_on`); `dir` is this rank's
     /// directory, `shared` the run directory every rank sees (rank 0's `dir`), where each
     /// rank writes its checkpoint parts and its blocks of the snapshots. With `memory`, a
     /// DSMC run whose most loaded rank would not fit in its share of the node is refused
@@ -473,7 +472,7 @@ impl Run {
     /// outputs hold whole-system values, so rank 0's directory is the run's). `shared` is
     /// the run directory (rank 0's), which every rank must see: each writes its part of
     /// the checkpoints and its block of the snapshots there, so that no rank gathers all
-    /// particles ([`parts`]).
+    /// particles (`parts`).
     pub fn decompose(
         &mut self,
         comm: std::sync::Arc<dyn crate::dsmc::Communicator>,

@@ -22,7 +22,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 /// The folder of the checkpoint parts in the run directory.
-pub const PARTS_DIR: &str = super::dir::CHECKPOINT_PARTS;
+pub(crate) const PARTS_DIR: &str = super::dir::CHECKPOINT_PARTS;
 
 /// What a decomposed run's `checkpoint.msgpack` says about its parts.
 #[derive(Clone, Debug, Serialize, Deserialize)]

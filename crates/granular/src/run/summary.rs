@@ -157,7 +157,7 @@ impl IntruderSummary {
 }
 
 /// Values the scenario resolved at build time (a packing fraction turned into a radius):
-/// the `resolved` block, written from the simulation's [`crate::scenario::Resolved`].
+/// the `resolved` block, written from the simulation's `crate::scenario::Resolved`.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct ResolvedSummary {
     /// Grain radius per species, by species name.
@@ -209,7 +209,7 @@ pub struct ScaledSpeedSummary {
 }
 
 /// The mean of one observable over the run after the equilibration time, with its
-/// standard error by blocking ([`crate::averaging`], `docs/output.md`).
+/// standard error by blocking (`crate::averaging`, `docs/output.md`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct AverageValue {
     /// Mean of the samples (one per output time after the equilibration time).

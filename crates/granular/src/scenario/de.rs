@@ -169,7 +169,7 @@ pub(super) mod seed {
     }
 
     /// Reads a seed from an integer or a string of digits.
-    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<u64, D::Error> {
+    pub(crate) fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<u64, D::Error> {
         d.deserialize_any(SeedVisitor)
     }
 

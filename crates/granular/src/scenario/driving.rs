@@ -46,7 +46,7 @@ pub struct DrivingSpec {
 
 impl DrivingSpec {
     /// The engine's driving; `initial_temperature` is the default of `rescale`.
-    pub fn driving(&self, initial_temperature: f64) -> Driving {
+    pub(crate) fn driving(&self, initial_temperature: f64) -> Driving {
         match self.kind {
             DrivingKind::Rescale => Driving::Rescale {
                 temperature: self.temperature.unwrap_or(initial_temperature),

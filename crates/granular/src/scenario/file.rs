@@ -7,7 +7,7 @@ use std::path::Path;
 
 /// The largest scenario (or bath table) file read: 64 MiB, room for explicit positions of
 /// about a million grains. Larger inputs belong in NumPy arrays (`docs/python.md`).
-pub const MAX_FILE_BYTES: u64 = 64 << 20;
+pub(crate) const MAX_FILE_BYTES: u64 = 64 << 20;
 
 /// What kind of file system object `meta` is, in words.
 fn kind(meta: &std::fs::Metadata) -> &'static str {
@@ -36,7 +36,7 @@ fn kind(meta: &std::fs::Metadata) -> &'static str {
 }
 
 /// The text of the file at `path`, refused (`ErrorKind::InvalidInput`, the message naming
-/// what the path is) when it is not a regular file, is larger than [`MAX_FILE_BYTES`] or
+/// what the path is) when it is not a regular file, is larger than `MAX_FILE_BYTES` or
 /// is not UTF-8 text; other errors (not found, no permission) as the system gives them.
 pub fn read_text_file(path: &Path) -> Result<String, Error> {
     let meta = std::fs::metadata(path)?;

@@ -33,7 +33,7 @@ impl Default for BoxSpec {
 
 impl BoxSpec {
     /// Whether this is the default box (left out of the resolved scenario then).
-    pub fn is_default(&self) -> bool {
+    pub(crate) fn is_default(&self) -> bool {
         *self == Self::default()
     }
 }

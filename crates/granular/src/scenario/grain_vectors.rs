@@ -69,7 +69,7 @@ impl GrainVectors {
     }
 
     /// Vectors from nested rows (inline TOML); `None` when the rows differ in length.
-    pub fn from_rows(rows: &[Vec<f64>]) -> Result<Self, String> {
+    pub(crate) fn from_rows(rows: &[Vec<f64>]) -> Result<Self, String> {
         let width = rows.first().map_or(0, Vec::len);
         if let Some((i, r)) = rows.iter().enumerate().find(|(_, r)| r.len() != width) {
             return Err(format!(

@@ -10,7 +10,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// The keys that take per-grain arrays: `species[i].` followed by one of these.
-pub const ARRAY_KEYS: [&str; 2] = ["positions", "velocity.velocities"];
+pub(crate) const ARRAY_KEYS: [&str; 2] = ["positions", "velocity.velocities"];
 
 /// A scenario's text and what comes with it; [`ScenarioInput::read`] parses, applies the
 /// overrides, puts the given arrays in, reads the `.npz` members it names, and validates.

@@ -4,7 +4,7 @@
 //! `docs/scenario.md`; unknown keys are errors.
 //!
 //! Loading goes: file text → `toml::Table` → `--set` overrides applied to the table →
-//! typed [`Scenario`] (serde, unknown keys rejected) → [`Scenario::validate`]. Every error
+//! typed [`Scenario`] (serde, unknown keys rejected) → `Scenario::validate`. Every error
 //! names the key, the value, the line when it comes from the file, and the fix.
 
 pub(crate) mod advice;
@@ -31,30 +31,32 @@ mod validate;
 use crate::dsmc::config::DsmcConfig;
 pub use de::seed::HELP as SEED_HELP;
 pub use driving::{DrivingKind, DrivingSpec};
-pub use file::{MAX_FILE_BYTES, file_overrides, read_text_file};
+pub use file::{file_overrides, read_text_file};
 pub use grain_tables::{
     BoundarySpec, BoxSpec, CollisionSpec, InitialSpec, Placement, RegionSpec, SpeciesSpec,
     VelocitySpec,
 };
 pub use grain_vectors::{GrainVectors, VectorSource};
-pub use input::{ARRAY_KEYS, ScenarioInput, array_key};
-pub use intruder::{BathTable, DsmcTwinTable, IntruderSpec, NeedleTable, OneDTable, bath_file};
-pub use output::{OutputSpacing, OutputSpec};
-pub use overrides::apply_override;
-pub use preflight::{
-    Cost, EDMD_EVENTS_PER_COLLISION, FALLBACK_MEMORY, MAX_BYTES, MAX_COLLISIONS, MAX_OUTPUTS,
-    NOMINAL_COLLISIONS_PER_SECOND, WARN_OUTPUTS, available_memory,
+pub use input::{ScenarioInput, array_key};
+pub use intruder::{
+    BallMethodKey, BallTable, BathTable, DsmcTwinTable, IntruderSpec, NeedleTable, OneDTable,
+    bath_file,
 };
+pub use output::{OutputSpacing, OutputSpec};
+pub(crate) use overrides::apply_override;
+pub(crate) use preflight::available_memory;
+pub use preflight::{Cost, MAX_OUTPUTS};
 pub use resolve::{
     Cooling, DrivingResolved, DsmcResolved, Grains, Resolved, RoughResolved, SpeciesResolved,
 };
 pub use rough::AngularVelocitySpec;
-pub use schedule::{IN_FLIGHT_KEYS, MAX_SCHEDULE_ENTRIES, ScheduledChange, changed};
+pub use schedule::ScheduledChange;
+pub(crate) use schedule::changed;
 pub use spans::locate;
-pub use species::MAX_NAME_LEN;
 pub(crate) use sweep::sweep_member;
-pub use sweep::{MAX_SWEEP_POINTS, sweep_observables};
-pub use validate::{MAGNITUDE, MAX_BINS, MAX_HISTOGRAM_SPEED, MAX_PER_DECADE};
+pub use sweep::sweep_observables;
+#[cfg(test)]
+pub(crate) use validate::MAGNITUDE;
 
 /// Whether `--set` assignment `o` (`KEY=VALUE`) set `key`, a table above it or a key below
 /// it (`species.0.mass` and `species[0].mass` are the same key).
@@ -137,7 +139,7 @@ pub enum EngineSpec {
 
 impl EngineSpec {
     /// Which engine.
-    pub fn kind(&self) -> EngineKind {
+    pub(crate) fn kind(&self) -> EngineKind {
         match self {
             EngineSpec::Edmd { .. } => EngineKind::Edmd,
             EngineSpec::Dsmc { .. } => EngineKind::Dsmc,
@@ -178,7 +180,7 @@ impl Scenario {
     }
 
     /// The grains' tables (`None` for the intruder engine).
-    pub fn grains(&self) -> Option<&GrainsSpec> {
+    pub(crate) fn grains(&self) -> Option<&GrainsSpec> {
         match &self.engine {
             EngineSpec::Edmd { grains, .. } | EngineSpec::Dsmc { grains, .. } => Some(grains),
             EngineSpec::Intruder(_) => None,
@@ -186,7 +188,7 @@ impl Scenario {
     }
 
     /// The grains' tables, to change (`None` for the intruder engine).
-    pub fn grains_mut(&mut self) -> Option<&mut GrainsSpec> {
+    pub(crate) fn grains_mut(&mut self) -> Option<&mut GrainsSpec> {
         match &mut self.engine {
             EngineSpec::Edmd { grains, .. } | EngineSpec::Dsmc { grains, .. } => Some(grains),
             EngineSpec::Intruder(_) => None,
@@ -199,7 +201,7 @@ impl Scenario {
     }
 
     /// `[edmd]` of an event-driven scenario.
-    pub fn edmd(&self) -> Option<&EdmdSpec> {
+    pub(crate) fn edmd(&self) -> Option<&EdmdSpec> {
         match &self.engine {
             EngineSpec::Edmd { edmd, .. } => Some(edmd),
             _ => None,
@@ -228,12 +230,12 @@ impl Scenario {
     }
 
     /// `[box]` (the default box for the intruder engine).
-    pub fn simulation_box(&self) -> &BoxSpec {
+    pub(crate) fn simulation_box(&self) -> &BoxSpec {
         &self.grains_or_none().simulation_box
     }
 
     /// `[initial]` (its defaults for the intruder engine).
-    pub fn initial(&self) -> &InitialSpec {
+    pub(crate) fn initial(&self) -> &InitialSpec {
         &self.grains_or_none().initial
     }
 
@@ -248,7 +250,7 @@ impl Scenario {
     }
 
     /// `[crater]`.
-    pub fn crater(&self) -> Option<&CraterSpec> {
+    pub(crate) fn crater(&self) -> Option<&CraterSpec> {
         self.grains_or_none().crater.as_ref()
     }
 
@@ -304,7 +306,7 @@ fn is_default_balance(mode: &crate::dsmc::BalanceMode) -> bool {
 
 impl DsmcSpec {
     /// The load balance of a run over ranks (`balance`, `balance_every`).
-    pub fn balance(&self) -> crate::dsmc::Balance {
+    pub(crate) fn balance(&self) -> crate::dsmc::Balance {
         crate::dsmc::Balance {
             mode: self.balance,
             every: self
@@ -319,7 +321,7 @@ impl DsmcSpec {
     /// gravity of `grains`, and the step and cell size the scenario resolved
     /// (`resolved`; a step left out stays `None`: it follows the mean free time). The one
     /// conversion from the scenario to the engine.
-    pub fn config(&self, grains: &GrainsSpec, resolved: &DsmcResolved) -> DsmcConfig {
+    pub(crate) fn config(&self, grains: &GrainsSpec, resolved: &DsmcResolved) -> DsmcConfig {
         DsmcConfig {
             time_step: self.time_step,
             cell_size: Some(resolved.cell_size),
@@ -338,7 +340,7 @@ impl DsmcSpec {
 
     /// Bins of the impact-parameter histogram: `dsmc.impact_bins`, or the event-driven
     /// engine's default.
-    pub fn impact_bins(&self) -> usize {
+    pub(crate) fn impact_bins(&self) -> usize {
         self.impact_bins.unwrap_or_else(impact_bins)
     }
 }
@@ -466,7 +468,7 @@ impl Default for EdmdSpec {
 impl EdmdSpec {
     /// The event-driven engine's options: this table's, with the gravity of `grains`.
     /// The one conversion from the scenario to the engine.
-    pub fn options(&self, grains: &GrainsSpec) -> crate::edmd::EdmdOptions {
+    pub(crate) fn options(&self, grains: &GrainsSpec) -> crate::edmd::EdmdOptions {
         crate::edmd::EdmdOptions {
             gravity: grains.gravity.clone(),
             collapse_ratio: self.collapse_ratio,
@@ -663,7 +665,7 @@ impl Scenario {
     /// Checks every value, table by table, then the pre-flight rules (the stop rule can
     /// be reached, the outputs, collisions and memory are within the documented limits);
     /// the error names the key, the value and the fix.
-    pub fn validate(&self) -> Result<(), ScenarioError> {
+    pub(crate) fn validate(&self) -> Result<(), ScenarioError> {
         if let Some(spec) = self.intruder() {
             intruder::validate(self, spec)?;
         } else {

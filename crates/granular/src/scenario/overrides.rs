@@ -7,7 +7,10 @@ use super::spans::Segment;
 /// Applies one `KEY=VALUE` override, e.g. `collisions.restitution=0.9`,
 /// `species[1].mass=4` or `species.1.mass=4`. The value is read as a TOML value (number,
 /// boolean, array, inline table), or as a string when it is not one.
-pub fn apply_override(table: &mut toml::Table, assignment: &str) -> Result<(), ScenarioError> {
+pub(crate) fn apply_override(
+    table: &mut toml::Table,
+    assignment: &str,
+) -> Result<(), ScenarioError> {
     let (key, raw) = assignment.split_once('=').ok_or_else(|| ScenarioError {
         key: assignment.to_string(),
         message: "an override must look like KEY=VALUE, e.g. collisions.restitution=0.9".into(),

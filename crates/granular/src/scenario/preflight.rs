@@ -15,9 +15,9 @@ use crate::output::format_number;
 /// Most outputs (rows of `timeseries.csv`) a run may write.
 pub const MAX_OUTPUTS: f64 = 1e6;
 /// Most pair collisions a run may be estimated to need (several days of computing).
-pub const MAX_COLLISIONS: f64 = 1e12;
+pub(crate) const MAX_COLLISIONS: f64 = 1e12;
 /// Memory assumed available when `/proc/meminfo` cannot be read (bytes).
-pub const FALLBACK_MEMORY: f64 = 16.0 * GIB;
+pub(crate) const FALLBACK_MEMORY: f64 = 16.0 * GIB;
 const GIB: f64 = 1024.0 * 1024.0 * 1024.0;
 
 /// The initial gas of the estimate, from the scenario's resolved values
@@ -131,7 +131,7 @@ fn bytes_per_grain(sc: &Scenario) -> f64 {
 }
 
 /// Available memory: `MemAvailable` of `/proc/meminfo`, else [`FALLBACK_MEMORY`].
-pub fn available_memory() -> f64 {
+pub(crate) fn available_memory() -> f64 {
     crate::host::available_memory().unwrap_or(FALLBACK_MEMORY)
 }
 
@@ -257,7 +257,7 @@ pub struct Cost {
     pub snapshots: f64,
     /// Pair collisions (the intruder's collisions).
     pub collisions: f64,
-    /// Events of the event-driven engine ([`EDMD_EVENTS_PER_COLLISION`] per collision);
+    /// Events of the event-driven engine (`EDMD_EVENTS_PER_COLLISION` per collision);
     /// time steps of DSMC (about ten per mean free time); `None` for the intruder.
     pub steps: Option<(f64, &'static str)>,
     /// Bytes the run writes: the time series, snapshots and observables.
@@ -277,15 +277,15 @@ pub struct Cost {
 
 /// Collisions per second assumed for a run stopped only by `stop.wall_seconds` (an upper
 /// estimate of one run's speed on one core).
-pub const NOMINAL_COLLISIONS_PER_SECOND: f64 = 1e7;
+pub(crate) const NOMINAL_COLLISIONS_PER_SECOND: f64 = 1e7;
 /// Events per pair collision of the event-driven engine in the estimate (measured 1.35 to
 /// 1.45 in 2D gases, `docs/performance.md`; cell crossings add more in dilute gases).
-pub const EDMD_EVENTS_PER_COLLISION: f64 = 2.0;
+pub(crate) const EDMD_EVENTS_PER_COLLISION: f64 = 2.0;
 /// Most bytes a run may be estimated to write (100 GB).
-pub const MAX_BYTES: f64 = 1e11;
+pub(crate) const MAX_BYTES: f64 = 1e11;
 /// Above this many estimated outputs of a cooling gas with `output.spacing = "linear"`,
 /// the run warns and proposes logarithmic spacing.
-pub const WARN_OUTPUTS: f64 = 1e4;
+pub(crate) const WARN_OUTPUTS: f64 = 1e4;
 
 /// Bytes of one number in `timeseries.csv` (shortest round-trip decimal and separator).
 const CSV_NUMBER: f64 = 24.0;

@@ -59,7 +59,7 @@ pub struct DsmcResolved {
     pub time_step: f64,
     /// Whether the step follows the mean free time (no `dsmc.time_step`).
     pub follows_mean_free_time: bool,
-    /// The requested cell edge: `dsmc.cell_size`, or [`default_cell_size`].
+    /// The requested cell edge: `dsmc.cell_size`, or `default_cell_size`.
     pub cell_size: f64,
     /// The cells' edge along each axis: the box length over the cells that fit
     /// (the DSMC engine's grid rule), at least [`DsmcResolved::cell_size`].
@@ -96,7 +96,7 @@ pub struct RoughResolved {
     pub friction: Option<f64>,
     /// The reduced moment of inertia `κ = 4I/(mσ²)` of each species, in the scenario's
     /// order: `species[i].inertia`, or the uniform grain's
-    /// ([`crate::collision_law::rough::uniform_inertia`]).
+    /// (`crate::collision_law::rough::uniform_inertia`).
     pub inertia: Vec<f64>,
     /// The cooling rate `ζ / ν` of the homogeneous cooling state of the first species
     /// in the Maxwellian approximation (RS-4, RS-5; Walton's rule read as its β₀).
@@ -203,7 +203,7 @@ fn velocity_temperature(v: &VelocitySpec, mass: f64, d: f64) -> f64 {
 
 impl Resolved {
     /// Resolves a validated scenario at the initial temperature of its velocities.
-    pub fn of(sc: &Scenario) -> Resolved {
+    pub(crate) fn of(sc: &Scenario) -> Resolved {
         let grains = sc.grains().is_some().then(|| Grains::of(sc));
         let dimension = sc.intruder().map_or(sc.dimension, |i| i.dimension());
         Resolved { dimension, grains }
@@ -409,7 +409,7 @@ fn rough_steady_state(rough: &RoughGas, smooth: &GasTheory, driving: &Driving) -
 
 impl Scenario {
     /// Every derived quantity of this (validated) scenario, at the initial temperature its
-    /// velocities describe ([`Resolved`]).
+    /// velocities describe (`Resolved`).
     pub fn resolve(&self) -> Resolved {
         Resolved::of(self)
     }

@@ -24,7 +24,7 @@ use serde::{Deserialize, Serialize};
 
 /// The keys that can change once a simulation exists (by [`crate::Simulation::set`] or
 /// `[[schedule]]`), in the scenario's words.
-pub const IN_FLIGHT_KEYS: [&str; 9] = [
+pub(crate) const IN_FLIGHT_KEYS: [&str; 9] = [
     "collisions.restitution",
     "collisions.tangential_restitution",
     "collisions.friction",
@@ -38,7 +38,7 @@ pub const IN_FLIGHT_KEYS: [&str; 9] = [
 
 /// The most entries a `[[schedule]]` may have (each is checked as a whole scenario when
 /// the scenario is read).
-pub const MAX_SCHEDULE_ENTRIES: usize = 10_000;
+pub(crate) const MAX_SCHEDULE_ENTRIES: usize = 10_000;
 
 /// One `[[schedule]]` entry: from `time` on, the keys of `set` take their values.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -54,7 +54,7 @@ pub struct ScheduledChange {
 impl ScheduledChange {
     /// The changes as `(key, value)` pairs, the value written as in TOML (the right side
     /// of `--set key=value`).
-    pub fn assignments(&self) -> Vec<(String, String)> {
+    pub(crate) fn assignments(&self) -> Vec<(String, String)> {
         self.set
             .iter()
             .map(|(k, v)| (k.clone(), v.to_string()))
@@ -75,7 +75,7 @@ fn refuse(key: &str, message: impl Into<String>) -> ScenarioError {
 /// species' `inertia` and `angular_velocity`, which smooth grains do not take); smooth
 /// grains carry no angular velocities and cannot become rough. The error names the key
 /// and why it cannot take the value; nothing is changed then.
-pub fn changed(
+pub(crate) fn changed(
     scenario: &Scenario,
     assignments: &[(String, String)],
 ) -> Result<Scenario, ScenarioError> {

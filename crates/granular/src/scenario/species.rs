@@ -6,7 +6,7 @@ use super::{Scenario, ScenarioError, SpeciesSpec, VelocitySpec};
 use crate::boundary::AxisKind;
 
 /// Longest species name.
-pub const MAX_NAME_LEN: usize = 64;
+pub(crate) const MAX_NAME_LEN: usize = 64;
 
 /// Checks every species (at least one, names unique).
 pub(super) fn validate(sc: &Scenario) -> Result<(), ScenarioError> {

@@ -7,7 +7,7 @@ use super::{EngineKind, Scenario, ScenarioError, ScenarioInput, SweepAxis, Sweep
 
 /// Most points a sweep may have (the product of the value counts in a grid): beyond it
 /// the scan is an error that suggests `mode = "zip"`, fewer values or several sweeps.
-pub const MAX_SWEEP_POINTS: usize = 10_000;
+pub(crate) const MAX_SWEEP_POINTS: usize = 10_000;
 
 /// Columns of the many-grain engines' observations (`Observation::columns`; an engine
 /// leaves out those it does not measure); `kinetic_energy_per_grain.<name>` and
@@ -156,7 +156,7 @@ impl SweepSpec {
 
     /// Number of points: the product of the value counts (grid) or the common length
     /// (zip).
-    pub fn point_count(&self) -> usize {
+    pub(crate) fn point_count(&self) -> usize {
         let axes = self.axes();
         match self.mode {
             _ if axes.is_empty() => 0,

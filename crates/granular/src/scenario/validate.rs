@@ -7,13 +7,13 @@ use crate::boundary::AxisKind;
 /// Largest magnitude of a dimensional number (length, mass, speed, temperature, time,
 /// acceleration), and the inverse of the smallest non-zero one: squares and products of
 /// two or three such numbers stay finite and normal in `f64`.
-pub const MAGNITUDE: f64 = 1e100;
+pub(crate) const MAGNITUDE: f64 = 1e100;
 /// Most bins of a speed or impact-parameter histogram.
-pub const MAX_BINS: usize = 100_000;
+pub(crate) const MAX_BINS: usize = 100_000;
 /// Most outputs per decade of time (`output.per_decade`).
-pub const MAX_PER_DECADE: u32 = 10_000;
+pub(crate) const MAX_PER_DECADE: u32 = 10_000;
 /// Largest `output.histogram_max_speed` (in units of the initial r.m.s. speed).
-pub const MAX_HISTOGRAM_SPEED: f64 = 1000.0;
+pub(crate) const MAX_HISTOGRAM_SPEED: f64 = 1000.0;
 
 /// `x` as written in a message: plain in [1e-4, 1e15), else in scientific notation (a
 /// 1e-300 box edge prints as `1e-300`, not as 300 zeros).

@@ -4,16 +4,17 @@
 //! compression to dense states (Lubachevsky-Stillinger) needs the event-driven engine and
 //! lives with it (`edmd::init`), above this module.
 //!
-//! * [`placement`]: random sequential and lattice placement in a [`Region`];
-//! * [`velocities`]: fixed speed, Maxwell-Boltzmann, drift removal;
-//! * [`overlap`]: rejects initial states in which grains overlap.
+//! * `placement`: random sequential and lattice placement in a [`Region`];
+//! * `velocities`: fixed speed, Maxwell-Boltzmann, drift removal;
+//! * `overlap`: rejects initial states in which grains overlap.
 
-pub mod overlap;
-pub mod placement;
-pub mod velocities;
+pub(crate) mod overlap;
+pub(crate) mod placement;
+pub(crate) mod velocities;
 
-pub use overlap::{Overlap, check_overlaps};
-pub use placement::{Lattice, lattice_placement, random_placement};
+pub(crate) use overlap::check_overlaps;
+pub(crate) use placement::Lattice;
+pub use placement::{lattice_placement, random_placement};
 pub use velocities::{fixed_speed, maxwell_boltzmann, remove_drift};
 
 use crate::boundary::SimulationBox;
@@ -108,7 +109,7 @@ impl<const D: usize> Region<D> {
     }
 
     /// Volume of the region.
-    pub fn volume(&self) -> f64 {
+    pub(crate) fn volume(&self) -> f64 {
         (0..D).map(|k| self.hi[k] - self.lo[k]).product()
     }
 

@@ -9,7 +9,7 @@ use crate::particles::ParticleSet;
 #[error(
     "grains {a} and {b} overlap at the start (distance {distance:.6} < sum of radii {sigma:.6}); move them apart or make them smaller"
 )]
-pub struct Overlap {
+pub(crate) struct Overlap {
     /// First grain (index in the particle set).
     pub a: usize,
     /// Second grain (`b > a`).
@@ -24,7 +24,7 @@ pub struct Overlap {
 /// contact distance: the first grain `a` (in input order) that overlaps a later grain is
 /// reported. Neighbours are found on the event-driven engine's cell grid, which fits all
 /// but a few large grains (cost `O(N)` for any size distribution).
-pub fn check_overlaps<const D: usize>(
+pub(crate) fn check_overlaps<const D: usize>(
     bx: &SimulationBox<D>,
     set: &ParticleSet<D>,
 ) -> Result<(), Overlap> {

@@ -213,7 +213,7 @@ pub fn random_placement<const D: usize>(
 /// spacing is the largest that holds `n` sites. Site `j` is computed on its own
 /// ([`Lattice::site`]), so a rank of a decomposed DSMC run places only its own grains.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Lattice<const D: usize> {
+pub(crate) struct Lattice<const D: usize> {
     counts: [usize; D],
     offsets: [f64; D],
     steps: [f64; D],
@@ -224,7 +224,7 @@ pub struct Lattice<const D: usize> {
 impl<const D: usize> Lattice<D> {
     /// The lattice of `n` sites for grains of radius up to `r_max` in `region`. Fails if
     /// its spacing is smaller than a diameter.
-    pub fn new(
+    pub(crate) fn new(
         bx: &SimulationBox<D>,
         region: &Region<D>,
         n: usize,
@@ -292,7 +292,7 @@ impl<const D: usize> Lattice<D> {
     }
 
     /// Site `j` (`0 ..`), row by row with axis 0 fastest.
-    pub fn site(&self, j: usize) -> Vector<D> {
+    pub(crate) fn site(&self, j: usize) -> Vector<D> {
         let mut x = Vector::zero();
         let mut rest = j;
         for k in 0..D {

@@ -23,7 +23,7 @@ pub struct Balance {
     /// By what.
     pub mode: BalanceMode,
     /// Steps between two looks at the load (`dsmc.balance_every`); the cuts move when the
-    /// most loaded rank carries more than [`IMBALANCE`] times the mean.
+    /// most loaded rank carries more than `IMBALANCE` times the mean.
     pub every: u64,
 }
 
@@ -37,13 +37,13 @@ impl Default for Balance {
 }
 
 /// The ratio of the largest rank load to the mean above which the cuts move.
-pub const IMBALANCE: f64 = 1.05;
+pub(crate) const IMBALANCE: f64 = 1.05;
 
 /// The cuts that share `loads` (one per plane, in plane order) over `k` ranks as evenly
 /// as whole planes allow, every rank at least one plane: rank `r` gets the planes
 /// `cuts[r] .. cuts[r + 1]`, each cut where the running load is nearest `r / k` of the
 /// total.
-pub fn balanced_cuts(loads: &[f64], k: usize) -> Vec<usize> {
+pub(crate) fn balanced_cuts(loads: &[f64], k: usize) -> Vec<usize> {
     let p = loads.len();
     let total: f64 = loads.iter().sum();
     let mut cuts = vec![0; k + 1];
@@ -76,7 +76,7 @@ pub const TIME_SHARE_CAP: f64 = 2.0;
 /// their owner's seconds per grain), unless a rank would then own more than
 /// [`TIME_SHARE_CAP`] times the mean grains (`counts`: grains per plane), when the cuts
 /// share the grains instead.
-pub fn time_cuts(counts: &[f64], loads: &[f64], k: usize) -> Vec<usize> {
+pub(crate) fn time_cuts(counts: &[f64], loads: &[f64], k: usize) -> Vec<usize> {
     let cuts = balanced_cuts(loads, k);
     let cap = TIME_SHARE_CAP * counts.iter().sum::<f64>() / k as f64;
     if cuts

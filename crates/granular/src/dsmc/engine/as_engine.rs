@@ -31,7 +31,7 @@ impl<const D: usize> Engine for DsmcEngine<D> {
     /// Steps of `tau` (the last one shortened to land exactly on `until`); stops after the
     /// first step at which the events of this call reach `max_events`. Without an explicit
     /// `time_step`, `tau` is recomputed before every step as [`STEP_FRACTION`](super::STEP_FRACTION) of the
-    /// current mean free time (see [`DsmcEngine::follow_mean_free_time`]). A steady-state
+    /// current mean free time (see `DsmcEngine::follow_mean_free_time`). A steady-state
     /// driving ([`DsmcEngine::set_driving`]) acts after every step.
     fn advance(&mut self, until: f64, max_events: u64) -> Result<Progress, EngineError> {
         let e0 = self.events();

@@ -77,7 +77,7 @@ impl<const D: usize> DsmcEngine<D> {
 
     /// Rotational kinetic energy `Σ I |ω|² / 2` (`I = κ m R²`) of rough grains, a
     /// deterministic chunked sum as the kinetic energy's; `None` for smooth grains.
-    pub fn rotational_energy_now(&self) -> Option<f64> {
+    pub(crate) fn rotational_energy_now(&self) -> Option<f64> {
         let body = self.body();
         self.inertia?;
         let g = &self.grains;
@@ -90,14 +90,6 @@ impl<const D: usize> DsmcEngine<D> {
             add,
         );
         Some(0.5 * body.inertia * body.mass * body.radius * body.radius * s)
-    }
-
-    /// Rotational temperature `T_r = 2 E_rot / (d_r N)` of rough grains (`None` for smooth
-    /// ones).
-    pub fn rotational_temperature(&self) -> Option<f64> {
-        let dr = crate::collision_law::rough::rotational_dof(D) as f64;
-        self.rotational_energy_now()
-            .map(|e| 2.0 * e / (dr * self.n_global() as f64))
     }
 
     /// The identity of a particle whose velocity has a non-finite component (the smallest

@@ -36,7 +36,7 @@ impl<const D: usize> DsmcEngine<D> {
     ///
     /// Refused on a decomposed engine (its grains are spread over ranks). The caller
     /// validates the arrays (lengths, finite, inside the box).
-    pub fn restart(
+    pub(crate) fn restart(
         &mut self,
         time: f64,
         positions: &[f64],
@@ -119,7 +119,7 @@ impl<const D: usize> DsmcEngine<D> {
 
     /// Sets the uniform acceleration (length / time², `D` components; empty: none) from
     /// the next step on.
-    pub fn set_gravity(&mut self, gravity: &[f64]) {
+    pub(crate) fn set_gravity(&mut self, gravity: &[f64]) {
         self.gravity = Vector::from_slice(gravity).unwrap_or_default();
         self.config.gravity = gravity.to_vec();
     }

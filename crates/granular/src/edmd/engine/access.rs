@@ -36,7 +36,7 @@ impl<const D: usize> Edmd<D> {
     }
 
     /// Whether the grains are rough (they carry angular velocities).
-    pub fn is_rough(&self) -> bool {
+    pub(crate) fn is_rough(&self) -> bool {
         !self.spin.is_empty()
     }
 
@@ -66,7 +66,7 @@ impl<const D: usize> Edmd<D> {
 
     /// The reduced moment of inertia κ of each species of rough grains (empty for smooth
     /// grains).
-    pub fn species_inertia(&self) -> Vec<f64> {
+    pub(crate) fn species_inertia(&self) -> Vec<f64> {
         if self.kind_inertia.is_empty() {
             return Vec::new();
         }
@@ -85,14 +85,8 @@ impl<const D: usize> Edmd<D> {
     }
 
     /// Histogram of the normalised impact parameter `b / σ` of all pair collisions so far.
-    pub fn impact_histogram(&self) -> &Histogram {
+    pub(crate) fn impact_histogram(&self) -> &Histogram {
         &self.impact
-    }
-
-    /// Clears the impact-parameter histogram (to measure it over a time window).
-    pub fn reset_impact_histogram(&mut self) {
-        let bins = self.impact.counts.len();
-        self.impact = Histogram::new(0.0, 1.0 + 1e-12, bins);
     }
 
     /// Starts (or stops, with `false`) recording every collision in a log, in the order
@@ -125,11 +119,6 @@ impl<const D: usize> Edmd<D> {
     /// Species of the grains, by id.
     pub fn species(&self) -> Vec<u32> {
         self.by_id(|e, s| e.kind_species[e.grains[s].kind as usize])
-    }
-
-    /// Species names.
-    pub fn species_names(&self) -> &[String] {
-        &self.species_names
     }
 
     /// `f(self, slot)` for every grain, in id order.
@@ -236,7 +225,7 @@ impl<const D: usize> Edmd<D> {
 
     /// Takes the grains out of the engine (positions and velocities at the current time),
     /// in id order.
-    pub fn particle_set(&self) -> ParticleSet<D> {
+    pub(crate) fn particle_set(&self) -> ParticleSet<D> {
         ParticleSet {
             positions: (0..self.len()).map(|i| self.position(i)).collect(),
             velocities: (0..self.len()).map(|i| self.velocity(i)).collect(),

@@ -15,7 +15,7 @@ use crate::vector::Vector;
 
 impl<const D: usize> Edmd<D> {
     /// Builds the engine from grains in a box. The grains must not overlap (see
-    /// [`crate::setup`] for placements); the caller validates inputs.
+    /// `crate::setup` for placements); the caller validates inputs.
     pub fn new(
         bx: SimulationBox<D>,
         particles: ParticleSet<D>,

@@ -27,7 +27,7 @@ impl<const D: usize> Edmd<D> {
     }
 
     /// Mean time between collisions of one grain over the whole run so far.
-    pub fn mean_free_time_so_far(&self) -> f64 {
+    pub(crate) fn mean_free_time_so_far(&self) -> f64 {
         let t = self.origin + self.now;
         if self.totals.pair_collisions == 0 {
             f64::INFINITY

@@ -12,8 +12,8 @@ use crate::vector::Vector;
 
 impl<const D: usize> Edmd<D> {
     /// Attaches a steady-state driving from now on (replacing any earlier one), with kick
-    /// streams under `seed` and `dt_kick` = [`KICK_FRACTION`] (white noise) or
-    /// [`RESCALE_FRACTION`] (rescale) of the Enskog mean free time at the state's
+    /// streams under `seed` and `dt_kick` = `KICK_FRACTION` (white noise) or
+    /// `RESCALE_FRACTION` (rescale) of the Enskog mean free time at the state's
     /// temperature ([`Edmd::gas_theory`]). Requires a gas without gravity.
     pub fn set_driving(&mut self, driving: Option<Driving>, seed: u64) {
         let fraction = match driving {
@@ -25,7 +25,7 @@ impl<const D: usize> Edmd<D> {
 
     /// [`Edmd::set_driving`] with `dt_kick = fraction` mean free times at the state's
     /// temperature.
-    pub fn set_driving_every(&mut self, driving: Option<Driving>, seed: u64, fraction: f64) {
+    pub(crate) fn set_driving_every(&mut self, driving: Option<Driving>, seed: u64, fraction: f64) {
         let Some(driving) = driving else {
             self.driving = None;
             return;

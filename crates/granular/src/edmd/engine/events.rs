@@ -1,38 +1,7 @@
 //! The scheduled event of a grain: its 8-byte internal form ([`Scheduled`]: a partner
-//! slot, or a code above every slot for cell crossings, walls and "nothing"), the codes,
-//! and the public, decoded form ([`EventKind`]).
+//! slot, or a code above every slot for cell crossings, walls and "nothing") and the codes.
 
-use super::Edmd;
 use serde::{Deserialize, Serialize};
-
-/// What a particle's scheduled event is (the public, decoded form of the internal
-/// `Scheduled`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub enum EventKind {
-    /// Nothing will ever happen to this particle (it is at rest, without gravity).
-    Nothing,
-    /// Collision with particle `partner`, valid while its counter equals `partner_counter`.
-    Pair {
-        /// The other particle (grain id).
-        partner: u32,
-        /// The partner's collision counter when the event was predicted.
-        partner_counter: u32,
-    },
-    /// Collision with the wall at the low (`upper = false`) or high end of `axis`.
-    Wall {
-        /// Axis perpendicular to the wall.
-        axis: u8,
-        /// Whether it is the wall at `x = L` (else `x = 0`).
-        upper: bool,
-    },
-    /// The centre crosses into the neighbouring cell along `axis`.
-    CellCrossing {
-        /// Axis crossed.
-        axis: u8,
-        /// Whether the particle moves up (`+1`) or down (`-1`) the axis.
-        upward: bool,
-    },
-}
 
 /// First code of the non-pair events in [`Scheduled::code`]; grain indices stay below it.
 pub(super) const FIRST_SPECIAL: u32 = 1 << 31;
@@ -88,29 +57,4 @@ impl Scheduled {
         code: NOTHING,
         partner_counter: 0,
     };
-}
-
-impl<const D: usize> Edmd<D> {
-    /// The scheduled event of grain `id` (partners as grain ids).
-    pub fn scheduled_event(&self, id: usize) -> EventKind {
-        let e = self.event[self.slot_of(id)];
-        match e.code {
-            NOTHING => EventKind::Nothing,
-            c if c >= WALL => EventKind::Wall {
-                axis: ((c - WALL) / 2) as u8,
-                upper: (c - WALL) % 2 == 1,
-            },
-            c if c >= CROSSING => {
-                let (axis, upward, _) = decode_crossing(c);
-                EventKind::CellCrossing {
-                    axis: axis as u8,
-                    upward,
-                }
-            }
-            c => EventKind::Pair {
-                partner: self.id[c as usize],
-                partner_counter: e.partner_counter,
-            },
-        }
-    }
 }

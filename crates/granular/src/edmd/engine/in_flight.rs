@@ -11,7 +11,7 @@ use crate::vector::Vector;
 impl<const D: usize> Edmd<D> {
     /// Sets the uniform acceleration (length / time², `D` components; empty or zero:
     /// none) from the current time on.
-    pub fn set_gravity(&mut self, gravity: &[f64]) {
+    pub(crate) fn set_gravity(&mut self, gravity: &[f64]) {
         for i in 0..self.len() {
             self.advance_particle(i);
             let g = &mut self.grains[i];
@@ -35,7 +35,7 @@ impl<const D: usize> Edmd<D> {
     /// that of the new rule at its temperature, the kick times are counted from now and
     /// the kick streams keyed by now (as after a restart, [`crate::random::RESTART`]).
     /// Without a driving, nothing (the caller checks that there is one).
-    pub fn change_driving(&mut self, driving: Driving) {
+    pub(crate) fn change_driving(&mut self, driving: Driving) {
         let Some(old) = self.driving.clone() else {
             return;
         };

@@ -43,7 +43,7 @@ impl<const D: usize> Edmd<D> {
     }
 
     /// The fourth cumulant `a2` of the peculiar velocities, of all grains and per species
-    /// ([`crate::moments::a2_by_species`]).
+    /// (`crate::moments::a2_by_species`).
     pub fn a2_by_species(&self) -> (f64, Vec<f64>) {
         let species = self.species_names.len().max(1);
         crate::moments::a2_by_species::<D>(self.len(), species, |i| {
@@ -53,7 +53,7 @@ impl<const D: usize> Edmd<D> {
     }
 
     /// Kinetic energy and grain count per species.
-    pub fn species_kinetic_energy(&self) -> Vec<(f64, usize)> {
+    pub(crate) fn species_kinetic_energy(&self) -> Vec<(f64, usize)> {
         let mut out = vec![(0.0, 0usize); self.species_names.len().max(1)];
         for i in 0..self.len() {
             let s = self.kind_species[self.grains[i].kind as usize] as usize;

@@ -23,7 +23,7 @@ impl<const D: usize> Edmd<D> {
     ///
     /// The caller validates the arrays (lengths `n × D` and `n × d_r`, finite, inside the
     /// box or the walls, no overlap: `Simulation::set_state`); compression must be over.
-    pub fn restart(
+    pub(crate) fn restart(
         &mut self,
         time: f64,
         positions: &[f64],

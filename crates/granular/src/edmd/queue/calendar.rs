@@ -34,7 +34,7 @@ const BUCKETS_PER_PARTICLE: f64 = 0.25;
 
 /// Calendar queue over particle indices `0..n`, ordered by `keys[i]`.
 #[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct CalendarQueue {
+pub(crate) struct CalendarQueue {
     /// Event time of each particle (`+inf`: none).
     keys: Vec<f64>,
     /// The lists' forward links: `next[i]` for particle `i < n`, then the first element
@@ -64,7 +64,7 @@ pub struct CalendarQueue {
 
 impl CalendarQueue {
     /// A queue of `n` particles, all with key `+inf`.
-    pub fn new(n: usize) -> Self {
+    pub(crate) fn new(n: usize) -> Self {
         let nb = ((n as f64 * BUCKETS_PER_PARTICLE) as usize)
             .next_power_of_two()
             .max(16);
@@ -106,13 +106,13 @@ impl CalendarQueue {
     }
 
     /// Number of particles.
-    pub fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         self.n
     }
 
     /// The particle with the earliest finite event and its time (`None`: none is finite).
     #[inline]
-    pub fn min(&mut self) -> Option<(usize, f64)> {
+    pub(crate) fn min(&mut self) -> Option<(usize, f64)> {
         let mut scanned = 0;
         loop {
             if let Some(&top) = self.heap.first() {
@@ -170,7 +170,7 @@ impl CalendarQueue {
     /// The particle the look-ahead cursor is at: one whose event comes up soon (its
     /// bucket is next), whose records the engine may start loading.
     #[inline(always)]
-    pub fn ahead(&self) -> Option<usize> {
+    pub(crate) fn ahead(&self) -> Option<usize> {
         let i = self.ahead as usize;
         (i < self.n).then_some(i)
     }
@@ -195,7 +195,7 @@ impl CalendarQueue {
     /// Starts loading both list links of particle `i` (a hint), which its next update
     /// reads to unlink it.
     #[inline(always)]
-    pub fn prefetch_links(&self, i: u32) {
+    pub(crate) fn prefetch_links(&self, i: u32) {
         prefetch_all(&self.next, &[i]);
         prefetch_all(&self.prev, &[i]);
     }
@@ -209,13 +209,13 @@ impl CalendarQueue {
 
     /// The key of particle `i` (tests compare the queues through it).
     #[cfg(test)]
-    pub fn key(&self, i: usize) -> f64 {
+    pub(crate) fn key(&self, i: usize) -> f64 {
         self.keys[i]
     }
 
     /// Sets the key of particle `i`.
     #[inline]
-    pub fn update(&mut self, i: usize, key: f64) {
+    pub(crate) fn update(&mut self, i: usize, key: f64) {
         self.remove(i);
         self.keys[i] = key;
         self.insert(i);
@@ -223,7 +223,7 @@ impl CalendarQueue {
 
     /// Subtracts `dt` from every key (time-origin shift) and rebuilds the calendar at the
     /// shifted current time `now`.
-    pub fn shift(&mut self, dt: f64, now: f64) {
+    pub(crate) fn shift(&mut self, dt: f64, now: f64) {
         for k in &mut self.keys {
             *k -= dt;
         }
@@ -233,7 +233,7 @@ impl CalendarQueue {
     /// Re-sorts every particle with the bucket width adapted to the pending events: the
     /// calendar spans four times their mean distance from `now`, so that few fall in the
     /// overflow list.
-    pub fn rebuild(&mut self, now: f64) {
+    pub(crate) fn rebuild(&mut self, now: f64) {
         let (mut sum, mut count) = (0.0, 0usize);
         for &k in &self.keys {
             if k.is_finite() {
@@ -258,13 +258,13 @@ impl CalendarQueue {
 
     /// Relabels the particles: particle `i` becomes `new_of_old[i]`; rebuilds the
     /// calendar at the current time `now`.
-    pub fn relabel(&mut self, new_of_old: &[u32], now: f64) {
+    pub(crate) fn relabel(&mut self, new_of_old: &[u32], now: f64) {
         self.keys = super::permuted(&self.keys, new_of_old);
         self.rebuild(now);
     }
 
     /// Heap memory in bytes.
-    pub fn memory_bytes(&self) -> usize {
+    pub(crate) fn memory_bytes(&self) -> usize {
         self.keys.capacity() * 8
             + (self.next.capacity() + self.prev.capacity() + self.heap.capacity()) * 4
     }

@@ -12,9 +12,9 @@
 mod calendar;
 mod tournament;
 
-pub use calendar::CalendarQueue;
+pub(crate) use calendar::CalendarQueue;
 use serde::{Deserialize, Serialize};
-pub use tournament::TournamentQueue;
+pub(crate) use tournament::TournamentQueue;
 
 /// Grains from which the engine uses the calendar queue. Below, the tournament tree (at
 /// most 800 kB) stays in the second-level cache of the machine we measured on, and in one
@@ -43,7 +43,7 @@ fn permuted<T: Copy + Default>(values: &[T], new_of_old: &[u32]) -> Vec<T> {
 /// particles, a calendar queue from there on. Both order events by `(time, particle)`,
 /// so the choice never changes a trajectory.
 #[derive(Clone, Debug, Serialize, Deserialize)]
-pub enum EventQueue {
+pub(crate) enum EventQueue {
     /// From [`TOURNAMENT_MAX_GRAINS`] particles on.
     Calendar(CalendarQueue),
     /// Below [`TOURNAMENT_MAX_GRAINS`] particles.
@@ -52,7 +52,7 @@ pub enum EventQueue {
 
 impl EventQueue {
     /// A queue of `n` particles, all with key `+inf`.
-    pub fn new(n: usize) -> Self {
+    pub(crate) fn new(n: usize) -> Self {
         if n < TOURNAMENT_MAX_GRAINS {
             Self::Tournament(TournamentQueue::new(n))
         } else {
@@ -62,7 +62,7 @@ impl EventQueue {
 
     /// The particle with the earliest finite event and its time (`None`: none is finite).
     #[inline(always)]
-    pub fn min(&mut self) -> Option<(usize, f64)> {
+    pub(crate) fn min(&mut self) -> Option<(usize, f64)> {
         match self {
             Self::Calendar(q) => q.min(),
             Self::Tournament(q) => q.min(),
@@ -71,7 +71,7 @@ impl EventQueue {
 
     /// The key of particle `i` (tests compare the queues through it).
     #[cfg(test)]
-    pub fn key(&self, i: usize) -> f64 {
+    pub(crate) fn key(&self, i: usize) -> f64 {
         match self {
             Self::Calendar(q) => q.key(i),
             Self::Tournament(q) => q.key(i),
@@ -80,7 +80,7 @@ impl EventQueue {
 
     /// Sets the key of particle `i`.
     #[inline(always)]
-    pub fn update(&mut self, i: usize, key: f64) {
+    pub(crate) fn update(&mut self, i: usize, key: f64) {
         match self {
             Self::Calendar(q) => q.update(i, key),
             Self::Tournament(q) => q.update(i, key),
@@ -89,7 +89,7 @@ impl EventQueue {
 
     /// Sets the keys of two particles `i != j` (the grains of a pair collision).
     #[inline(always)]
-    pub fn update_pair(&mut self, i: usize, key_i: f64, j: usize, key_j: f64) {
+    pub(crate) fn update_pair(&mut self, i: usize, key_i: f64, j: usize, key_j: f64) {
         match self {
             Self::Calendar(q) => {
                 q.update(i, key_i);
@@ -101,14 +101,14 @@ impl EventQueue {
 
     /// Whether [`EventQueue::ahead`] looks ahead (a calendar of at least
     /// [`LOOK_AHEAD_MIN_GRAINS`] particles).
-    pub fn looks_ahead(&self) -> bool {
+    pub(crate) fn looks_ahead(&self) -> bool {
         matches!(self, Self::Calendar(q) if q.len() >= LOOK_AHEAD_MIN_GRAINS)
     }
 
     /// A particle whose event comes up soon, whose records the engine may start loading
     /// (calendar only; a hint).
     #[inline(always)]
-    pub fn ahead(&self) -> Option<usize> {
+    pub(crate) fn ahead(&self) -> Option<usize> {
         match self {
             Self::Calendar(q) => q.ahead(),
             Self::Tournament(_) => None,
@@ -117,7 +117,7 @@ impl EventQueue {
 
     /// Starts loading what the next update of particle `i` reads (a hint).
     #[inline(always)]
-    pub fn prefetch_links(&self, i: u32) {
+    pub(crate) fn prefetch_links(&self, i: u32) {
         if let Self::Calendar(q) = self {
             q.prefetch_links(i);
         }
@@ -125,7 +125,7 @@ impl EventQueue {
 
     /// Subtracts `dt` from every key (time-origin shift); `now` is the shifted current
     /// time.
-    pub fn shift(&mut self, dt: f64, now: f64) {
+    pub(crate) fn shift(&mut self, dt: f64, now: f64) {
         match self {
             Self::Calendar(q) => q.shift(dt, now),
             Self::Tournament(q) => q.shift(dt),
@@ -134,7 +134,7 @@ impl EventQueue {
 
     /// Adapts the queue to the pending events after keys were set in bulk (the calendar's
     /// bucket width; the tournament tree is always up to date).
-    pub fn rebuild(&mut self, now: f64) {
+    pub(crate) fn rebuild(&mut self, now: f64) {
         if let Self::Calendar(q) = self {
             q.rebuild(now);
         }
@@ -142,7 +142,7 @@ impl EventQueue {
 
     /// Relabels the particles: particle `i` becomes `new_of_old[i]`; `now` is the
     /// current time.
-    pub fn relabel(&mut self, new_of_old: &[u32], now: f64) {
+    pub(crate) fn relabel(&mut self, new_of_old: &[u32], now: f64) {
         match self {
             Self::Calendar(q) => q.relabel(new_of_old, now),
             Self::Tournament(q) => q.relabel(new_of_old),
@@ -150,7 +150,7 @@ impl EventQueue {
     }
 
     /// Heap memory in bytes.
-    pub fn memory_bytes(&self) -> usize {
+    pub(crate) fn memory_bytes(&self) -> usize {
         match self {
             Self::Calendar(q) => q.memory_bytes(),
             Self::Tournament(q) => q.memory_bytes(),

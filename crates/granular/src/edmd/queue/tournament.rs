@@ -23,7 +23,7 @@ use serde::{Deserialize, Serialize};
 
 /// Tournament tree over particle indices `0..n`, ordered by `(key, index)`.
 #[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct TournamentQueue {
+pub(crate) struct TournamentQueue {
     /// Event time of each particle as an [`ordered`] integer (`+inf`: none), and at index
     /// `n` a sentinel at `+inf` that fills the leaves beyond the last particle.
     keys: Vec<u64>,
@@ -37,7 +37,7 @@ pub struct TournamentQueue {
 
 impl TournamentQueue {
     /// A queue of `n` particles, all with key `+inf`.
-    pub fn new(n: usize) -> Self {
+    pub(crate) fn new(n: usize) -> Self {
         let leaves = n.next_power_of_two();
         let mut q = Self {
             keys: vec![ordered(f64::INFINITY); n + 1],
@@ -49,12 +49,12 @@ impl TournamentQueue {
     }
 
     /// Number of particles.
-    pub fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         self.keys.len() - 1
     }
 
     /// Whether the queue holds no particles.
-    pub fn is_empty(&self) -> bool {
+    pub(crate) fn is_empty(&self) -> bool {
         self.len() == 0
     }
 
@@ -83,7 +83,7 @@ impl TournamentQueue {
 
     /// The particle with the earliest finite event and its time (`None`: none is finite).
     #[inline(always)]
-    pub fn min(&self) -> Option<(usize, f64)> {
+    pub(crate) fn min(&self) -> Option<(usize, f64)> {
         if self.is_empty() {
             return None;
         }
@@ -94,13 +94,13 @@ impl TournamentQueue {
 
     /// The key of particle `i` (tests compare the queues through it).
     #[cfg(test)]
-    pub fn key(&self, i: usize) -> f64 {
+    pub(crate) fn key(&self, i: usize) -> f64 {
         from_ordered(self.keys[i])
     }
 
     /// Sets the key of particle `i` and replays the matches on its path to the root.
     #[inline]
-    pub fn update(&mut self, i: usize, key: f64) {
+    pub(crate) fn update(&mut self, i: usize, key: f64) {
         let n = self.len();
         assert!(i < n, "particle {i} beyond the queue's {n}");
         let rank = ordered(key);
@@ -115,7 +115,7 @@ impl TournamentQueue {
     /// replays the matches on both paths: side by side up to the node where they meet,
     /// so that the two chains of matches overlap in the processor, then once.
     #[inline]
-    pub fn update_pair(&mut self, i: usize, key_i: f64, j: usize, key_j: f64) {
+    pub(crate) fn update_pair(&mut self, i: usize, key_i: f64, j: usize, key_j: f64) {
         let n = self.len();
         assert!(
             i < n && j < n && i != j,
@@ -174,7 +174,7 @@ impl TournamentQueue {
 
     /// Subtracts `dt` from every key (time-origin shift). The order by `(key, index)` is
     /// recomputed, as two keys may round to the same value.
-    pub fn shift(&mut self, dt: f64) {
+    pub(crate) fn shift(&mut self, dt: f64) {
         let n = self.len();
         for k in &mut self.keys[..n] {
             *k = ordered(from_ordered(*k) - dt);
@@ -183,7 +183,7 @@ impl TournamentQueue {
     }
 
     /// Relabels the particles: particle `i` becomes `new_of_old[i]`.
-    pub fn relabel(&mut self, new_of_old: &[u32]) {
+    pub(crate) fn relabel(&mut self, new_of_old: &[u32]) {
         let n = self.len();
         // Copied back into the same buffer: a fresh vector of `n` with the sentinel
         // pushed would double its capacity (8 bytes per particle more).
@@ -193,7 +193,7 @@ impl TournamentQueue {
     }
 
     /// Heap memory in bytes.
-    pub fn memory_bytes(&self) -> usize {
+    pub(crate) fn memory_bytes(&self) -> usize {
         self.keys.capacity() * 8 + self.winner.capacity() * 4
     }
 }

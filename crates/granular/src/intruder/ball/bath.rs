@@ -50,7 +50,7 @@ impl Default for IsotropicBathConfig {
 }
 
 /// What an isotropic bath offers the engines. `dimension()` is 2 or 3; speeds are `|u|`.
-pub trait IsotropicDistribution {
+pub(crate) trait IsotropicDistribution {
     /// Dimension `d` of the velocity space.
     fn dimension(&self) -> usize;
     /// `<c> = <|u|>` (velocity units).
@@ -60,6 +60,7 @@ pub trait IsotropicDistribution {
     /// Speed density `P(c)` (1/velocity).
     fn speed_density(&self, c: f64) -> f64;
     /// `int_0^c P`.
+    #[cfg(test)]
     fn speed_cdf(&self, c: f64) -> f64;
     /// A speed drawn from `P`.
     fn sample_speed(&self, rng: &mut Stream) -> f64;
@@ -98,7 +99,7 @@ pub trait IsotropicDistribution {
 /// method in 3D (`(2x sqrt(1-s), 2y sqrt(1-s), 1 - 2s)`, `s = x^2 + y^2 < 1`), normalised
 /// normal deviates otherwise.
 #[inline]
-pub fn uniform_direction<const D: usize>(rng: &mut Stream) -> Vector<D> {
+pub(crate) fn uniform_direction<const D: usize>(rng: &mut Stream) -> Vector<D> {
     let mut out = Vector::<D>::zero();
     if D == 2 || D == 3 {
         // x and y from the two 32-bit halves of one random word: uniform on the grid
@@ -156,7 +157,7 @@ pub struct GaussianBath {
 
 impl GaussianBath {
     /// The Gaussian of parameter `a > 0` in `dimension` 2 or 3.
-    pub fn new(dimension: usize, a: f64) -> Self {
+    pub(crate) fn new(dimension: usize, a: f64) -> Self {
         Self {
             dimension,
             a,
@@ -167,7 +168,7 @@ impl GaussianBath {
 
     /// The one-component marginal, G-14 with the same `a` (its side fluxes G-15 and the
     /// exact sampler of G-12 serve the direct method's impact-normal step, G-36).
-    pub fn marginal(&self) -> Result<Gaussian, BallError> {
+    pub(crate) fn marginal(&self) -> Result<Gaussian, BallError> {
         Gaussian::new(self.a).map_err(|e| BallError::new("bath.temperature", e.to_string()))
     }
 }
@@ -186,6 +187,7 @@ impl IsotropicDistribution for GaussianBath {
     fn speed_density(&self, c: f64) -> f64 {
         equilibrium::speed_density(self.dimension, c, 1.0, 0.5 / self.a)
     }
+    #[cfg(test)]
     fn speed_cdf(&self, c: f64) -> f64 {
         equilibrium::speed_cdf(self.dimension, c, 1.0, 0.5 / self.a)
     }
@@ -268,7 +270,7 @@ pub struct PowerLawBath {
 
 impl PowerLawBath {
     /// The power law of parameter `a > 0` in `dimension` 2 or 3.
-    pub fn new(dimension: usize, a: f64) -> Self {
+    pub(crate) fn new(dimension: usize, a: f64) -> Self {
         let d = dimension as f64;
         let beta = puruspe::beta(d / 4.0, 0.75);
         Self {
@@ -282,7 +284,11 @@ impl PowerLawBath {
 
     /// The parameter `a` of the bath of temperature `T_B = m <c^2>/d` (G-43):
     /// `a = m B((d+2)/4, 1/4) / (d T_B B(d/4, 3/4))` (`m / T_B` in 1D, as for G-19).
-    pub fn parameter_for_temperature(dimension: usize, temperature: f64, bath_mass: f64) -> f64 {
+    pub(crate) fn parameter_for_temperature(
+        dimension: usize,
+        temperature: f64,
+        bath_mass: f64,
+    ) -> f64 {
         let d = dimension as f64;
         bath_mass * puruspe::beta((d + 2.0) / 4.0, 0.25)
             / (d * temperature * puruspe::beta(d / 4.0, 0.75))
@@ -321,6 +327,7 @@ impl IsotropicDistribution for PowerLawBath {
         4.0 * self.a.sqrt() * y.powf(d - 1.0) * (1.0 + y.powi(4)).powf(-(d + 3.0) / 4.0) / self.beta
     }
     /// `I_{t/(1+t)}(d/4, 3/4)` (regularised incomplete beta), `t = a^2 c^4`.
+    #[cfg(test)]
     fn speed_cdf(&self, c: f64) -> f64 {
         if c <= 0.0 {
             return 0.0;
@@ -371,7 +378,7 @@ pub struct SpeedTable {
 
 impl SpeedTable {
     /// Builds the normalised table; errors name `bath.points` and the offending point.
-    pub fn new(dimension: usize, points: &[(f64, f64)]) -> Result<Self, BallError> {
+    pub(crate) fn new(dimension: usize, points: &[(f64, f64)]) -> Result<Self, BallError> {
         let bad = |m: String| Err(BallError::new("bath.points", m));
         if points.len() < 2 {
             return bad(format!(
@@ -449,11 +456,6 @@ impl SpeedTable {
             .saturating_sub(1)
             .min(weights.len() - 2)
     }
-
-    /// The table's speeds (its nodes).
-    pub fn speeds(&self) -> &[f64] {
-        &self.c
-    }
 }
 
 impl IsotropicDistribution for SpeedTable {
@@ -475,6 +477,7 @@ impl IsotropicDistribution for SpeedTable {
         let t = (c - self.c[k]) / (self.c[k + 1] - self.c[k]);
         self.p[k] + t * (self.p[k + 1] - self.p[k])
     }
+    #[cfg(test)]
     fn speed_cdf(&self, c: f64) -> f64 {
         let n = self.c.len();
         if c <= self.c[0] {
@@ -536,7 +539,11 @@ pub enum IsotropicBath {
 
 impl IsotropicBathConfig {
     /// The bath in `dimension` 2 or 3 for bath particles of mass `bath_mass`.
-    pub fn build(&self, dimension: usize, bath_mass: f64) -> Result<IsotropicBath, BallError> {
+    pub(crate) fn build(
+        &self,
+        dimension: usize,
+        bath_mass: f64,
+    ) -> Result<IsotropicBath, BallError> {
         let temperature_ok = |t: f64| {
             if t > 0.0 && t.is_finite() {
                 Ok(t)
@@ -589,6 +596,7 @@ impl IsotropicDistribution for IsotropicBath {
     fn speed_density(&self, c: f64) -> f64 {
         dispatch!(self, b => b.speed_density(c))
     }
+    #[cfg(test)]
     fn speed_cdf(&self, c: f64) -> f64 {
         dispatch!(self, b => b.speed_cdf(c))
     }

@@ -51,7 +51,7 @@ impl<const D: usize> Ball<D> {
     }
 
     /// A new intruder drawing from the given stream.
-    pub fn with_stream(cfg: &BallConfig, mut rng: Stream) -> Result<Self, BallError> {
+    pub(crate) fn with_stream(cfg: &BallConfig, mut rng: Stream) -> Result<Self, BallError> {
         let params = BallParams::new(cfg, D)?;
         let mut velocity = Vector::<D>::zero();
         for (k, x) in cfg.initial_velocity.iter().enumerate() {
@@ -92,22 +92,22 @@ impl<const D: usize> Ball<D> {
     }
 
     /// Current intruder velocity.
-    pub fn velocity(&self) -> &[f64] {
+    pub(crate) fn velocity(&self) -> &[f64] {
         &self.velocity.0
     }
 
     /// Averaging grid spacing.
-    pub fn sample_interval(&self) -> f64 {
+    pub(crate) fn sample_interval(&self) -> f64 {
         self.stats.sample_interval()
     }
 
     /// Start of the averaging window.
-    pub fn transient(&self) -> f64 {
+    pub(crate) fn transient(&self) -> f64 {
         self.stats.transient()
     }
 
     /// Upper edge of the velocity histograms.
-    pub fn histogram_max(&self) -> f64 {
+    pub(crate) fn histogram_max(&self) -> f64 {
         self.stats.histogram_max()
     }
 

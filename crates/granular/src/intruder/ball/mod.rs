@@ -2,11 +2,11 @@
 //! of point particles of mass `m`, number density `rho` and isotropic velocity distribution
 //! `f(u)` (`docs/intruder.md`, "Disk and sphere intruders", equations G-31 to G-45).
 //!
-//! * [`bath`]: the isotropic baths (Gaussian, power law G-43, tabulated speeds G-44);
-//! * [`engine`]: the Gillespie engine [`Ball`] (`Ball<2>` a disk, `Ball<3>` a sphere);
+//! * `bath`: the isotropic baths (Gaussian, power law G-43, tabulated speeds G-44);
+//! * `engine`: the Gillespie engine [`Ball`] (`Ball<2>` a disk, `Ball<3>` a sphere);
 //! * [`figures`]: the data of the two figures of `granular reproduce` for disks and spheres;
-//! * [`twin`]: its DSMC twin [`BallDsmcTwin`] (section 4 of the paper in `d` dimensions);
-//! * [`stats`]: the time-grid observables both share.
+//! * `twin`: its DSMC twin [`BallDsmcTwin`] (section 4 of the paper in `d` dimensions);
+//! * `stats`: the time-grid observables both share.
 //!
 //! A collision with a bath particle of velocity `u` at the impact normal `n` (outward)
 //! changes the intruder velocity by G-37,
@@ -15,17 +15,18 @@
 //!
 //! The engines take the plain [`BallConfig`] (no scenario types, no files).
 
-pub mod bath;
-pub mod engine;
+pub(crate) mod bath;
+pub(crate) mod engine;
 pub mod figures;
-pub mod stats;
-pub mod twin;
+pub(crate) mod stats;
+pub(crate) mod twin;
 
 use serde::{Deserialize, Serialize};
 
-pub use bath::{IsotropicBath, IsotropicBathConfig, IsotropicDistribution};
+pub(crate) use bath::IsotropicDistribution;
+pub use bath::{GaussianBath, IsotropicBath, IsotropicBathConfig, PowerLawBath, SpeedTable};
 pub use engine::Ball;
-pub use stats::{BallStatistics, BallSummary};
+pub use stats::BallSummary;
 pub use twin::{BallDsmcTwin, BallDsmcTwinConfig};
 
 use crate::intruder::bath::{BathDistribution, Gaussian, Side};
@@ -47,7 +48,7 @@ pub struct BallError {
 
 impl BallError {
     /// An error for `key`.
-    pub fn new(key: impl Into<String>, message: impl Into<String>) -> Self {
+    pub(crate) fn new(key: impl Into<String>, message: impl Into<String>) -> Self {
         Self {
             key: key.into(),
             message: message.into(),
@@ -133,7 +134,7 @@ fn positive(key: &str, x: f64, what: &str) -> Result<(), BallError> {
 
 impl BallConfig {
     /// Checks the parameters for a ball in `dimension` (2 or 3) dimensions.
-    pub fn validate(&self, dimension: usize) -> Result<(), BallError> {
+    pub(crate) fn validate(&self, dimension: usize) -> Result<(), BallError> {
         positive("radius", self.radius, "the intruder radius R")?;
         positive("mass", self.mass, "the intruder mass M")?;
         positive("bath_mass", self.bath_mass, "the bath particle mass m")?;
@@ -231,7 +232,7 @@ pub struct BallParams {
 
 impl BallParams {
     /// From a configuration, in `dimension` 2 or 3.
-    pub fn new(cfg: &BallConfig, dimension: usize) -> Result<Self, BallError> {
+    pub(crate) fn new(cfg: &BallConfig, dimension: usize) -> Result<Self, BallError> {
         cfg.validate(dimension)?;
         let bath = cfg.bath.build(dimension, cfg.bath_mass)?;
         let marginal = match &bath {
@@ -256,18 +257,18 @@ impl BallParams {
     }
 
     /// Velocity relaxation time `d / (kick rho sigma_d <c>)` (time units).
-    pub fn relaxation_time(&self) -> f64 {
+    pub(crate) fn relaxation_time(&self) -> f64 {
         self.dimension as f64 / (self.kick * self.rate_factor * self.mean_speed)
     }
 
     /// Mean collision time of an intruder at rest, `1/(rho sigma_d <c>)`.
-    pub fn rest_collision_time(&self) -> f64 {
+    pub(crate) fn rest_collision_time(&self) -> f64 {
         1.0 / (self.rate_factor * self.mean_speed)
     }
 
     /// The collision rate `phi_d(V) = rho sigma_d <|u - V|>` at intruder speed `speed`
     /// (G-32 with G-33 or G-34; collisions per unit time).
-    pub fn collision_rate(&self, speed: f64) -> f64 {
+    pub(crate) fn collision_rate(&self, speed: f64) -> f64 {
         self.rate_factor * self.bath.mean_relative_speed(speed)
     }
 }
@@ -284,7 +285,11 @@ impl BallParams {
 ///   `cos^2 chi = (n.g/|g|)^2 = (1 - z)/2` is uniform, which is a uniform impact parameter),
 ///   and then `(g.n) n = (g - |g| w)/2`: isotropic scattering of the relative velocity.
 #[inline]
-pub fn impact_projection<const D: usize>(g: Vector<D>, g_norm: f64, rng: &mut Stream) -> Vector<D> {
+pub(crate) fn impact_projection<const D: usize>(
+    g: Vector<D>,
+    g_norm: f64,
+    rng: &mut Stream,
+) -> Vector<D> {
     if D == 2 {
         let b = 2.0 * rng.random::<f64>() - 1.0;
         let c2 = 1.0 - b * b;
@@ -304,7 +309,10 @@ pub fn impact_projection<const D: usize>(g: Vector<D>, g_norm: f64, rng: &mut St
 /// `[-1, 1]` in 2D, `(axis + w)/|axis + w|` with `w` uniform on the sphere in 3D (as in
 /// [`impact_projection`]).
 #[inline]
-pub fn cosine_weighted_direction<const D: usize>(axis: Vector<D>, rng: &mut Stream) -> Vector<D> {
+pub(crate) fn cosine_weighted_direction<const D: usize>(
+    axis: Vector<D>,
+    rng: &mut Stream,
+) -> Vector<D> {
     if D == 2 {
         let b = 2.0 * rng.random::<f64>() - 1.0;
         let c = (1.0 - b * b).sqrt();
@@ -334,7 +342,7 @@ pub fn cosine_weighted_direction<const D: usize>(axis: Vector<D>, rng: &mut Stre
 /// average. The bath particle's normal velocity then follows G-12 at `v1 = V.n` (the
 /// exact sampler of the marginal); its tangential components do not enter G-37.
 #[inline]
-pub fn direct_collision<const D: usize>(
+pub(crate) fn direct_collision<const D: usize>(
     marginal: &Gaussian,
     v: Vector<D>,
     speed: f64,

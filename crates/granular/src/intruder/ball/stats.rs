@@ -17,7 +17,7 @@ use crate::theory::intruder::{maxwellian_kurtosis, maxwellian_mean_collision_rat
 /// The grid samples of one run: `|V|^2`, `|V|^4`, the number of collisions in
 /// `(t_{k-1}, t_k]` and `min(|V|^2, h^2)`, plus the histograms.
 #[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct BallStatistics {
+pub(crate) struct BallStatistics {
     dimension: usize,
     dt: f64,
     transient: f64,
@@ -35,7 +35,7 @@ pub struct BallStatistics {
 impl BallStatistics {
     /// Grid spacing `dt`, first grid point `transient`, histograms of `bins` bins on
     /// `[-h, h]` (components) and `[0, h]` (speed).
-    pub fn new(dimension: usize, dt: f64, transient: f64, h: f64, bins: usize) -> Self {
+    pub(crate) fn new(dimension: usize, dt: f64, transient: f64, h: f64, bins: usize) -> Self {
         Self {
             dimension,
             dt,
@@ -51,17 +51,17 @@ impl BallStatistics {
     }
 
     /// Grid spacing.
-    pub fn sample_interval(&self) -> f64 {
+    pub(crate) fn sample_interval(&self) -> f64 {
         self.dt
     }
 
     /// Start of the averaging window.
-    pub fn transient(&self) -> f64 {
+    pub(crate) fn transient(&self) -> f64 {
         self.transient
     }
 
     /// Upper edge `h` of the histograms.
-    pub fn histogram_max(&self) -> f64 {
+    pub(crate) fn histogram_max(&self) -> f64 {
         self.speed.max
     }
 
@@ -69,7 +69,7 @@ impl BallStatistics {
     /// `v` of speed `speed` (constant since the last collision). The first of them receives
     /// the collisions counted since the previous grid point.
     #[inline(always)]
-    pub fn sample_until<const D: usize>(
+    pub(crate) fn sample_until<const D: usize>(
         &mut self,
         upto: f64,
         inclusive: bool,
@@ -107,14 +107,14 @@ impl BallStatistics {
 
     /// Counts a collision at time `t` (call after [`Self::sample_until`] for `t`).
     #[inline]
-    pub fn count_collision(&mut self, t: f64) {
+    pub(crate) fn count_collision(&mut self, t: f64) {
         if t > self.transient - self.dt {
             self.pending += 1.0;
         }
     }
 
     /// The averages so far, with the theory values for `params`.
-    pub fn summary(&self, params: &BallParams, time: f64, collisions: u64) -> BallSummary {
+    pub(crate) fn summary(&self, params: &BallParams, time: f64, collisions: u64) -> BallSummary {
         let d = self.dimension as f64;
         let tb = params.bath_temperature;
         let temperature = self.series.estimate(0).scaled(params.mass / d);
@@ -185,7 +185,7 @@ pub struct BallSummary {
 
 impl BallSummary {
     /// The scalars in the engine's observation (names as in `summary.json` and Python).
-    pub fn quantities(&self) -> Vec<(String, f64)> {
+    pub(crate) fn quantities(&self) -> Vec<(String, f64)> {
         vec![
             ("collisions".into(), self.collisions as f64),
             ("samples".into(), self.samples as f64),

@@ -154,38 +154,33 @@ impl<const D: usize> BallDsmcTwin<D> {
         self.velocity.dot(&self.velocity).sqrt()
     }
 
-    /// Current intruder velocity.
-    pub fn velocity(&self) -> &[f64] {
-        &self.velocity.0
-    }
-
     /// The mechanical parameters.
-    pub fn params(&self) -> &BallParams {
+    pub(crate) fn params(&self) -> &BallParams {
         &self.params
     }
 
     /// Start of the averaging window.
-    pub fn transient(&self) -> f64 {
+    pub(crate) fn transient(&self) -> f64 {
         self.stats.transient()
     }
 
     /// Averaging grid spacing.
-    pub fn sample_interval(&self) -> f64 {
+    pub(crate) fn sample_interval(&self) -> f64 {
         self.stats.sample_interval()
     }
 
     /// Upper edge of the velocity histograms.
-    pub fn histogram_max(&self) -> f64 {
+    pub(crate) fn histogram_max(&self) -> f64 {
         self.stats.histogram_max()
     }
 
     /// Number of times `omega_max` was raised.
-    pub fn bound_raises(&self) -> u64 {
+    pub(crate) fn bound_raises(&self) -> u64 {
         self.bound_raises
     }
 
     /// Trials per accepted collision.
-    pub fn trials_per_collision(&self) -> f64 {
+    pub(crate) fn trials_per_collision(&self) -> f64 {
         self.trials as f64 / self.collisions.max(1) as f64
     }
 

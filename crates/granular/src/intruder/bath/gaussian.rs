@@ -52,7 +52,7 @@ impl Gaussian {
 /// (G-15 rewritten); accurate for all x, including the far left tail where it is
 /// exponentially small (asymptotic series of erfcx for `x < -8`).
 #[inline]
-pub fn gaussian_h(x: f64) -> f64 {
+pub(crate) fn gaussian_h(x: f64) -> f64 {
     if x >= -3.0 {
         h_direct(x)
     } else if x >= -8.0 {

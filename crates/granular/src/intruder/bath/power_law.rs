@@ -44,7 +44,7 @@ fn pl_tail_series(y: f64) -> f64 {
 }
 
 /// Scaled CDF of `sqrt(2)/pi/(1+y^4)`.
-pub fn power_law_cdf_scaled(y: f64) -> f64 {
+pub(crate) fn power_law_cdf_scaled(y: f64) -> f64 {
     if y <= -2.0 {
         PL_NORM * pl_tail_series(-y)
     } else if y >= 2.0 {

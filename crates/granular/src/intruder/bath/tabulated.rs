@@ -10,7 +10,7 @@ use crate::random::{RngExt, Stream};
 /// linear and non-negative on `[0, 1]` (`A(0) = a0`, ...). Exact: in the Bernstein basis
 /// `A B = a0 b0 (1-t)^2 + (a0 b1 + a1 b0) t (1-t) + a1 b1 t^2`, a mixture of Beta(1,3),
 /// Beta(2,2) and Beta(3,1) with weights `a0 b0/3`, `(a0 b1 + a1 b0)/6`, `a1 b1/3`.
-pub fn sample_linear_product(a0: f64, a1: f64, b0: f64, b1: f64, rng: &mut Stream) -> f64 {
+pub(crate) fn sample_linear_product(a0: f64, a1: f64, b0: f64, b1: f64, rng: &mut Stream) -> f64 {
     let w0 = a0 * b0 / 3.0;
     let w1 = (a0 * b1 + a1 * b0) / 6.0;
     let w2 = a1 * b1 / 3.0;
@@ -155,7 +155,7 @@ impl Table {
 /// Largest magnitude of a velocity or density of a tabulated bath: the moments `v^2 f`
 /// and `v^3 f` of the table stay finite. The same bound as the scenario format's
 /// `MAGNITUDE` for every dimensional number (a test checks that they agree).
-pub const MAX_TABLE_MAGNITUDE: f64 = 1e100;
+pub(crate) const MAX_TABLE_MAGNITUDE: f64 = 1e100;
 
 /// A bath density given by points `(v_k, f_k)`, linear in between, zero outside
 /// `[v_0, v_n]`, normalised to unit integral. A breakpoint at `v = 0` is inserted if needed.
@@ -168,7 +168,7 @@ pub struct Tabulated {
 
 impl Tabulated {
     /// Builds the table; errors if the points are unsorted, negative, too few, of zero
-    /// integral, or beyond [`MAX_TABLE_MAGNITUDE`] in magnitude.
+    /// integral, or beyond `MAX_TABLE_MAGNITUDE` in magnitude.
     pub fn new(points: &[(f64, f64)]) -> Result<Self, BathError> {
         if points.len() < 2 {
             return Err(BathError::Invalid("need at least two points".into()));

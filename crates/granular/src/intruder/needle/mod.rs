@@ -165,23 +165,19 @@ impl Needle {
     }
 
     /// Centre-of-mass velocity.
-    pub fn velocity(&self) -> [f64; 2] {
+    pub(crate) fn velocity(&self) -> [f64; 2] {
         self.v
     }
     /// Start of the averaging window.
-    pub fn transient(&self) -> f64 {
+    pub(crate) fn transient(&self) -> f64 {
         self.transient
     }
     /// Averaging grid spacing.
-    pub fn sample_interval(&self) -> f64 {
+    pub(crate) fn sample_interval(&self) -> f64 {
         self.dt
     }
-    /// Angular velocity.
-    pub fn angular_velocity(&self) -> f64 {
-        self.omega
-    }
     /// Orientation at the current time, in `[0, 2 pi)`.
-    pub fn angle(&self) -> f64 {
+    pub(crate) fn angle(&self) -> f64 {
         (self.theta + self.omega * (self.time - self.theta_time)).rem_euclid(TAU)
     }
 

@@ -178,14 +178,21 @@ impl NeedleParams {
     }
 
     /// Total flux `Phi` of G-21 for normal velocity `vn` and angular velocity `omega`.
-    pub fn total_flux(&self, vn: f64, omega: f64) -> f64 {
+    pub(crate) fn total_flux(&self, vn: f64, omega: f64) -> f64 {
         total_flux(self.rho, self.bath.a, self.length, vn, omega)
     }
 
     /// `int_0^tau Phi(t) dt` for a needle with velocity `v`, angular velocity `omega`,
     /// orientation `theta0` at `t = 0` (composite 8-point Gauss-Legendre, panels of at most
     /// 0.5 rad of rotation and of at most `0.5/sqrt(a)` change in `v_n`).
-    pub fn integrated_flux(&self, v: [f64; 2], omega: f64, theta0: f64, t0: f64, t1: f64) -> f64 {
+    pub(crate) fn integrated_flux(
+        &self,
+        v: [f64; 2],
+        omega: f64,
+        theta0: f64,
+        t0: f64,
+        t1: f64,
+    ) -> f64 {
         if t1 <= t0 {
             return 0.0;
         }

@@ -82,7 +82,8 @@ fn c_order_if<T: Clone>(fortran: bool, shape: &[u64], values: Vec<T>) -> Vec<T> 
 ///
 /// # Errors
 /// [`NpzError::Io`] if the file cannot be read, [`NpzError::Format`] for unsupported dtypes.
-pub fn read_npy(path: impl AsRef<Path>) -> Result<NpzArray, NpzError> {
+#[cfg(test)]
+pub(crate) fn read_npy(path: impl AsRef<Path>) -> Result<NpzArray, NpzError> {
     let path = path.as_ref();
     let file = File::open(path).map_err(io_error(path))?;
     read_array_from(BufReader::new(file), &path.display().to_string())

@@ -10,12 +10,12 @@ use std::path::Path;
 
 /// Values of one array produced in pieces by a snapshot writer that never holds the whole
 /// array ([`write_snapshot_streamed`]): `fill` calls `sink` with consecutive slices.
-pub type Fill<'a, T> =
+pub(crate) type Fill<'a, T> =
     Box<dyn FnMut(&mut dyn FnMut(&[T]) -> io::Result<()>) -> io::Result<()> + 'a>;
 
 /// A snapshot of equal grains whose per-grain arrays are produced in pieces; the species
 /// are contiguous ranges of grains.
-pub struct StreamedSnapshot<'a> {
+pub(crate) struct StreamedSnapshot<'a> {
     /// Simulation time.
     pub time: f64,
     /// Spatial dimension.
@@ -47,7 +47,7 @@ pub struct StreamedSnapshot<'a> {
 ///
 /// # Errors
 /// As [`super::write_npz`]; the error of a `fill`.
-pub fn write_snapshot_streamed(
+pub(crate) fn write_snapshot_streamed(
     path: impl AsRef<Path>,
     mut s: StreamedSnapshot<'_>,
 ) -> Result<(), NpzError> {

@@ -42,7 +42,7 @@ const DRIVEN: [&str; 3] = ["driving_power", "dissipation_rate", "cooling_rate"];
 
 /// The run averages.
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
-pub struct Averages {
+pub(crate) struct Averages {
     /// Time of the first sample averaged.
     start_time: Option<f64>,
     /// The previous observation: the start of the next rate window.
@@ -115,7 +115,7 @@ fn samples(obs: &Observation, rates: Option<&Rates>) -> Vec<(String, f64)> {
 
 impl Averages {
     /// No samples yet.
-    pub fn new() -> Averages {
+    pub(crate) fn new() -> Averages {
         Averages::default()
     }
 

@@ -14,7 +14,7 @@ use std::ops::Range;
 /// Bed grains displaced since `t = 0` (the event-driven engine's initial positions are kept
 /// in memory; DSMC's are recomputed from the grains' ids at the end).
 #[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct Crater {
+pub(crate) struct Crater {
     spec: CraterSpec,
     /// Initial positions of the bed species' grains, `D` values each, in grain order.
     initial: Vec<f64>,
@@ -22,7 +22,7 @@ pub struct Crater {
 
 impl Crater {
     /// The measure of `spec`.
-    pub fn new(spec: CraterSpec) -> Crater {
+    pub(crate) fn new(spec: CraterSpec) -> Crater {
         Crater {
             spec,
             initial: Vec::new(),

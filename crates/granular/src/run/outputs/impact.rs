@@ -10,14 +10,14 @@ use std::path::{Path, PathBuf};
 
 /// The impact-parameter histogram of the whole run, written at the end.
 #[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct ImpactParameter {
+pub(crate) struct ImpactParameter {
     #[serde(skip)]
     path: PathBuf,
 }
 
 impl ImpactParameter {
     /// Written to `dir/impact_parameter.csv`.
-    pub fn new(dir: &Path) -> ImpactParameter {
+    pub(crate) fn new(dir: &Path) -> ImpactParameter {
         ImpactParameter {
             path: dir.join(crate::run::RunFile::ImpactParameter.name()),
         }

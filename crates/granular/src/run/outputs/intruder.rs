@@ -22,14 +22,14 @@ use std::path::{Path, PathBuf};
 /// The intruder's histograms and averages, written at the end of the run (the engine
 /// keeps the statistics, so this output holds nothing that grows with the run).
 #[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct IntruderStatistics {
+pub(crate) struct IntruderStatistics {
     #[serde(skip)]
     dir: PathBuf,
 }
 
 impl IntruderStatistics {
     /// Files written into `dir`.
-    pub fn new(dir: &Path) -> IntruderStatistics {
+    pub(crate) fn new(dir: &Path) -> IntruderStatistics {
         IntruderStatistics {
             dir: dir.to_path_buf(),
         }

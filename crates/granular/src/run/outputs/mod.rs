@@ -34,17 +34,17 @@ mod timeseries;
 mod trajectory;
 mod transport;
 
-pub use averages::Averages;
-pub use crater::Crater;
-pub use impact::ImpactParameter;
-pub use intruder::IntruderStatistics;
-pub use pair_correlation::PairCorrelationOutput;
-pub use snapshots::Snapshots;
-pub use spatial::SpatialObservables;
-pub use speeds::SpeedStatistics;
-pub use timeseries::TimeSeries;
-pub use trajectory::Trajectory;
-pub use transport::TransportOutput;
+pub(crate) use averages::Averages;
+pub(crate) use crater::Crater;
+pub(crate) use impact::ImpactParameter;
+pub(crate) use intruder::IntruderStatistics;
+pub(crate) use pair_correlation::PairCorrelationOutput;
+pub(crate) use snapshots::Snapshots;
+pub(crate) use spatial::SpatialObservables;
+pub(crate) use speeds::SpeedStatistics;
+pub(crate) use timeseries::TimeSeries;
+pub(crate) use trajectory::Trajectory;
+pub(crate) use transport::TransportOutput;
 
 use super::{RunError, Summary};
 use crate::observation::Observation;
@@ -77,7 +77,7 @@ pub trait Output {
 /// The outputs of a run directory, as the scenario's `[output]` table attaches them. They
 /// are part of a checkpoint (outputs attached by the user are not).
 #[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct StandardOutputs {
+pub(crate) struct StandardOutputs {
     timeseries: TimeSeries,
     snapshots: Snapshots,
     speeds: Option<SpeedStatistics>,
@@ -95,7 +95,7 @@ pub struct StandardOutputs {
 
 impl StandardOutputs {
     /// The outputs a simulation's scenario asks for, writing into `dir`.
-    pub fn for_simulation(dir: &Path, simulation: &Simulation) -> StandardOutputs {
+    pub(crate) fn for_simulation(dir: &Path, simulation: &Simulation) -> StandardOutputs {
         let scenario = simulation.scenario();
         // Every engine but the intruder models has grains (asked of the scenario, not of a
         // snapshot: that would gather a decomposed run).

@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 
 /// `g(r)` accumulated over the observation times (part of the checkpoint).
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
-pub struct PairCorrelationOutput {
+pub(crate) struct PairCorrelationOutput {
     #[serde(skip)]
     dir: PathBuf,
     /// Index of the next entry of `output.observable_times` to wait for.
@@ -27,7 +27,7 @@ pub struct PairCorrelationOutput {
 
 impl PairCorrelationOutput {
     /// `g(r)` written into `dir`.
-    pub fn new(dir: &Path) -> PairCorrelationOutput {
+    pub(crate) fn new(dir: &Path) -> PairCorrelationOutput {
         PairCorrelationOutput {
             dir: dir.to_path_buf(),
             ..PairCorrelationOutput::default()

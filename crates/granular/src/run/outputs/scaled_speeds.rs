@@ -15,11 +15,11 @@ use std::path::Path;
 /// pooled mean for which the raw speeds are pooled into one "equilibrium" histogram with a
 /// Maxwell-Boltzmann fit. Beyond it the gas is not in a steady state (a cooling gas) and
 /// only the scaled speeds are reported.
-pub const STEADY_TOLERANCE: f64 = 0.1;
+pub(crate) const STEADY_TOLERANCE: f64 = 0.1;
 
 /// Scaled speeds pooled per species, and the range of the snapshots' temperatures.
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
-pub struct ScaledSpeeds {
+pub(crate) struct ScaledSpeeds {
     /// Histogram of `c` per species.
     histograms: Vec<Histogram>,
     /// `Σ c²` per species.
@@ -34,7 +34,7 @@ pub struct ScaledSpeeds {
 
 impl ScaledSpeeds {
     /// Empty statistics for `species` species; `c` histogrammed on `[0, max)` in `bins` bins.
-    pub fn new(species: usize, max: f64, bins: usize) -> ScaledSpeeds {
+    pub(crate) fn new(species: usize, max: f64, bins: usize) -> ScaledSpeeds {
         ScaledSpeeds {
             histograms: vec![Histogram::new(0.0, max, bins); species],
             c2: vec![0.0; species],
@@ -45,7 +45,7 @@ impl ScaledSpeeds {
     }
 
     /// Whether statistics were set up (a checkpoint of an earlier version has none).
-    pub fn is_set(&self) -> bool {
+    pub(crate) fn is_set(&self) -> bool {
         !self.histograms.is_empty()
     }
 
@@ -107,7 +107,7 @@ impl ScaledSpeeds {
 
     /// Whether every snapshot's temperature of species `s` is within [`STEADY_TOLERANCE`]
     /// of `mean` (the pooled temperature).
-    pub fn steady(&self, s: usize, mean: f64) -> bool {
+    pub(crate) fn steady(&self, s: usize, mean: f64) -> bool {
         mean.is_nan()
             || mean <= 0.0
             || (self.t_max[s] <= mean * (1.0 + STEADY_TOLERANCE)
@@ -116,7 +116,7 @@ impl ScaledSpeeds {
 
     /// Summary of species `s`: the pooled fourth cumulant
     /// `a2 = D/(D+2) <c⁴>/<c²>² - 1` (DSMC-4) and the temperature range.
-    pub fn summary(&self, d: usize, s: usize, snapshots: u64) -> ScaledSpeedSummary {
+    pub(crate) fn summary(&self, d: usize, s: usize, snapshots: u64) -> ScaledSpeedSummary {
         let n = self.histograms[s].total();
         let (m2, m4) = (self.c2[s] / n as f64, self.c4[s] / n as f64);
         let d = d as f64;
@@ -132,7 +132,7 @@ impl ScaledSpeeds {
 
     /// Writes `scaled_speed_histograms.csv`: the pooled density of `c` per species against
     /// the Maxwell-Boltzmann density of `c`, `2 c e^{-c²}` in 2D (HD-12 with `m = 2`, `T = 1`).
-    pub fn write(&self, dir: &Path, d: usize, names: &[String]) -> Result<(), RunError> {
+    pub(crate) fn write(&self, dir: &Path, d: usize, names: &[String]) -> Result<(), RunError> {
         let path = dir.join(crate::run::RunFile::ScaledSpeedHistograms.name());
         let mut out =
             String::from("species,c_low,c_high,density,count,maxwell_boltzmann_density\n");

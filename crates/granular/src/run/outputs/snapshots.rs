@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 
 /// Snapshots of positions, velocities, radii, masses and species (NumPy `.npz`).
 #[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct Snapshots {
+pub(crate) struct Snapshots {
     #[serde(skip)]
     dir: PathBuf,
     every: u64,
@@ -24,7 +24,7 @@ pub struct Snapshots {
 impl Snapshots {
     /// Snapshots into `dir/snapshots/`, one every `every` outputs (0: only the first and
     /// the last).
-    pub fn new(dir: &Path, every: u64) -> Snapshots {
+    pub(crate) fn new(dir: &Path, every: u64) -> Snapshots {
         Snapshots {
             dir: dir.join(crate::run::dir::SNAPSHOTS),
             every,
@@ -39,11 +39,6 @@ impl Snapshots {
 
     pub(crate) fn share(&mut self, dir: &Path) {
         self.shared = Some(dir.join(crate::run::dir::SNAPSHOTS));
-    }
-
-    /// Snapshots written so far.
-    pub fn written(&self) -> u64 {
-        self.written
     }
 
     fn write(&mut self, simulation: &Simulation) -> Result<(), RunError> {

@@ -29,7 +29,7 @@ use std::path::{Path, PathBuf};
 
 /// The opt-in observables recorded so far (part of the checkpoint).
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
-pub struct SpatialObservables {
+pub(crate) struct SpatialObservables {
     #[serde(skip)]
     dir: PathBuf,
     /// Index of the next entry of `output.observable_times` to wait for.
@@ -62,7 +62,7 @@ pub struct SpatialObservables {
 
 impl SpatialObservables {
     /// Observables written into `dir`.
-    pub fn new(dir: &Path) -> SpatialObservables {
+    pub(crate) fn new(dir: &Path) -> SpatialObservables {
         SpatialObservables {
             dir: dir.to_path_buf(),
             ..SpatialObservables::default()

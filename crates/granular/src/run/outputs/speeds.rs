@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 
 /// Pooled speed statistics of a run (part of its checkpoint).
 #[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct SpeedStatistics {
+pub(crate) struct SpeedStatistics {
     #[serde(skip)]
     dir: PathBuf,
     /// Species names.
@@ -47,7 +47,7 @@ pub struct SpeedStatistics {
 
 impl SpeedStatistics {
     /// Statistics written into `dir`; the histogram ranges are fixed at set-up.
-    pub fn new(dir: &Path) -> SpeedStatistics {
+    pub(crate) fn new(dir: &Path) -> SpeedStatistics {
         SpeedStatistics {
             dir: dir.to_path_buf(),
             species: Vec::new(),

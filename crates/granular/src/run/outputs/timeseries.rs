@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 
 /// The time series of a run.
 #[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct TimeSeries {
+pub(crate) struct TimeSeries {
     #[serde(skip)]
     path: PathBuf,
     /// Column names, fixed by the first row.
@@ -25,7 +25,7 @@ pub struct TimeSeries {
 
 impl TimeSeries {
     /// A time series written to `dir/timeseries.csv`.
-    pub fn new(dir: &Path) -> TimeSeries {
+    pub(crate) fn new(dir: &Path) -> TimeSeries {
         TimeSeries {
             path: dir.join(crate::run::RunFile::TimeSeries.name()),
             columns: Vec::new(),

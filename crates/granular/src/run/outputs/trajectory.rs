@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 
 /// Trajectories in one or more formats (extended XYZ, LAMMPS dump, GSD, VTK).
 #[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct Trajectory {
+pub(crate) struct Trajectory {
     #[serde(skip)]
     dir: PathBuf,
     formats: Vec<Format>,
@@ -32,7 +32,7 @@ pub struct Trajectory {
 impl Trajectory {
     /// Trajectories in `formats` into `dir/trajectory/`, a frame every `every` outputs (0:
     /// only the first and the last), as for the snapshots.
-    pub fn new(dir: &Path, formats: &[Format], every: u64) -> Trajectory {
+    pub(crate) fn new(dir: &Path, formats: &[Format], every: u64) -> Trajectory {
         Trajectory {
             dir: dir.join(crate::run::dir::TRAJECTORY),
             formats: formats.to_vec(),
@@ -62,11 +62,6 @@ impl Trajectory {
         self.writers
             .iter()
             .try_for_each(|w| w.rewind().map_err(RunError::from))
-    }
-
-    /// The files a viewer opens, one per format.
-    pub fn paths(&self) -> Vec<PathBuf> {
-        self.writers.iter().map(Writer::path).collect()
     }
 
     fn write(&mut self, simulation: &Simulation) -> Result<(), RunError> {

@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 
 /// The correlator and the unwrapped positions (part of the checkpoint).
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
-pub struct TransportOutput {
+pub(crate) struct TransportOutput {
     #[serde(skip)]
     dir: PathBuf,
     unwrapper: Option<Unwrapper>,
@@ -35,7 +35,7 @@ pub struct TransportOutput {
 
 impl TransportOutput {
     /// MSD and VACF written into `dir`.
-    pub fn new(dir: &Path) -> TransportOutput {
+    pub(crate) fn new(dir: &Path) -> TransportOutput {
         TransportOutput {
             dir: dir.to_path_buf(),
             ..TransportOutput::default()

@@ -17,7 +17,8 @@ mod shard;
 pub mod table;
 
 pub use shard::Shard;
-pub use table::{SWEEP_META, SWEEP_TABLE, SweepMeta, SweepRow, SweepTable};
+pub(crate) use table::SweepMeta;
+pub use table::{SWEEP_META, SWEEP_TABLE, SweepRow, SweepTable};
 
 use super::{DirectoryState, Run, RunDir, RunError, RunFile, Summary};
 use crate::random::{MEMBER, derive_key};
@@ -114,7 +115,7 @@ pub struct SweepPlan {
 
 impl SweepPlan {
     /// The plan of `scenario`'s `[sweep]`.
-    pub fn new(scenario: &Scenario) -> Result<SweepPlan, SweepError> {
+    pub(crate) fn new(scenario: &Scenario) -> Result<SweepPlan, SweepError> {
         let spec = scenario.sweep.clone().ok_or(SweepError::NoSweep)?;
         Ok(SweepPlan {
             keys: spec.axes().into_iter().map(|a| a.key).collect(),
@@ -125,12 +126,12 @@ impl SweepPlan {
     }
 
     /// Number of members: points times seeds.
-    pub fn member_count(&self) -> usize {
+    pub(crate) fn member_count(&self) -> usize {
         self.points.len() * self.spec.seeds
     }
 
     /// `(point, seed)` of member number `m` (point-major).
-    pub fn member(&self, m: usize) -> (usize, usize) {
+    pub(crate) fn member(&self, m: usize) -> (usize, usize) {
         (m / self.spec.seeds, m % self.spec.seeds)
     }
 
@@ -140,12 +141,12 @@ impl SweepPlan {
     }
 
     /// The seed of member `s` (at every point).
-    pub fn member_seed(&self, s: usize) -> u64 {
+    pub(crate) fn member_seed(&self, s: usize) -> u64 {
         derive_key(self.seed, &[MEMBER, s as u64]) >> 1
     }
 
     /// The `--set` options that make member `(point, seed)` of the base scenario.
-    pub fn member_overrides(&self, point: usize, seed: usize) -> Vec<String> {
+    pub(crate) fn member_overrides(&self, point: usize, seed: usize) -> Vec<String> {
         let mut o: Vec<String> = self
             .keys
             .iter()
@@ -225,7 +226,7 @@ pub fn run_sweep(
     Ok(merge(dir, false)?.rows)
 }
 
-/// Runs the members of `shard` (see [`Shard::owns`]) into `dir` within the pre-flight
+/// Runs the members of `shard` (see `Shard::owns`) into `dir` within the pre-flight
 /// cost limits; the table is left to [`merge`]. [`run_shard_with`] with
 /// `SweepOptions { threads, shard, insist: false }`.
 pub fn run_shard(
@@ -244,7 +245,7 @@ pub fn run_shard(
     run_shard_with(dir, scenario_text, overrides, &options, on_member)
 }
 
-/// Runs the members of `options.shard` (see [`Shard::owns`]) into `dir` on
+/// Runs the members of `options.shard` (see `Shard::owns`) into `dir` on
 /// `options.threads` worker threads, above the cost limits when `options.insist`; the
 /// table is left to [`merge`] (which reads the members whatever their cost).
 pub fn run_shard_with(

@@ -19,7 +19,7 @@ impl Shard {
     pub const ALL: Shard = Shard { index: 1, count: 1 };
 
     /// Whether member number `member` (point-major, then seed) belongs to this shard.
-    pub fn owns(&self, member: usize) -> bool {
+    pub(crate) fn owns(&self, member: usize) -> bool {
         member % self.count == self.index - 1
     }
 

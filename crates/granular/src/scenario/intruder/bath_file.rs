@@ -6,7 +6,7 @@ use std::path::Path;
 
 use crate::intruder::{BathError, Tabulated};
 
-/// Reads the two-column text/CSV file at `path` (see [`parse`]); a path that is not a
+/// Reads the two-column text/CSV file at `path` (see `parse`); a path that is not a
 /// regular file, or one too large for a table, is refused before it is read
 /// ([`crate::scenario::read_text_file`]).
 pub fn read(path: &Path) -> Result<Vec<(f64, f64)>, BathError> {
@@ -16,7 +16,7 @@ pub fn read(path: &Path) -> Result<Vec<(f64, f64)>, BathError> {
 /// Reads the two columns of the file at `path` (see [`parse_columns`]) without checking
 /// them as a 1D velocity density: a disk or sphere intruder's table is a speed
 /// distribution, checked by its engine (G-44).
-pub fn read_columns(path: &Path) -> Result<Vec<(f64, f64)>, BathError> {
+pub(crate) fn read_columns(path: &Path) -> Result<Vec<(f64, f64)>, BathError> {
     parse_columns(&read_text(path)?, &path.display().to_string())
 }
 
@@ -31,7 +31,7 @@ fn read_text(path: &Path) -> Result<String, BathError> {
 
 /// Parses a two-column table (see [`parse_columns`]) and checks that the points make a
 /// bath density ([`Tabulated::new`]); errors name `origin` (the file).
-pub fn parse(text: &str, origin: &str) -> Result<Vec<(f64, f64)>, BathError> {
+pub(crate) fn parse(text: &str, origin: &str) -> Result<Vec<(f64, f64)>, BathError> {
     let points = parse_columns(text, origin)?;
     Tabulated::new(&points).map_err(|e| match e {
         BathError::Invalid(m) => BathError::Invalid(format!("{origin}: {m}")),
@@ -43,7 +43,7 @@ pub fn parse(text: &str, origin: &str) -> Result<Vec<(f64, f64)>, BathError> {
 /// Parses a two-column table (`v f` per line, separated by whitespace, comma or semicolon;
 /// `#` starts a comment; a non-numeric first line is taken as a header); errors name
 /// `origin` (the file), the line and the column (counted in characters from 1).
-pub fn parse_columns(text: &str, origin: &str) -> Result<Vec<(f64, f64)>, BathError> {
+pub(crate) fn parse_columns(text: &str, origin: &str) -> Result<Vec<(f64, f64)>, BathError> {
     let mut points = Vec::new();
     let mut header_seen = false;
     for (i, raw) in text.lines().enumerate() {

@@ -17,7 +17,7 @@
 //! The grain tables (`[box]`, `[[species]]`, `[initial]`, `[collisions]`) do not apply.
 
 pub mod bath_file;
-pub mod tables;
+pub(crate) mod tables;
 
 pub use tables::{BallMethodKey, BallTable, BathTable, DsmcTwinTable, NeedleTable, OneDTable};
 
@@ -47,7 +47,7 @@ pub enum IntruderSpec {
 }
 
 /// The accepted `model` values.
-pub const MODELS: &str = "\"1d\", \"needle\", \"dsmc-twin\", \"disk\" or \"sphere\"";
+pub(crate) const MODELS: &str = "\"1d\", \"needle\", \"dsmc-twin\", \"disk\" or \"sphere\"";
 
 impl IntruderSpec {
     /// The `model` name as written in the scenario.
@@ -72,7 +72,7 @@ impl IntruderSpec {
     }
 
     /// The 1D system's table (for the `1d` and `dsmc-twin` models).
-    pub fn one_d(&self) -> Option<&OneDTable> {
+    pub(crate) fn one_d(&self) -> Option<&OneDTable> {
         match self {
             IntruderSpec::OneD(c) => Some(c),
             IntruderSpec::DsmcTwin(c) => Some(&c.intruder),
@@ -81,7 +81,7 @@ impl IntruderSpec {
     }
 
     /// The disk's or sphere's table, with its dimension.
-    pub fn ball(&self) -> Option<(&BallTable, usize)> {
+    pub(crate) fn ball(&self) -> Option<(&BallTable, usize)> {
         match self {
             IntruderSpec::Disk(c) => Some((c, 2)),
             IntruderSpec::Sphere(c) => Some((c, 3)),
@@ -90,7 +90,7 @@ impl IntruderSpec {
     }
 
     /// The `bath` table of the models that have one (all but the needle).
-    pub fn bath(&self) -> Option<&BathTable> {
+    pub(crate) fn bath(&self) -> Option<&BathTable> {
         match self {
             IntruderSpec::OneD(c) => Some(&c.bath),
             IntruderSpec::DsmcTwin(c) => Some(&c.intruder.bath),

@@ -72,7 +72,7 @@ impl From<&BathConfig> for BathTable {
 impl BathTable {
     /// The engine's bath: a tabulated `file` is read and parsed here (relative to the
     /// working directory unless absolute; `Scenario` loading makes it absolute).
-    pub fn config(&self) -> Result<BathConfig, BathError> {
+    pub(crate) fn config(&self) -> Result<BathConfig, BathError> {
         Ok(match self {
             BathTable::Gaussian { temperature } => BathConfig::Gaussian {
                 temperature: *temperature,
@@ -109,7 +109,10 @@ impl BathTable {
     /// the speed distribution `P(c)` (G-44), a `file` read here and checked as one (errors
     /// name `bath.file` and the file; inline `points` are checked by the engine, whose
     /// errors name `bath.points`).
-    pub fn isotropic_config(&self, dimension: usize) -> Result<IsotropicBathConfig, BallError> {
+    pub(crate) fn isotropic_config(
+        &self,
+        dimension: usize,
+    ) -> Result<IsotropicBathConfig, BallError> {
         Ok(match self {
             BathTable::Gaussian { temperature } => IsotropicBathConfig::Gaussian {
                 temperature: *temperature,
@@ -229,7 +232,7 @@ impl Default for BallTable {
 impl BallTable {
     /// The engine's configuration in `dimension` 2 or 3 (a tabulated bath `file` is read);
     /// for `method = "dsmc-twin"` the physical system of the twin (`method` thinning).
-    pub fn config(&self, dimension: usize) -> Result<BallConfig, BallError> {
+    pub(crate) fn config(&self, dimension: usize) -> Result<BallConfig, BallError> {
         Ok(BallConfig {
             radius: self.radius,
             mass: self.mass,
@@ -250,12 +253,12 @@ impl BallTable {
     }
 
     /// Whether the table runs the DSMC twin.
-    pub fn is_twin(&self) -> bool {
+    pub(crate) fn is_twin(&self) -> bool {
         self.method == BallMethodKey::DsmcTwin
     }
 
     /// The DSMC twin's configuration (`bath_particles` default 10000).
-    pub fn twin_config(&self, dimension: usize) -> Result<BallDsmcTwinConfig, BallError> {
+    pub(crate) fn twin_config(&self, dimension: usize) -> Result<BallDsmcTwinConfig, BallError> {
         Ok(BallDsmcTwinConfig {
             ball: self.config(dimension)?,
             bath_particles: self
@@ -316,7 +319,7 @@ impl Default for OneDTable {
 
 impl OneDTable {
     /// The engine's configuration (a tabulated bath `file` is read).
-    pub fn config(&self) -> Result<Intruder1dConfig, BathError> {
+    pub(crate) fn config(&self) -> Result<Intruder1dConfig, BathError> {
         Ok(Intruder1dConfig {
             mass: self.mass,
             bath_mass: self.bath_mass,
@@ -403,7 +406,7 @@ impl Default for NeedleTable {
 
 impl NeedleTable {
     /// The engine's configuration.
-    pub fn config(&self) -> NeedleConfig {
+    pub(crate) fn config(&self) -> NeedleConfig {
         NeedleConfig {
             mass: self.mass,
             bath_mass: self.bath_mass,
@@ -446,7 +449,7 @@ impl Default for DsmcTwinTable {
 
 impl DsmcTwinTable {
     /// The engine's configuration (a tabulated bath `file` is read).
-    pub fn config(&self) -> Result<DsmcTwinConfig, BathError> {
+    pub(crate) fn config(&self) -> Result<DsmcTwinConfig, BathError> {
         Ok(DsmcTwinConfig {
             intruder: self.intruder.config()?,
             bath_particles: self.bath_particles,
