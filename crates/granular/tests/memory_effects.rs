@@ -231,10 +231,7 @@ fn the_hotter_sample_cools_faster_and_crosses() {
         "A stays colder: {late} ± {late_se}"
     );
     // Against the first Sonine relaxation (15 % its own accuracy here, see the module).
-    let sonine_error = (sonine::cooling_a2_first(2, RESTITUTION)
-        - sonine::cooling_a2_second(2, RESTITUTION))
-    .abs()
-        / sonine::cooling_a2_first(2, RESTITUTION);
+    let sonine_error = sonine_error();
     assert!(sonine_error < 0.16, "{sonine_error}");
     for (what, (m, se), th) in [
         ("crossing time", (cross, cross_se), theory_cross),
@@ -257,10 +254,11 @@ const KOVACS_STEP: f64 = 0.1;
 struct Kovacs {
     /// The DSMC's steady temperature under the intermediate noise, and its error.
     steady_temperature: (f64, f64),
-    /// Per protocol: the waiting time (mean free times at T = 1), `a2` at the switch and
-    /// one mean free time later, with the theory's values.
+    /// Per protocol, the waiting time (mean free times at T = 1) and the theory's.
     waiting_time: Vec<(f64, f64)>,
+    /// Per protocol, `a2` at the switch and the theory's.
     a2_at_switch: Vec<(f64, f64)>,
+    /// Per protocol, `a2` one mean free time after the switch and the theory's.
     a2_after: Vec<(f64, f64)>,
     /// Per protocol, the memory (see [`kovacs`]) over 0.5-2.5 and 4-8 mean free times
     /// after the switch, with the theory's.
