@@ -339,6 +339,13 @@ pub(crate) enum Draw {
     Positions,
 }
 
+/// Grains per round of a migration in rounds (the set-up's, an output's block of ids)
+/// for a rank holding about `block` grains: an eighth of the block, at least 256 and at
+/// most [`ROUND`], so that the buffers stay a small part of what a rank holds.
+pub(crate) fn round_length(block: usize) -> usize {
+    (block / 8).clamp(256, ROUND)
+}
+
 /// The block of ids `r N / K .. (r + 1) N / K` of rank `r` of `K`.
 pub(crate) fn id_block(n: usize, rank: usize, ranks: usize) -> Range<usize> {
     rank * n / ranks..(rank + 1) * n / ranks

@@ -16,7 +16,7 @@
 //! block's velocities, whichever is larger, plus one round's buffers.
 
 use super::{
-    Draw, GrainSetup, OnRanks, OwnGrainsCheck, ROUND, RankLoad, fold_in_id_order, id_block,
+    Draw, GrainSetup, OnRanks, OwnGrainsCheck, RankLoad, fold_in_id_order, id_block, round_length,
 };
 use crate::boundary::SimulationBox;
 use crate::dsmc::cells::CellIndex;
@@ -299,13 +299,6 @@ fn first_over_ranks(domain: Option<&Domain>, local: Option<usize>) -> Option<usi
         .min()
         .filter(|&m| m != u64::MAX)
         .map(|m| m as usize)
-}
-
-/// Grains per round of the set-up's migration for a rank holding about `block` grains:
-/// an eighth of the block, at least 256 and at most [`ROUND`], so that the buffers stay
-/// a small part of what a rank holds.
-fn round_length(block: usize) -> usize {
-    (block / 8).clamp(256, ROUND)
 }
 
 impl Domain {
