@@ -257,14 +257,33 @@ impl<const D: usize> DsmcEngine<D> {
         domain: Option<super::domain::Domain>,
         rotation: Option<Rotation>,
     ) -> Self {
-        let n = pos.len();
-        let n_global = domain.as_ref().map_or(n, |d| d.n_global);
         let mut grains = Grains::from_parts(derived.lattice, &pos, &vel, &ids, config.law.has_tc());
         drop((pos, vel, ids));
         let inertia = rotation.map(|r| {
             grains.set_spins(Some(&r.spins));
             r.inertia
         });
+        Self::assemble_grains(
+            config, sim_box, radius, mass, seed, derived, grains, domain, inertia,
+        )
+    }
+
+    /// [`Self::assemble`] of records already made (`inertia`: rough grains, whose records
+    /// carry their spins).
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn assemble_grains(
+        config: DsmcConfig,
+        sim_box: SimulationBox<D>,
+        radius: f64,
+        mass: f64,
+        seed: u64,
+        derived: Derived<D>,
+        grains: Grains<D>,
+        domain: Option<super::domain::Domain>,
+        inertia: Option<f64>,
+    ) -> Self {
+        let n = grains.len();
+        let n_global = domain.as_ref().map_or(n, |d| d.n_global);
         let mut engine = Self {
             tally: Tally {
                 impact: vec![0; config.impact_bins],

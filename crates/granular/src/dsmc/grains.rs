@@ -101,6 +101,26 @@ impl<const D: usize> Grains<D> {
         g
     }
 
+    /// `n` grains whose records are all zero (no previous collision; `spin_columns`
+    /// angular-velocity columns, none for smooth grains), to be written by
+    /// [`Self::set_packed`].
+    pub(crate) fn zeroed(
+        lattice: Lattice<D>,
+        n: usize,
+        collision_times: bool,
+        spin_columns: usize,
+    ) -> Self {
+        Self {
+            lattice,
+            pos: std::array::from_fn(|_| vec![0; n]),
+            vel: std::array::from_fn(|_| vec![0.0; n]),
+            last: vec![f64::NEG_INFINITY; if collision_times { n } else { 0 }],
+            collision_times,
+            spin: (0..spin_columns).map(|_| vec![0.0; n]).collect(),
+            scratch: Vec::new(),
+        }
+    }
+
     /// The lattice of the positions.
     pub(crate) fn lattice(&self) -> &Lattice<D> {
         &self.lattice
@@ -305,6 +325,22 @@ impl<const D: usize> Grains<D> {
         let at = self.spin_word();
         for (c, col) in self.spin.iter_mut().enumerate() {
             col.push(words[at + c]);
+        }
+    }
+
+    /// Overwrites record `i` with the record packed in `words` (exactly [`Self::words`]
+    /// of them).
+    pub(crate) fn set_packed(&mut self, i: usize, words: &[f64]) {
+        for k in 0..D {
+            self.pos[k][i] = words[k].to_bits();
+            self.vel[k][i] = words[D + k];
+        }
+        if self.collision_times {
+            self.last[i] = words[2 * D];
+        }
+        let at = self.spin_word();
+        for (c, col) in self.spin.iter_mut().enumerate() {
+            col[i] = words[at + c];
         }
     }
 

@@ -166,8 +166,9 @@ impl<const D: usize> DsmcEngine<D> {
 
     /// The grains of ids `lo .. hi` (this rank's block of `K` equal blocks of the ids,
     /// `lo = r N / K`), positions and velocities in id order: every rank sends its
-    /// particles to the owners of their ids (collective). Together the blocks are a
-    /// snapshot's rows; no rank holds more than its block. Not decomposed: every grain.
+    /// particles to the owners of their ids (collective), in rounds of at most
+    /// `setup::round_length` grains. Together the blocks are a snapshot's rows; no rank
+    /// holds more than its block and one round's buffers. Not decomposed: every grain.
     pub(crate) fn id_block(&self) -> IdBlock<D> {
         let Some(domain) = self.domain.as_ref() else {
             let (positions, velocities) = self.state_by_id();
@@ -192,39 +193,49 @@ impl<const D: usize> DsmcEngine<D> {
         let mut positions = vec![Vector::zero(); mine.len()];
         let mut velocities = vec![Vector::zero(); mine.len()];
         let mut angular_velocities = vec![0.0; r * mine.len()];
-        let mut out: Vec<Vec<f64>> = vec![Vec::new(); k];
-        for i in 0..g.len() {
-            let id = g.id(i) as usize;
-            if mine.contains(&id) {
-                // Grains of this rank's own block go straight to their rows.
-                positions[id - mine.start] = g.position(i);
-                velocities[id - mine.start] = g.velocity(i);
-                let at = r * (id - mine.start);
-                angular_velocities[at..at + r].copy_from_slice(&g.spin(i)[3 - r..]);
-                continue;
+        // In rounds of at most `round` grains of every rank's storage, so that the
+        // buffers stay a small part of what a rank holds (every rank takes part in every
+        // round: as many as the longest rank needs).
+        let longest = domain.max_f64(g.len() as f64) as usize;
+        let round = crate::dsmc::setup::round_length(n.div_ceil(k));
+        for round_index in 0..longest.div_ceil(round).max(1) {
+            let range =
+                (round_index * round).min(g.len())..((round_index + 1) * round).min(g.len());
+            let mut out: Vec<Vec<f64>> = vec![Vec::new(); k];
+            for i in range {
+                let id = g.id(i) as usize;
+                if mine.contains(&id) {
+                    // Grains of this rank's own block go straight to their rows.
+                    positions[id - mine.start] = g.position(i);
+                    velocities[id - mine.start] = g.velocity(i);
+                    let at = r * (id - mine.start);
+                    angular_velocities[at..at + r].copy_from_slice(&g.spin(i)[3 - r..]);
+                    continue;
+                }
+                // The owner of id: the largest q with q n / k <= id.
+                let mut q = (id * k / n).min(k - 1);
+                while block(q).start > id {
+                    q -= 1;
+                }
+                while block(q).end <= id {
+                    q += 1;
+                }
+                let o = &mut out[q];
+                o.push(f64::from_bits(id as u64));
+                o.extend_from_slice(&g.position(i).0);
+                o.extend_from_slice(&g.velocity(i).0);
+                o.extend_from_slice(&g.spin(i)[3 - r..]);
             }
-            // The owner of id: the largest q with q n / k <= id.
-            let mut q = (id * k / n).min(k - 1);
-            while block(q).start > id {
-                q -= 1;
+            let sent: usize = out.iter().map(|v| v.len() / w).sum();
+            let incoming = domain.exchange(out);
+            let received: usize = incoming.iter().map(|v| v.len() / w).sum();
+            domain.hold(g.len() + mine.len() + sent + received);
+            for rec in incoming.iter().flat_map(|v| v.chunks_exact(w)) {
+                let slot = rec[0].to_bits() as usize - mine.start;
+                positions[slot] = Vector::from_slice(&rec[1..1 + D]).unwrap_or_default();
+                velocities[slot] = Vector::from_slice(&rec[1 + D..1 + 2 * D]).unwrap_or_default();
+                angular_velocities[r * slot..r * slot + r].copy_from_slice(&rec[1 + 2 * D..w]);
             }
-            while block(q).end <= id {
-                q += 1;
-            }
-            let o = &mut out[q];
-            o.push(f64::from_bits(id as u64));
-            o.extend_from_slice(&g.position(i).0);
-            o.extend_from_slice(&g.velocity(i).0);
-            o.extend_from_slice(&g.spin(i)[3 - r..]);
-        }
-        let sent: usize = out.iter().map(|v| v.len() / w).sum();
-        let incoming = domain.exchange(out);
-        domain.hold(g.len() + sent + mine.len());
-        for rec in incoming.iter().flat_map(|v| v.chunks_exact(w)) {
-            let slot = rec[0].to_bits() as usize - mine.start;
-            positions[slot] = Vector::from_slice(&rec[1..1 + D]).unwrap_or_default();
-            velocities[slot] = Vector::from_slice(&rec[1 + D..1 + 2 * D]).unwrap_or_default();
-            angular_velocities[r * slot..r * slot + r].copy_from_slice(&rec[1 + 2 * D..w]);
         }
         IdBlock {
             first: mine.start,

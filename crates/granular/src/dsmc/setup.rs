@@ -36,25 +36,30 @@
 //! # Decomposed set-up
 //!
 //! Rank `r` of `K` creates the grains of its block of ids `r N / K .. (r + 1) N / K`
-//! (`O(N / K)` time and memory), counts how many go to each slab (the rank owning the
-//! cell of each position), and sends them there in rounds of at most [`ROUND`] grains,
-//! so that no rank holds more than its own grains, the block it created and one round of
-//! buffers. Every rank puts the arrivals in the order of the source ranks, which is the
-//! order of the ids; the engine's stable counting sort by cell then gives every cell its
-//! grains in id order, as on one rank.
+//! (`O(N / K)` time) and sends each to the rank owning its cell, in rounds of at most
+//! [`ROUND`] grains. It never holds its block in `f64` beside its records: the keyed
+//! streams make a grain cheap to create again, so the block is walked in passes
+//! (`passes`): its velocities for the global sums (then dropped), its positions for the
+//! grains it sends to each rank, which tells every rank how many it receives from each
+//! source, and then the grains themselves, sent round by round into records allocated
+//! once at their exact size. Every rank puts the arrivals of each source rank at that
+//! source's offset, in the order of the source ranks, which is the order of the ids; the
+//! engine's stable counting sort by cell then gives every cell its grains in id order,
+//! as on one rank. On one rank the grains go straight into their records the same way.
+//! A rank's peak is its records (`dsmc::grains`) and one round's buffers, or the block's
+//! velocities before them, whichever is larger.
 
-use super::cells::CellIndex;
 use super::domain::{Communicator, Domain};
-use super::engine::{Derived, DsmcEngine, DsmcError};
 use super::species::SpeciesTable;
 use crate::boundary::SimulationBox;
-use crate::dsmc::config::DsmcConfig;
 use crate::random::{INITIAL_STATE, RngExt, Stream, derive_key, stream_from_key};
 use crate::setup::{Lattice, Region};
 use crate::vector::Vector;
 use rand_distr::{Distribution, StandardNormal};
 use std::ops::Range;
 use std::sync::Arc;
+
+mod passes;
 
 /// Grains per key chunk: the grains `c KEY_CHUNK .. (c + 1) KEY_CHUNK` of a species draw
 /// from the streams of chunk `c`.
@@ -176,6 +181,30 @@ impl<const D: usize> GrainSetup<D> {
         let mut pos = Vec::with_capacity(ids.len());
         let mut vel = Vec::with_capacity(ids.len());
         let mut spins = Vec::new();
+        let r = crate::collision_law::rough::rotational_dof(D);
+        self.for_each_grain(sim_box, ids, Draw::All, |_, x, v, w| {
+            pos.push(x);
+            vel.push(v);
+            if let Some(w) = w {
+                spins.extend_from_slice(&w[3 - r..]);
+            }
+        });
+        Ok((pos, vel, spins))
+    }
+
+    /// Calls `f(id, x, v, w)` for every grain of `ids` (consecutive ids) in id order:
+    /// its position `x` as drawn (given positions not yet wrapped into the box), its
+    /// velocity `v` and its angular velocity `w` (`None` for smooth grains), as `draw`
+    /// asks (a quantity not drawn is zero or `None`; the streams are independent, so what
+    /// is drawn is the same bits whatever is left out). Nothing is held but the chunk's
+    /// streams: a rank walks its block as often as it needs at no cost in memory.
+    pub(crate) fn for_each_grain(
+        &self,
+        sim_box: &SimulationBox<D>,
+        ids: Range<usize>,
+        draw: Draw,
+        mut f: impl FnMut(usize, Vector<D>, Vector<D>, Option<crate::collision_law::Spin>),
+    ) {
         let mut first = 0;
         for (s, sp) in self.species.iter().enumerate() {
             let own = first..first + sp.count;
@@ -193,22 +222,25 @@ impl<const D: usize> GrainSetup<D> {
                 let mut prng = stream_from_key(crate::random::extend_key(key, POSITION));
                 let mut vrng = stream_from_key(crate::random::extend_key(key, VELOCITY));
                 let mut srng = stream_from_key(crate::random::extend_key(key, SPIN));
-                for j in chunk.start..chunk.end.min(b) {
-                    let x = self.position(sim_box, sp, j, &mut prng);
-                    let v = self.velocity(sp, j, &mut vrng);
-                    let w = self.spin(sp, &mut srng);
-                    if j >= a {
-                        pos.push(x);
-                        vel.push(v);
-                        if let Some(w) = w {
-                            let r = crate::collision_law::rough::rotational_dof(D);
-                            spins.extend_from_slice(&w[3 - r..]);
-                        }
+                // The walk from the chunk's start to the range's first grain.
+                let from = chunk.start.max(a);
+                for j in chunk.start..from {
+                    self.position(sim_box, sp, j, &mut prng);
+                    if draw == Draw::All {
+                        self.velocity(sp, j, &mut vrng);
+                        self.spin(sp, &mut srng);
                     }
+                }
+                for j in from..chunk.end.min(b) {
+                    let x = self.position(sim_box, sp, j, &mut prng);
+                    let (v, w) = match draw {
+                        Draw::All => (self.velocity(sp, j, &mut vrng), self.spin(sp, &mut srng)),
+                        Draw::Positions => (Vector::zero(), None),
+                    };
+                    f(own.start + j, x, v, w);
                 }
             }
         }
-        Ok((pos, vel, spins))
     }
 
     /// A rough grain of species `sp`'s angular velocity (drawing from `rng` where it is
@@ -298,6 +330,22 @@ fn fixed_speed<const D: usize>(speed: f64, rng: &mut Stream) -> Vector<D> {
     }
 }
 
+/// What [`GrainSetup::for_each_grain`] draws.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Draw {
+    /// Positions, velocities and angular velocities.
+    All,
+    /// Positions only.
+    Positions,
+}
+
+/// Grains per round of a migration in rounds (the set-up's, an output's block of ids)
+/// for a rank holding about `block` grains: an eighth of the block, at least 256 and at
+/// most [`ROUND`], so that the buffers stay a small part of what a rank holds.
+pub(crate) fn round_length(block: usize) -> usize {
+    (block / 8).clamp(256, ROUND)
+}
+
 /// The block of ids `r N / K .. (r + 1) N / K` of rank `r` of `K`.
 pub(crate) fn id_block(n: usize, rank: usize, ranks: usize) -> Range<usize> {
     rank * n / ranks..(rank + 1) * n / ranks
@@ -306,10 +354,6 @@ pub(crate) fn id_block(n: usize, rank: usize, ranks: usize) -> Range<usize> {
 /// Grains created from a set-up: positions, velocities and angular velocities (`d_r`
 /// values each; empty for smooth grains), in id order.
 pub(crate) type Created<const D: usize> = (Vec<Vector<D>>, Vec<Vector<D>>, Vec<f64>);
-
-/// A rank's own grains: positions, velocities, ids and angular velocities (`d_r` values
-/// each; empty for smooth grains), in id order.
-type OwnGrains<const D: usize> = (Vec<Vector<D>>, Vec<Vector<D>>, Vec<u32>, Vec<f64>);
 
 /// The most loaded rank of a set-up, as the memory check sees it before any rank
 /// allocates its own grains (`OwnGrainsCheck`).
@@ -371,200 +415,6 @@ impl std::fmt::Debug for OnRanks {
     }
 }
 
-impl<const D: usize> DsmcEngine<D> {
-    /// The engine of `setup` (see the module docs): the whole engine without `ranks` (or
-    /// with one rank), else this rank's slab (collective over `ranks.comm`; the same bits
-    /// as the slab of the whole engine). `dynamics_seed` keys the collisions' streams.
-    /// `check` sees the most loaded rank's grains (every grain on one rank) before the
-    /// grains go to their slabs (a memory estimate); its error stops every rank. Errors
-    /// (the same on every rank) as [`DsmcEngine::from_state`], when a given position lies
-    /// outside the box, when there are more ranks than cell planes, and when `check`
-    /// refuses.
-    pub(crate) fn from_setup(
-        config: DsmcConfig,
-        sim_box: SimulationBox<D>,
-        setup: &GrainSetup<D>,
-        dynamics_seed: u64,
-        ranks: Option<OnRanks>,
-        check: Option<OwnGrainsCheck<'_>>,
-    ) -> Result<Self, DsmcError> {
-        let ranks = ranks.filter(|r| r.comm.size() > 1);
-        let comm = ranks.as_ref().map(|r| r.comm.clone());
-        let balance = ranks.as_ref().map(|r| r.balance).unwrap_or_default();
-        let n = setup.len();
-        if n == 0 {
-            return Err(DsmcError::Invalid("need at least 1 particle, got 0".into()));
-        }
-        let ids_layout = comm.clone().map(|c| Domain::for_ids(c, n));
-        let (rank, ranks) = ids_layout.as_ref().map_or((0, 1), |d| (d.rank(), d.size()));
-        let block = id_block(n, rank, ranks);
-        if let Some(check) = check {
-            // Before any grain exists: the largest block of ids (every rank checks the
-            // same load, so all agree), which each rank creates before the grains go to
-            // their slabs; the cells are counted after the grid is known.
-            let first = RankLoad {
-                own: n.div_ceil(ranks),
-                rank: 0,
-                ranks,
-                grains: n,
-                cells: 0,
-            };
-            agree(
-                ids_layout.as_ref(),
-                check(&first).map_err(DsmcError::Invalid),
-            )?;
-        }
-        let made = setup.grains(&sim_box, block.clone());
-        let bad =
-            |(id, message): (usize, String)| DsmcError::Invalid(format!("grain {id}: {message}"));
-        let (mut pos, mut vel, spins) = agree(ids_layout.as_ref(), made.map_err(bad))?;
-        // Positions into the box (periodic wrap), refused outside it.
-        let derived_place = |x: &mut Vector<D>| -> bool {
-            sim_box.wrap(x);
-            (0..D).all(|k| (0.0..=sim_box.lengths[k]).contains(&x[k]))
-        };
-        let outside = pos.iter_mut().position(|x| !derived_place(x));
-        let first_outside = first_over_ranks(ids_layout.as_ref(), outside.map(|i| block.start + i));
-        if let Some(id) = first_outside {
-            let (s, j) = species_index(setup, id);
-            return Err(DsmcError::Invalid(format!(
-                "grain {j} of species `{}` starts outside the box (lengths {:?})",
-                setup.species[s].name, sim_box.lengths.0
-            )));
-        }
-        let fold = |v: &[Vector<D>]| -> Vector<D> {
-            Vector(fold_in_id_order::<D, D>(
-                ids_layout.as_ref(),
-                v.len(),
-                |i| v[i].0,
-                |a, x| *a = (Vector(*a) + Vector(*x)).0,
-                |a, x| *a = (Vector(*a) + Vector(*x)).0,
-            ))
-        };
-        if setup.zero_momentum {
-            // Equal masses: the centre-of-mass velocity is the mean velocity.
-            let drift = fold(&vel) * (1.0 / n as f64);
-            for v in vel.iter_mut() {
-                *v -= drift;
-            }
-        }
-        let mass = setup.mass;
-        let t0 = || {
-            let u = fold(&vel) * (1.0 / n as f64);
-            let [s2] = fold_in_id_order::<1, 1>(
-                ids_layout.as_ref(),
-                vel.len(),
-                |i| [(vel[i] - u).norm_squared()],
-                |a, x| a[0] += x[0],
-                |a, x| a[0] += x[0],
-            );
-            mass * s2 / (D * n) as f64
-        };
-        let derived = Derived::new(&config, &sim_box, n, setup.radius, mass, t0)?;
-        let ids: Vec<u32> = (block.start as u32..block.end as u32).collect();
-        let (pos, vel, ids, spins, domain) = match ids_layout {
-            None => {
-                if let Some(check) = check {
-                    check(&RankLoad {
-                        own: n,
-                        rank: 0,
-                        ranks: 1,
-                        grains: n,
-                        cells: derived.grid.len(),
-                    })
-                    .map_err(DsmcError::Invalid)?;
-                }
-                (pos, vel, ids, spins, None)
-            }
-            Some(layout) => {
-                // The engine's cell of a position: exact, from its lattice words.
-                let index = CellIndex::new(&derived.grid, &derived.lattice);
-                let cell_of = |x: &Vector<D>| index.of(&derived.lattice.words(x, 0));
-                layout.hold(pos.len());
-                let mut domain = layout.with_grid(&derived.grid.dims)?;
-                domain.balance = balance;
-                if balance.mode != super::domain::BalanceMode::Off {
-                    // The first cuts share the grains evenly (a species in a region would
-                    // otherwise load the ranks of its slabs only).
-                    let mut local = vec![0u64; domain.planes()];
-                    for x in &pos {
-                        local[domain.plane(cell_of(x))] += 1;
-                    }
-                    let totals = domain.plane_totals(&local);
-                    let loads: Vec<f64> = totals.iter().map(|&c| c as f64).collect();
-                    domain.set_cuts(&super::domain::balanced_cuts(&loads, domain.size()));
-                }
-                let (p, v, i, w) = domain.scatter_to_slabs(pos, vel, ids, spins, cell_of, check)?;
-                (p, v, i, w, Some(domain))
-            }
-        };
-        let mut engine = Self::assemble(
-            config,
-            sim_box,
-            setup.radius,
-            mass,
-            dynamics_seed,
-            derived,
-            pos,
-            vel,
-            ids,
-            domain,
-            setup
-                .inertia
-                .map(|inertia| super::engine::Rotation { inertia, spins }),
-        );
-        engine.set_species(setup.table());
-        Ok(engine)
-    }
-}
-
-/// Species and index within it of grain `id`.
-fn species_index<const D: usize>(setup: &GrainSetup<D>, id: usize) -> (usize, usize) {
-    let mut first = 0;
-    for (s, sp) in setup.species.iter().enumerate() {
-        if id < first + sp.count {
-            return (s, id - first);
-        }
-        first += sp.count;
-    }
-    (setup.species.len().saturating_sub(1), 0)
-}
-
-/// `local` when every rank succeeded; otherwise the error of the first rank that failed
-/// (the same on every rank: a rank whose own part succeeded reports the other's failure
-/// by its number).
-fn agree<T>(domain: Option<&Domain>, local: Result<T, DsmcError>) -> Result<T, DsmcError> {
-    let Some(domain) = domain else {
-        return local;
-    };
-    let failed = domain
-        .all_gather(&[f64::from(u8::from(local.is_err()))])
-        .iter()
-        .position(|v| v[0] != 0.0);
-    match (local, failed) {
-        (Err(e), _) => Err(e),
-        (Ok(_), Some(r)) => Err(DsmcError::Invalid(format!(
-            "rank {r} could not create its grains (its message is above)"
-        ))),
-        (Ok(v), None) => Ok(v),
-    }
-}
-
-/// The smallest of every rank's `local` id (collective).
-fn first_over_ranks(domain: Option<&Domain>, local: Option<usize>) -> Option<usize> {
-    let Some(domain) = domain else {
-        return local;
-    };
-    let word = f64::from_bits(local.map_or(u64::MAX, |x| x as u64));
-    domain
-        .all_gather(&[word])
-        .iter()
-        .map(|v| v[0].to_bits())
-        .min()
-        .filter(|&m| m != u64::MAX)
-        .map(|m| m as usize)
-}
-
 /// The chunked fold of [`Domain::ordered_fold`] over values in id order: on one rank
 /// (`None`) over chunks of `SUM_CHUNK` with rayon, the chunks
 /// then in order; over ranks, each holding its block of ids, the chained sums. The same
@@ -596,121 +446,4 @@ pub(crate) fn fold_in_id_order<const E: usize, const A: usize>(
         combine(&mut total, p);
     }
     total
-}
-
-/// Grains per round of the set-up's migration for a rank holding about `block` grains:
-/// an eighth of the block, at least 256 and at most [`ROUND`], so that the buffers stay
-/// a small part of what a rank holds.
-fn round_length(block: usize) -> usize {
-    (block / 8).clamp(256, ROUND)
-}
-
-impl Domain {
-    /// Sends the grains of this rank's block of ids (`pos`, `vel`, `ids`, and the `d_r`
-    /// angular velocity components of each in `spins` for rough grains, in id order) to
-    /// the ranks owning their cells (collective), in rounds of at most
-    /// [`round_length`] grains; returns this rank's own grains in id order (the arrivals
-    /// in the order of the source ranks). `check` sees the number of own grains before
-    /// they are allocated; its error stops every rank.
-    fn scatter_to_slabs<const D: usize>(
-        &self,
-        pos: Vec<Vector<D>>,
-        vel: Vec<Vector<D>>,
-        ids: Vec<u32>,
-        spins: Vec<f64>,
-        cell_of: impl Fn(&Vector<D>) -> u32,
-        check: Option<OwnGrainsCheck<'_>>,
-    ) -> Result<OwnGrains<D>, DsmcError> {
-        let (me, k) = (self.rank(), self.size());
-        let dest: Vec<u32> = pos.iter().map(|x| self.owner(cell_of(x)) as u32).collect();
-        let mut sending = vec![0u64; k];
-        for &q in &dest {
-            sending[q as usize] += 1;
-        }
-        let counts: Vec<Vec<f64>> = sending.iter().map(|&c| vec![f64::from_bits(c)]).collect();
-        let arriving: Vec<usize> = self
-            .exchange(counts)
-            .iter()
-            .map(|v| v.first().map_or(0, |w| w.to_bits() as usize))
-            .collect();
-        let own: usize = arriving.iter().sum();
-        if let Some(check) = check {
-            // Every rank checks the most loaded one: the same verdict and message on all.
-            let owns = self.all_gather(&[own as f64]);
-            let (rank, most) = owns
-                .iter()
-                .map(|v| v.first().map_or(0, |&x| x as usize))
-                .enumerate()
-                .fold(
-                    (0, 0),
-                    |best, (r, c)| if c > best.1 { (r, c) } else { best },
-                );
-            let cuts = self.cuts();
-            check(&RankLoad {
-                own: most,
-                rank,
-                ranks: k,
-                grains: self.n_global,
-                cells: (cuts[rank + 1] - cuts[rank]) * self.stride,
-            })
-            .map_err(DsmcError::Invalid)?;
-        }
-        let mut cursor: Vec<usize> = arriving
-            .iter()
-            .scan(0, |acc, &c| {
-                let at = *acc;
-                *acc += c;
-                Some(at)
-            })
-            .collect();
-        let mut out_pos = vec![Vector::<D>::zero(); own];
-        let mut out_vel = vec![Vector::<D>::zero(); own];
-        let mut out_ids = vec![0u32; own];
-        // Angular velocity components per grain (0: smooth grains).
-        let dr = if spins.is_empty() {
-            0
-        } else {
-            crate::collision_law::rough::rotational_dof(D)
-        };
-        let mut out_spins = vec![0.0; dr * own];
-        let longest = self.n_global.div_ceil(k);
-        let round = round_length(longest);
-        let w = 1 + 2 * D + dr;
-        for round_index in 0..longest.div_ceil(round).max(1) {
-            let range =
-                (round_index * round).min(pos.len())..((round_index + 1) * round).min(pos.len());
-            let mut outgoing: Vec<Vec<f64>> = vec![Vec::new(); k];
-            let mut sent = 0;
-            for i in range {
-                let q = dest[i] as usize;
-                if q == me {
-                    let c = &mut cursor[me];
-                    (out_pos[*c], out_vel[*c], out_ids[*c]) = (pos[i], vel[i], ids[i]);
-                    out_spins[dr * *c..dr * *c + dr].copy_from_slice(&spins[dr * i..dr * i + dr]);
-                    *c += 1;
-                    continue;
-                }
-                let o = &mut outgoing[q];
-                o.push(f64::from_bits(u64::from(ids[i])));
-                o.extend_from_slice(&pos[i].0);
-                o.extend_from_slice(&vel[i].0);
-                o.extend_from_slice(&spins[dr * i..dr * i + dr]);
-                sent += 1;
-            }
-            let incoming = self.exchange(outgoing);
-            let received: usize = incoming.iter().map(|v| v.len() / w).sum();
-            self.hold(pos.len() + own + sent + received);
-            for (q, words) in incoming.iter().enumerate() {
-                for g in words.chunks_exact(w) {
-                    let c = &mut cursor[q];
-                    out_ids[*c] = g[0].to_bits() as u32;
-                    out_pos[*c] = Vector::from_slice(&g[1..1 + D]).unwrap_or_default();
-                    out_vel[*c] = Vector::from_slice(&g[1 + D..1 + 2 * D]).unwrap_or_default();
-                    out_spins[dr * *c..dr * *c + dr].copy_from_slice(&g[1 + 2 * D..w]);
-                    *c += 1;
-                }
-            }
-        }
-        Ok((out_pos, out_vel, out_ids, out_spins))
-    }
 }

@@ -196,12 +196,18 @@ fn block_of<const D: usize>(e: &crate::dsmc::DsmcEngine<D>) -> Grains {
     let block = e.id_block();
     let n = block.positions.len();
     let domain = e.domain().cloned();
+    // One array after the other, each dropped once flat: a rank holds its block once
+    // and one array twice at most.
+    let flat =
+        |v: Vec<crate::vector::Vector<D>>| -> Vec<f64> { v.iter().flat_map(|x| x.0).collect() };
+    let positions = flat(block.positions);
+    let velocities = flat(block.velocities);
     Grains {
         snap: Snapshot {
             time: e.time(),
             dimension: D,
-            positions: block.positions.iter().flat_map(|x| x.0).collect(),
-            velocities: block.velocities.iter().flat_map(|x| x.0).collect(),
+            positions,
+            velocities,
             radii: vec![e.radius(); n],
             masses: vec![e.mass(); n],
             species: (block.first as u32..(block.first + n) as u32)
