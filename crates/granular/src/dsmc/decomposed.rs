@@ -157,13 +157,8 @@ impl<const D: usize> DsmcEngine<D> {
         domain: &Domain,
         local: Option<u32>,
     ) -> Option<u32> {
-        let word = f64::from_bits(local.map_or(u64::MAX, u64::from));
         domain
-            .all_gather(&[word])
-            .iter()
-            .map(|v| v[0].to_bits())
-            .min()
-            .filter(|&m| m != u64::MAX)
+            .min_over_ranks(local.map(u64::from))
             .map(|m| m as u32)
     }
 

@@ -463,6 +463,17 @@ impl Domain {
         self.plane_owner[cell as usize / self.stride] as usize
     }
 
+    /// The smallest of every rank's `local` value, `None` when no rank has one
+    /// (collective): the first grain id at fault over all ranks.
+    pub(crate) fn min_over_ranks(&self, local: Option<u64>) -> Option<u64> {
+        let word = f64::from_bits(local.unwrap_or(u64::MAX));
+        self.all_gather(&[word])
+            .iter()
+            .map(|v| v[0].to_bits())
+            .min()
+            .filter(|&m| m != u64::MAX)
+    }
+
     /// Every rank's `local` (collective), counting the words and the time.
     pub(crate) fn all_gather(&self, local: &[f64]) -> Vec<Vec<f64>> {
         let t = Instant::now();

@@ -291,13 +291,8 @@ fn first_over_ranks(domain: Option<&Domain>, local: Option<usize>) -> Option<usi
     let Some(domain) = domain else {
         return local;
     };
-    let word = f64::from_bits(local.map_or(u64::MAX, |x| x as u64));
     domain
-        .all_gather(&[word])
-        .iter()
-        .map(|v| v[0].to_bits())
-        .min()
-        .filter(|&m| m != u64::MAX)
+        .min_over_ranks(local.map(|x| x as u64))
         .map(|m| m as usize)
 }
 
